@@ -1,0 +1,197 @@
+/* Public entry points: version, names, argument checks and dispatch. */
+#include <ctype.h>
+
+#include "internal.h"
+#include "simd.h"
+
+uint32_t vn_version(void)
+{
+	return VN_VERSION;
+}
+
+const char* vn_version_string(void)
+{
+	return VN_VERSION_STRING;
+}
+
+const char* vn_result_string(vn_result r)
+{
+	switch (r) {
+	case vn_result_success:
+		return "success";
+	case vn_result_invalid_argument:
+		return "invalid argument";
+	case vn_result_index_out_of_range:
+		return "index out of range";
+	case vn_result_unknown_method:
+		return "unknown method";
+	case vn_result_out_of_memory:
+		return "out of memory";
+	default:
+		return "unknown result";
+	}
+}
+
+static const struct {
+	const char* name;
+	const char* description;
+	const char* reference;
+} methods[vn_method_count] = {
+    {"mwe", "mean weighted equally: sum of unit face normals", "Gouraud 1971; Jin et al. 2005 eq. 1"},
+    {"mwa", "mean weighted by angle: face normals times the corner angle",
+     "Thurmer & Wuthrich 1998; Jin et al. 2005 eq. 2"},
+    {"mwselr", "mean weighted by sine and edge length reciprocals: sin(a) / (|E||E'|)",
+     "Max 1999; Jin et al. 2005 eq. 4"},
+    {"mwaat", "mean weighted by areas of adjacent triangles: |E x E'|", "Max 1999; Jin et al. 2005 eq. 5"},
+    {"mwelr", "mean weighted by edge length reciprocals: 1 / (|E||E'|)", "Max 1999; Jin et al. 2005 eq. 6"},
+    {"mwrelr", "mean weighted by square root of edge length reciprocals: 1 / sqrt(|E||E'|)",
+     "Max 1999; Jin et al. 2005 eq. 7"},
+    {"mewcsa", "mean edge weighted by cotangents of subtended angles (area gradient; sign not corrected)",
+     "Desbrun et al. 1999; Jin et al. 2005 eq. 9"},
+};
+
+const char* vn_method_name(vn_method m)
+{
+	return (unsigned)m < vn_method_count ? methods[m].name : NULL;
+}
+
+const char* vn_method_description(vn_method m)
+{
+	return (unsigned)m < vn_method_count ? methods[m].description : NULL;
+}
+
+const char* vn_method_reference(vn_method m)
+{
+	return (unsigned)m < vn_method_count ? methods[m].reference : NULL;
+}
+
+vn_result vn_method_from_name(const char* name, vn_method* out)
+{
+	if (!name || !out)
+		return vn_result_invalid_argument;
+	for (unsigned m = 0; m < vn_method_count; ++m) {
+		const char* a = name;
+		const char* b = methods[m].name;
+		while (*a && tolower((unsigned char)*a) == *b)
+			++a, ++b;
+		if (!*a && !*b) {
+			*out = (vn_method)m;
+			return vn_result_success;
+		}
+	}
+	return vn_result_unknown_method;
+}
+
+/* ---------------------------------------------------------------- checks */
+
+static size_t scalar_size(vn_scalar t)
+{
+	return t == vn_scalar_float64 ? sizeof(double) : sizeof(float);
+}
+
+/* Validates everything but the indices and fills the common part of *w. */
+static vn_result prepare(vn_work* w, const vn_vectors* normals, const vn_positions* positions, vn_method method,
+                         const vn_options* options)
+{
+	if (!normals || !positions)
+		return vn_result_invalid_argument;
+	if ((positions->type != vn_scalar_float32 && positions->type != vn_scalar_float64) ||
+	    (normals->type != vn_scalar_float32 && normals->type != vn_scalar_float64))
+		return vn_result_invalid_argument;
+	const size_t in_min = 3 * scalar_size(positions->type), out_min = 3 * scalar_size(normals->type);
+	if ((positions->stride && positions->stride < in_min) || (normals->stride && normals->stride < out_min))
+		return vn_result_invalid_argument;
+	if (positions->count > UINT32_MAX || (positions->count && (!positions->data || !normals->data)))
+		return vn_result_invalid_argument;
+	if ((unsigned)method >= vn_method_count)
+		return vn_result_unknown_method;
+	if (options && (!options->allocator.allocate != !options->allocator.deallocate ||
+	                (options->simd != vn_simd_auto && options->simd != vn_simd_off)))
+		return vn_result_invalid_argument;
+
+	memset(w, 0, sizeof(*w));
+	w->positions = (const unsigned char*)positions->data;
+	w->stride = positions->stride ? positions->stride : in_min;
+	w->type = positions->type;
+	w->vertex_count = (uint32_t)positions->count;
+	w->method = method;
+	return vn_result_success;
+}
+
+static vn_result check_indices(const uint32_t* indices, size_t count, uint32_t vertex_count)
+{
+	/* A max reduction has no early exit, so it vectorizes; errors are rare. */
+	uint32_t top = 0;
+	for (size_t i = 0; i < count; ++i)
+		top = indices[i] > top ? indices[i] : top;
+	return count && top >= vertex_count ? vn_result_index_out_of_range : vn_result_success;
+}
+
+static vn_result compute(vn_work* w, const vn_vectors* normals, vn_accumulate_fn accumulate, const vn_options* options,
+                         vn_stats* stats)
+{
+	static const vn_options defaults;
+	const vn_options* o = options ? options : &defaults;
+	vn_vectors out = *normals;
+	if (!out.stride)
+		out.stride = 3 * scalar_size(out.type);
+	w->out = &out;
+	w->want_stats = stats != NULL;
+	w->simd = o->simd == vn_simd_auto && vn_cpu_has_avx2();
+
+	vn_range_stats st = {0, 0, 0};
+	vn_result r = w->vertex_count ? vn_run(w, accumulate, o->threads, &o->allocator, &st) : vn_result_success;
+	if (r == vn_result_success && stats) {
+		stats->faces = w->face_count;
+		stats->degenerate_faces = st.degenerate_faces;
+		stats->zero_normals = st.zero_normals;
+		stats->nonfinite_vertices = st.nonfinite_vertices;
+	}
+	return r;
+}
+
+/* ---------------------------------------------------------------- entry points */
+
+vn_result vn_triangle_normals(const vn_vectors* normals, const vn_positions* positions, const uint32_t* indices,
+                              size_t index_count, vn_method method, const vn_options* options, vn_stats* stats)
+{
+	vn_work w;
+	vn_result r = prepare(&w, normals, positions, method, options);
+	if (r != vn_result_success)
+		return r;
+	if (index_count % 3 || (index_count && !indices))
+		return vn_result_invalid_argument;
+	if ((r = check_indices(indices, index_count, w.vertex_count)) != vn_result_success)
+		return r;
+	w.indices = indices;
+	w.face_count = index_count / 3;
+	return compute(&w, normals,
+	               method == vn_method_mewcsa ? vn_accumulate_cotangent_triangles : vn_accumulate_weighted_triangles,
+	               options, stats);
+}
+
+vn_result vn_polygon_normals(const vn_vectors* normals, const vn_positions* positions, const uint32_t* indices,
+                             const uint32_t* face_offsets, size_t face_count, vn_method method,
+                             const vn_options* options, vn_stats* stats)
+{
+	vn_work w;
+	vn_result r = prepare(&w, normals, positions, method, options);
+	if (r != vn_result_success)
+		return r;
+	if (!face_offsets)
+		return vn_result_invalid_argument;
+	for (size_t f = 0; f < face_count; ++f)
+		if (face_offsets[f + 1] < face_offsets[f])
+			return vn_result_invalid_argument;
+	const size_t index_count = face_offsets[face_count];
+	if (index_count && !indices)
+		return vn_result_invalid_argument;
+	if ((r = check_indices(indices, index_count, w.vertex_count)) != vn_result_success)
+		return r;
+	w.indices = indices;
+	w.offsets = face_offsets;
+	w.face_count = face_count;
+	return compute(&w, normals,
+	               method == vn_method_mewcsa ? vn_accumulate_cotangent_polygons : vn_accumulate_weighted_polygons,
+	               options, stats);
+}

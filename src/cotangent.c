@@ -1,0 +1,164 @@
+/* The edge-based cotangent family: MEWCSA (Desbrun, Meyer, Schroder, Barr
+ * 1999; the paper's eq. 9).
+ *
+ *   -2 H A N  =  sum_j (cot a_ij + cot b_ij)(x_i - x_j)
+ *
+ * Summed per face instead of per edge, the same vector is the area gradient
+ * 2 grad_v A = sum_f (p_next - p_prev) x N_f: on a triangle (v, a, b),
+ * (a - b) x N = |e|^2-weighted cotangents of the two angles opposite the
+ * edges at v. The per-face form needs no edge adjacency and extends to
+ * polygons as the gradient of Newell's vector area.
+ *
+ * As in the paper the sign is not corrected: the vector points along the
+ * outward normal where the mean curvature is positive and inward where it is
+ * negative, which is the failure mode the paper reports. */
+#include "internal.h"
+#include "simd.h"
+
+VN_INLINE void add_edge_cross(double* acc, const double d[3], const double n[3])
+{
+	double c[3];
+	vn_cross(d, n, c);
+	acc[0] += c[0], acc[1] += c[1], acc[2] += c[2];
+}
+
+VN_INLINE void triangles(const vn_work* w, vn_scalar type, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	const uint32_t span = hi - lo;
+	const uint32_t* idx = w->indices;
+	double* acc = w->acc;
+	size_t degenerate = 0;
+
+	for (size_t f = 0; f < w->face_count; ++f) {
+		const uint32_t i0 = idx[3 * f], i1 = idx[3 * f + 1], i2 = idx[3 * f + 2];
+		const int o0 = vn_owned(i0, lo, span), o1 = vn_owned(i1, lo, span), o2 = vn_owned(i2, lo, span);
+		if (!(o0 | o1 | o2))
+			continue;
+
+		double p0[3], p1[3], p2[3], e01[3], e12[3], e20[3], n[3];
+		vn_load(w, type, i0, p0);
+		vn_load(w, type, i1, p1);
+		vn_load(w, type, i2, p2);
+		vn_sub(p1, p0, e01);
+		vn_sub(p2, p1, e12);
+		vn_sub(p0, p2, e20);
+		vn_cross(e20, e01, n);
+		const double l2 = vn_dot(n, n);
+		if (!vn_usable(l2)) {
+			degenerate += o0;
+			continue;
+		}
+		const double inv = 1.0 / sqrt(l2);
+		n[0] *= inv, n[1] *= inv, n[2] *= inv;
+		/* p_next - p_prev at corner 0 is p1 - p2 = -e12, and so on. */
+		const double d0[3] = {-e12[0], -e12[1], -e12[2]};
+		const double d1[3] = {-e20[0], -e20[1], -e20[2]};
+		const double d2[3] = {-e01[0], -e01[1], -e01[2]};
+		if (o0)
+			add_edge_cross(acc + 4 * (size_t)i0, d0, n);
+		if (o1)
+			add_edge_cross(acc + 4 * (size_t)i1, d1, n);
+		if (o2)
+			add_edge_cross(acc + 4 * (size_t)i2, d2, n);
+	}
+	st->degenerate_faces += degenerate;
+}
+
+#ifdef VN_HAVE_AVX2
+/* triangles() four at a time, operation for operation (see simd.h). */
+VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	const uint32_t span = hi - lo, last = w->vertex_count - 1;
+	const size_t groups = w->face_count / 4;
+	const __m256d neg = _mm256_set1_pd(-0.0);
+	size_t degenerate = 0;
+	vn_work rest = *w;
+
+	for (size_t g = 0; g < groups; ++g) {
+		const uint32_t* idx = w->indices + 12 * g;
+		if (!vn_group_owned(idx, lo, span))
+			continue;
+		if (vn_group_touches_last(idx, last)) {
+			rest.indices = idx;
+			rest.face_count = 4;
+			triangles(&rest, type, lo, hi, st);
+			continue;
+		}
+		vn_group p;
+		vn_load_group(w, type, idx, &p);
+		const __m256d e01x = _mm256_sub_pd(p.x[1], p.x[0]), e01y = _mm256_sub_pd(p.y[1], p.y[0]),
+		              e01z = _mm256_sub_pd(p.z[1], p.z[0]);
+		const __m256d e12x = _mm256_sub_pd(p.x[2], p.x[1]), e12y = _mm256_sub_pd(p.y[2], p.y[1]),
+		              e12z = _mm256_sub_pd(p.z[2], p.z[1]);
+		const __m256d e20x = _mm256_sub_pd(p.x[0], p.x[2]), e20y = _mm256_sub_pd(p.y[0], p.y[2]),
+		              e20z = _mm256_sub_pd(p.z[0], p.z[2]);
+		__m256d nx, ny, nz;
+		vn_cross4(e20x, e20y, e20z, e01x, e01y, e01z, &nx, &ny, &nz);
+		const __m256d l2 = vn_dot4(nx, ny, nz, nx, ny, nz);
+		const int usable = vn_usable4(l2);
+		degenerate += vn_group_degenerate(idx, usable, lo, span);
+		if (!usable)
+			continue;
+		const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(l2));
+		nx = _mm256_mul_pd(nx, inv), ny = _mm256_mul_pd(ny, inv), nz = _mm256_mul_pd(nz, inv);
+		__m256d cx[3], cy[3], cz[3];
+		vn_cross4(_mm256_xor_pd(neg, e12x), _mm256_xor_pd(neg, e12y), _mm256_xor_pd(neg, e12z), nx, ny, nz, &cx[0],
+		          &cy[0], &cz[0]);
+		vn_cross4(_mm256_xor_pd(neg, e20x), _mm256_xor_pd(neg, e20y), _mm256_xor_pd(neg, e20z), nx, ny, nz, &cx[1],
+		          &cy[1], &cz[1]);
+		vn_cross4(_mm256_xor_pd(neg, e01x), _mm256_xor_pd(neg, e01y), _mm256_xor_pd(neg, e01z), nx, ny, nz, &cx[2],
+		          &cy[2], &cz[2]);
+		vn_scatter_group(w->acc, idx, usable, lo, span, cx, cy, cz);
+	}
+	st->degenerate_faces += degenerate;
+	rest.indices = w->indices + 12 * groups;
+	rest.face_count = w->face_count - 4 * groups;
+	triangles(&rest, type, lo, hi, st);
+}
+
+static VN_AVX2 void triangles_f_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	triangles_avx2(w, vn_scalar_float32, lo, hi, st);
+}
+
+static VN_AVX2 void triangles_d_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	triangles_avx2(w, vn_scalar_float64, lo, hi, st);
+}
+#endif
+
+static void triangles_f(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	triangles(w, vn_scalar_float32, lo, hi, st);
+}
+
+static void triangles_d(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	triangles(w, vn_scalar_float64, lo, hi, st);
+}
+
+void vn_accumulate_cotangent_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	const int f64 = w->type == vn_scalar_float64;
+#ifdef VN_HAVE_AVX2
+	if (w->simd) {
+		(f64 ? triangles_d_avx2 : triangles_f_avx2)(w, lo, hi, st);
+		return;
+	}
+#endif
+	(f64 ? triangles_d : triangles_f)(w, lo, hi, st);
+}
+
+/* (p_next - p_prev) x N_f = (E' - E) x N_f for a polygon corner. */
+static void cotangent_corner(vn_method method, double* acc, const double n[3], const double e[3], const double e2[3])
+{
+	(void)method;
+	double d[3];
+	vn_sub(e2, e, d);
+	add_edge_cross(acc, d, n);
+}
+
+void vn_accumulate_cotangent_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	vn_polygons(w, lo, hi, st, cotangent_corner);
+}

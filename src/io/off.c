@@ -1,0 +1,908 @@
+/*
+ * OFF, Geomview's Object File Format.
+ *
+ * Reader: ASCII and binary, header keyword [ST][C][N][4][n]OFF, then BINARY
+ * on the same line for binary files. A vertex holds its position (x y z, or
+ * x y z w with 4), normal (N), colour (C) and texture coordinates (ST), in
+ * that order. ASCII is read line by line, the way Geomview reads face
+ * colours ("to the end of the line"): one vertex or one face per line, '#'
+ * starts a comment anywhere, blank lines are skipped, and a line ends at
+ * "\n", "\r\n" or a lone "\r".
+ *
+ * Writer: ASCII [ST][C][N]OFF (Geomview's prefix order).
+ */
+#define _POSIX_C_SOURCE 200809L /* newlocale, uselocale */
+
+#include "off.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <locale.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Faces without a colour in a file where other faces have one get Geomview's
+ * grey, 170/255 ("R,G,B,A=.666"). Geomview also makes them translucent; vn
+ * keeps them opaque (A = 1) so that partly coloured meshes stay solid. */
+#define OFF_GREY (170.0f / 255.0f)
+/* A colour component the file did not give (a missing alpha, or a whole face
+ * colour), until all colours of the file are known to be bytes or fractions. */
+#define OFF_UNSET (-1.0f)
+/* The longest number token; longer ones are an error rather than cut short. */
+#define OFF_TOKEN_MAX 255
+/* Numbers on a vertex line: x y z w, nx ny nz, r g b a, s t. */
+#define OFF_VERTEX_MAX 13
+
+/* ------------------------------------------------------------------ locale */
+
+/* strtod and printf follow LC_NUMERIC: in a program that called
+ * setlocale(LC_ALL, "") under, say, de_DE, "0.5" would read as 0 and print
+ * as "0,5". OFF always uses '.', so this thread uses the C locale meanwhile. */
+typedef struct c_locale {
+	locale_t c;
+	locale_t previous;
+} c_locale;
+
+static int c_locale_enter(c_locale* l)
+{
+	l->c = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0);
+	if (!l->c)
+		return 0;
+	l->previous = uselocale(l->c);
+	return 1;
+}
+
+static void c_locale_leave(c_locale* l)
+{
+	uselocale(l->previous);
+	freelocale(l->c);
+}
+
+/* ------------------------------------------------------------------ reader state */
+
+typedef struct token {
+	const unsigned char* p;
+	size_t n;
+} token;
+
+/* The data part of one line: from its first non-blank to its end or '#'. */
+typedef struct off_line {
+	const unsigned char* p;
+	const unsigned char* end;
+} off_line;
+
+/* The first fractional and the first above-1 colour component of a kind
+ * (vertex or face), to name both when a file mixes the two styles. */
+typedef struct colour_style {
+	int has_fraction, has_byte;
+	size_t fraction_index, byte_index;
+	double fraction, byte;
+} colour_style;
+
+typedef struct off_reader {
+	const char* name;
+	vn_io_error* error;
+	const unsigned char* begin;
+	const unsigned char* p;
+	const unsigned char* end;
+	size_t line;  /* number of the line that starts at p */
+	size_t where; /* what messages name: a line, or a byte offset when binary */
+	int binary;
+
+	char keyword[16]; /* as written, e.g. "CNOFF" */
+	char layout[48];  /* the numbers of an ASCII vertex, e.g. "x y z nx ny nz" */
+	int st, colour, normal, ndim;
+	size_t coords; /* 3, or 4 with a homogeneous w */
+
+	size_t index_capacity;
+	colour_style styles[2]; /* [0] vertex colours, [1] face colours */
+} off_reader;
+
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 4)))
+#endif
+static vn_io_result fail(off_reader* r, vn_io_result result, const char* fmt, ...)
+{
+	char what[384];
+	va_list args;
+	va_start(args, fmt);
+	vsnprintf(what, sizeof what, fmt, args);
+	va_end(args);
+	if (r->binary)
+		return vn_io_fail(r->error, result, "%s: byte %zu: %s", r->name, r->where, what);
+	return vn_io_fail(r->error, result, "%s:%zu: %s", r->name, r->where, what);
+}
+
+static vn_io_result out_of_memory(off_reader* r)
+{
+	return vn_io_fail(r->error, vn_io_error_memory, "%s: out of memory", r->name);
+}
+
+/* A token fit for a message: at most 24 characters, unprintable bytes as '?'
+ * (the input may be any binary garbage). Used as quote(t).text within one
+ * expression. */
+typedef struct quoted {
+	char text[32];
+} quoted;
+
+static quoted quote(token t)
+{
+	quoted q;
+	size_t n = t.n > 24 ? 24 : t.n;
+	for (size_t i = 0; i < n; i++)
+		q.text[i] = t.p[i] >= 0x20 && t.p[i] < 0x7f ? (char)t.p[i] : '?';
+	strcpy(q.text + n, t.n > n ? "..." : "");
+	return q;
+}
+
+static void* alloc_array(size_t count, size_t size)
+{
+	if (count > SIZE_MAX / size)
+		return NULL;
+	/* Never NULL for an empty array: NULL means "absent" in vn_io_mesh. */
+	return malloc(count ? count * size : 1);
+}
+
+/* ------------------------------------------------------------------ ASCII lexing */
+
+static int is_blank(unsigned char c)
+{
+	return c == ' ' || c == '\t' || c == '\v' || c == '\f';
+}
+
+/* Moves to the next line that holds more than blanks and a comment; 0 at
+ * the end of the input. Messages then name that line. */
+static int next_line(off_reader* r, off_line* line)
+{
+	while (r->p < r->end) {
+		const unsigned char* start = r->p;
+		const unsigned char* stop = start;
+		while (stop < r->end && *stop != '\n' && *stop != '\r')
+			stop++;
+		const unsigned char* hash = memchr(start, '#', (size_t)(stop - start));
+		r->where = r->line++;
+		r->p = stop;
+		if (r->p < r->end && *r->p++ == '\r' && r->p < r->end && *r->p == '\n')
+			r->p++;
+		line->p = start;
+		line->end = hash ? hash : stop;
+		while (line->p < line->end && is_blank(*line->p))
+			line->p++;
+		if (line->p < line->end)
+			return 1;
+	}
+	return 0;
+}
+
+/* Sets *t (empty at the end of the line) and returns whether it is a token. */
+static int next_token(off_line* line, token* t)
+{
+	while (line->p < line->end && is_blank(*line->p))
+		line->p++;
+	t->p = line->p;
+	t->n = 0;
+	if (line->p == line->end)
+		return 0;
+	while (line->p < line->end && !is_blank(*line->p))
+		line->p++;
+	t->n = (size_t)(line->p - t->p);
+	return 1;
+}
+
+static size_t count_tokens(off_line line)
+{
+	token t;
+	size_t n = 0;
+	while (next_token(&line, &t))
+		n++;
+	return n;
+}
+
+/* The whole token as a number; strtod also takes "nan" and "inf", which the
+ * core library handles as degenerate input. */
+static int parse_real(token t, double* out)
+{
+	char text[OFF_TOKEN_MAX + 1];
+	char* stop;
+	if (t.n > OFF_TOKEN_MAX)
+		return 0;
+	memcpy(text, t.p, t.n);
+	text[t.n] = '\0';
+	*out = strtod(text, &stop);
+	return stop == text + t.n;
+}
+
+/* Decimal digits only, saturating at UINT64_MAX: callers compare against
+ * their limits and quote the token. */
+static int parse_natural(token t, uint64_t* out)
+{
+	uint64_t v = 0;
+	for (size_t i = 0; i < t.n; i++) {
+		unsigned digit = (unsigned)t.p[i] - '0';
+		if (digit > 9)
+			return 0;
+		v = v > (UINT64_MAX - digit) / 10 ? UINT64_MAX : v * 10 + digit;
+	}
+	*out = v;
+	return 1;
+}
+
+/* The next number on a line whose token count the caller has checked. */
+static vn_io_result line_real(off_reader* r, off_line* line, const char* kind, size_t index, double* out)
+{
+	token t;
+	next_token(line, &t);
+	if (parse_real(t, out))
+		return vn_io_success;
+	if (t.n > OFF_TOKEN_MAX)
+		return fail(r, vn_io_error_parse, "%s %zu: '%s' is too long for a number", kind, index, quote(t).text);
+	return fail(r, vn_io_error_parse, "%s %zu: '%s' is not a number", kind, index, quote(t).text);
+}
+
+/* ------------------------------------------------------------------ shared by ASCII and binary */
+
+static int parse_keyword(off_reader* r, token t)
+{
+	const unsigned char* s = t.p;
+	size_t n = t.n;
+	if (n >= 2 && s[0] == 'S' && s[1] == 'T') {
+		r->st = 1;
+		s += 2, n -= 2;
+	}
+	if (n >= 1 && *s == 'C') {
+		r->colour = 1;
+		s++, n--;
+	}
+	if (n >= 1 && *s == 'N') {
+		r->normal = 1;
+		s++, n--;
+	}
+	if (n >= 1 && *s == '4') {
+		r->coords = 4;
+		s++, n--;
+	}
+	if (n >= 1 && *s == 'n') {
+		r->ndim = 1;
+		s++, n--;
+	}
+	if (n != 3 || memcmp(s, "OFF", 3) != 0)
+		return 0;
+	memcpy(r->keyword, t.p, t.n); /* at most "STCN4nOFF" */
+	r->keyword[t.n] = '\0';
+	snprintf(r->layout, sizeof r->layout, "x y z%s%s%s%s", r->coords == 4 ? " w" : "",
+	         r->normal ? " nx ny nz" : "", r->colour ? " r g b [a]" : "", r->st ? " s t" : "");
+	return 1;
+}
+
+/* Rejects counts that the rest of the file (`available` bytes) cannot hold,
+ * before anything is allocated: "1000000000000 0 0" must not ask for 24 TB. */
+static vn_io_result check_counts(off_reader* r, uint64_t vertices, uint64_t faces, uint64_t vertex_bytes,
+                                 uint64_t face_bytes, uint64_t available)
+{
+	if (vertices > available / vertex_bytes || faces > (available - vertices * vertex_bytes) / face_bytes)
+		return fail(r, vn_io_error_parse,
+		            "the header announces %llu vertices and %llu faces, more than the %llu bytes that follow can hold",
+		            (unsigned long long)vertices, (unsigned long long)faces,
+		            (unsigned long long)(r->end - r->p));
+	if (vertices > UINT32_MAX)
+		return fail(r, vn_io_error_unsupported, "%llu vertices are more than 32-bit indices can address",
+		            (unsigned long long)vertices);
+	if (faces > UINT32_MAX)
+		return fail(r, vn_io_error_unsupported, "%llu faces are more than 32-bit offsets can hold",
+		            (unsigned long long)faces);
+	return vn_io_success;
+}
+
+static vn_io_result allocate(off_reader* r, vn_io_mesh* m, size_t vertices, size_t faces)
+{
+	m->vertex_count = vertices;
+	m->face_count = faces;
+	/* Most meshes are triangles; other sizes grow the array as needed. */
+	r->index_capacity = faces > UINT32_MAX / 3 ? UINT32_MAX : faces * 3;
+	m->positions = alloc_array(vertices, 3 * sizeof(double));
+	m->normals = r->normal ? alloc_array(vertices, 3 * sizeof(double)) : NULL;
+	m->colors = r->colour ? alloc_array(vertices, 4 * sizeof(float)) : NULL;
+	m->texcoords = r->st ? alloc_array(vertices, 2 * sizeof(float)) : NULL;
+	m->face_offsets = alloc_array(faces + 1, sizeof(uint32_t));
+	m->indices = alloc_array(r->index_capacity, sizeof(uint32_t));
+	if (!m->positions || (r->normal && !m->normals) || (r->colour && !m->colors) || (r->st && !m->texcoords) ||
+	    !m->face_offsets || !m->indices)
+		return out_of_memory(r);
+	m->face_offsets[0] = 0;
+	return vn_io_success;
+}
+
+/* Room for face f's `corners` indices after the `used` ones before it. */
+static vn_io_result reserve_indices(off_reader* r, vn_io_mesh* m, size_t f, size_t used, uint64_t corners)
+{
+	if (corners > UINT32_MAX - used)
+		return fail(r, vn_io_error_unsupported, "face %zu brings the corner count past 4294967295, the 32-bit limit", f);
+	size_t needed = used + (size_t)corners;
+	if (needed <= r->index_capacity)
+		return vn_io_success;
+	size_t capacity = r->index_capacity > UINT32_MAX / 2 ? UINT32_MAX : r->index_capacity * 2;
+	if (capacity < needed)
+		capacity = needed;
+	uint32_t* larger = capacity <= SIZE_MAX / sizeof *larger ? realloc(m->indices, capacity * sizeof *larger) : NULL;
+	if (!larger)
+		return out_of_memory(r);
+	m->indices = larger;
+	r->index_capacity = capacity;
+	return vn_io_success;
+}
+
+/* OFF colours are fractions in [0, 1] or integers 0..255, and a file uses one
+ * style throughout (vertex and face colours each on their own): integer
+ * components above 1 make the kind bytes, fractional ones make it fractions,
+ * and a file with both is an error. */
+static vn_io_result check_colour(off_reader* r, int face, size_t index, double v)
+{
+	static const char* const kinds[2] = {"vertex", "face"};
+	colour_style* s = &r->styles[face];
+	int integer = v >= 0.0 && v <= 255.0 && v == (double)(int)v;
+	if (!(v >= 0.0 && (v <= 1.0 || integer)))
+		return fail(r, vn_io_error_parse,
+		            "%s %zu has colour component %g; components are fractions in [0, 1] or integers 0..255",
+		            kinds[face], index, v);
+	if (!integer && !s->has_fraction) {
+		s->has_fraction = 1;
+		s->fraction_index = index;
+		s->fraction = v;
+	}
+	if (integer && v > 1.0 && !s->has_byte) {
+		s->has_byte = 1;
+		s->byte_index = index;
+		s->byte = v;
+	}
+	if (s->has_fraction && s->has_byte) {
+		int byte_first = s->byte_index < s->fraction_index;
+		return fail(r, vn_io_error_parse,
+		            "%s %zu has colour component %g, but %s %zu has %g: colours must be all fractions in [0, 1] "
+		            "or all integers 0..255",
+		            kinds[face], index, v, kinds[face], byte_first ? s->byte_index : s->fraction_index,
+		            byte_first ? s->byte : s->fraction);
+	}
+	return vn_io_success;
+}
+
+/* v holds the vertex's numbers in file order, with `colours` colour components. */
+static vn_io_result store_vertex(off_reader* r, vn_io_mesh* m, size_t i, const double* v, size_t colours)
+{
+	double* position = m->positions + 3 * i;
+	if (r->coords == 4) {
+		if (v[3] == 0.0)
+			return fail(r, vn_io_error_parse, "vertex %zu has w = 0; 4OFF coordinates are divided by w", i);
+		for (size_t k = 0; k < 3; k++)
+			position[k] = v[k] / v[3];
+	} else {
+		for (size_t k = 0; k < 3; k++)
+			position[k] = v[k];
+	}
+	v += r->coords;
+	if (r->normal) {
+		for (size_t k = 0; k < 3; k++)
+			m->normals[3 * i + k] = v[k];
+		v += 3;
+	}
+	if (r->colour) {
+		float* rgba = m->colors + 4 * i;
+		rgba[3] = OFF_UNSET;
+		for (size_t k = 0; k < colours; k++) {
+			vn_io_result result = check_colour(r, 0, i, v[k]);
+			if (result != vn_io_success)
+				return result;
+			rgba[k] = (float)v[k];
+		}
+		v += colours;
+	}
+	if (r->st) {
+		m->texcoords[2 * i] = (float)v[0];
+		m->texcoords[2 * i + 1] = (float)v[1];
+	}
+	return vn_io_success;
+}
+
+static vn_io_result face_colour(off_reader* r, vn_io_mesh* m, size_t f, float** rgba)
+{
+	if (!m->face_colors) {
+		m->face_colors = alloc_array(m->face_count, 4 * sizeof(float));
+		if (!m->face_colors)
+			return out_of_memory(r);
+		for (size_t i = 0; i < 4 * m->face_count; i++)
+			m->face_colors[i] = OFF_UNSET;
+	}
+	*rgba = m->face_colors + 4 * f;
+	return vn_io_success;
+}
+
+/* Scales colours to [0, 1] now that their style is known, and fills in what
+ * the file left out. */
+static void finish_colours(float* colours, size_t count, const colour_style* style, int* are_bytes)
+{
+	*are_bytes = style->has_byte;
+	for (size_t i = 0; i < count; i++) {
+		float* rgba = colours + 4 * i;
+		if (rgba[0] == OFF_UNSET) {
+			rgba[0] = rgba[1] = rgba[2] = OFF_GREY;
+			rgba[3] = 1.0f;
+			continue;
+		}
+		for (size_t k = 0; k < 3; k++)
+			rgba[k] = *are_bytes ? rgba[k] / 255.0f : rgba[k];
+		rgba[3] = rgba[3] == OFF_UNSET ? 1.0f : *are_bytes ? rgba[3] / 255.0f : rgba[3];
+	}
+}
+
+static void finish(off_reader* r, vn_io_mesh* m)
+{
+	if (m->colors)
+		finish_colours(m->colors, m->vertex_count, &r->styles[0], &m->colors_are_bytes);
+	if (m->face_colors)
+		finish_colours(m->face_colors, m->face_count, &r->styles[1], &m->face_colors_are_bytes);
+}
+
+/* ------------------------------------------------------------------ ASCII */
+
+static vn_io_result read_ascii_counts(off_reader* r, off_line rest, uint64_t* vertices, uint64_t* faces)
+{
+	token t;
+	off_line peek = rest;
+	if (r->ndim) {
+		uint64_t dimension;
+		if (!next_token(&rest, &t) && !(next_line(r, &rest) && next_token(&rest, &t)))
+			return fail(r, vn_io_error_parse, "the file ends before the nOFF dimension");
+		if (!parse_natural(t, &dimension))
+			return fail(r, vn_io_error_parse, "expected the nOFF dimension, found '%s'", quote(t).text);
+		if (dimension != 3)
+			return fail(r, vn_io_error_unsupported,
+			            "nOFF dimension %s is not supported: vn reads 3-dimensional vertices only", quote(t).text);
+		peek = rest;
+	}
+	/* The counts follow the keyword (and dimension) on its line, or fill the next line. */
+	if (!next_token(&peek, &t) && !next_line(r, &rest))
+		return fail(r, vn_io_error_parse, "the file ends before the vertex and face counts");
+	size_t n = count_tokens(rest);
+	if (n < 2 || n > 3)
+		return fail(r, vn_io_error_parse, "expected the counts 'vertices faces [edges]', found %zu value%s", n,
+		            n == 1 ? "" : "s");
+	/* Geomview ignores the edge count (and many writers omit it), but a
+	 * present one must still be a count. */
+	static const char* const names[3] = {"vertex", "face", "edge"};
+	uint64_t counts[3];
+	for (size_t i = 0; i < n; i++) {
+		next_token(&rest, &t);
+		if (!parse_natural(t, &counts[i]))
+			return fail(r, vn_io_error_parse, "the %s count '%s' is not a non-negative integer", names[i],
+			            quote(t).text);
+		if (counts[i] == UINT64_MAX)
+			return fail(r, vn_io_error_parse, "the %s count '%s' is too large", names[i], quote(t).text);
+	}
+	*vertices = counts[0];
+	*faces = counts[1];
+	return vn_io_success;
+}
+
+static vn_io_result read_ascii_vertex(off_reader* r, vn_io_mesh* m, size_t i, off_line line)
+{
+	size_t base = r->coords + (r->normal ? 3u : 0u) + (r->st ? 2u : 0u);
+	size_t count = count_tokens(line);
+	/* Colours have 3 or 4 components; the line's length tells which. */
+	if (r->colour ? count != base + 3 && count != base + 4 : count != base) {
+		if (r->colour)
+			return fail(r, vn_io_error_parse, "vertex %zu has %zu numbers, but %s vertices have %zu or %zu (%s)", i,
+			            count, r->keyword, base + 3, base + 4, r->layout);
+		return fail(r, vn_io_error_parse, "vertex %zu has %zu numbers, but %s vertices have %zu (%s)", i, count,
+		            r->keyword, base, r->layout);
+	}
+	double v[OFF_VERTEX_MAX];
+	for (size_t k = 0; k < count; k++) {
+		vn_io_result result = line_real(r, &line, "vertex", i, &v[k]);
+		if (result != vn_io_success)
+			return result;
+	}
+	return store_vertex(r, m, i, v, r->colour ? count - base : 0);
+}
+
+static vn_io_result read_ascii_face(off_reader* r, vn_io_mesh* m, size_t f, off_line line)
+{
+	token t;
+	uint64_t corners;
+	size_t count = count_tokens(line);
+	next_token(&line, &t);
+	if (!parse_natural(t, &corners))
+		return fail(r, vn_io_error_parse, "face %zu: expected the number of corners, found '%s'", f, quote(t).text);
+	if (corners == 0)
+		return fail(r, vn_io_error_parse, "face %zu has 0 corners", f);
+	if (corners > count - 1)
+		return fail(r, vn_io_error_parse, "face %zu has %llu corners, but only %zu indices follow", f,
+		            (unsigned long long)corners, count - 1);
+	size_t used = m->face_offsets[f];
+	vn_io_result result = reserve_indices(r, m, f, used, corners);
+	if (result != vn_io_success)
+		return result;
+	for (size_t k = 0; k < corners; k++) {
+		uint64_t index;
+		next_token(&line, &t);
+		token magnitude = {t.p + 1, t.n - 1};
+		if (t.p[0] == '-' && t.n > 1 && parse_natural(magnitude, &index))
+			return fail(r, vn_io_error_parse, "face %zu has a negative index %s", f, quote(t).text);
+		if (!parse_natural(t, &index))
+			return fail(r, vn_io_error_parse, "face %zu: '%s' is not a vertex index", f, quote(t).text);
+		if (index >= m->vertex_count)
+			return fail(r, vn_io_error_parse, "face %zu has index %s, but the file has %zu vertices", f,
+			            quote(t).text, m->vertex_count);
+		m->indices[used + k] = (uint32_t)index;
+	}
+	m->face_offsets[f + 1] = (uint32_t)(used + corners);
+
+	size_t extra = count - 1 - (size_t)corners;
+	if (extra == 1) {
+		/* One integer is an index into Geomview's colormap, which vn does not
+		 * have: the face is read as if uncoloured. */
+		uint64_t index;
+		next_token(&line, &t);
+		if (!parse_natural(t, &index))
+			return fail(r, vn_io_error_parse, "face %zu: '%s' after the indices is not a colormap index", f,
+			            quote(t).text);
+	} else if (extra == 3 || extra == 4) {
+		float* rgba = NULL;
+		result = face_colour(r, m, f, &rgba);
+		for (size_t k = 0; k < extra && result == vn_io_success; k++) {
+			double v;
+			result = line_real(r, &line, "face", f, &v);
+			if (result == vn_io_success)
+				result = check_colour(r, 1, f, v);
+			if (result == vn_io_success)
+				rgba[k] = (float)v;
+		}
+	} else if (extra != 0) {
+		result = fail(r, vn_io_error_parse,
+		              "face %zu has %zu numbers after its %llu indices; a face colour is 1 colormap index, "
+		              "3 (RGB) or 4 (RGBA) numbers",
+		              f, extra, (unsigned long long)corners);
+	}
+	return result;
+}
+
+static vn_io_result read_ascii(off_reader* r, vn_io_mesh* m, off_line rest)
+{
+	uint64_t vertices = 0, faces = 0;
+	vn_io_result result = read_ascii_counts(r, rest, &vertices, &faces);
+	/* Each number takes at least one character and one separator: a vertex
+	 * at least 2 per number, a face "1 0\n"; the last line break may be
+	 * missing. */
+	size_t least = r->coords + (r->normal ? 3u : 0u) + (r->colour ? 3u : 0u) + (r->st ? 2u : 0u);
+	if (result == vn_io_success)
+		result = check_counts(r, vertices, faces, 2 * least, 4, (uint64_t)(r->end - r->p) + 1);
+	if (result == vn_io_success)
+		result = allocate(r, m, (size_t)vertices, (size_t)faces);
+	off_line line;
+	for (size_t i = 0; result == vn_io_success && i < vertices; i++) {
+		if (!next_line(r, &line))
+			return fail(r, vn_io_error_parse, "the file ends after %zu of the %zu vertices the header announces", i,
+			            (size_t)vertices);
+		result = read_ascii_vertex(r, m, i, line);
+	}
+	for (size_t f = 0; result == vn_io_success && f < faces; f++) {
+		if (!next_line(r, &line))
+			return fail(r, vn_io_error_parse, "the file ends after %zu of the %zu faces the header announces", f,
+			            (size_t)faces);
+		result = read_ascii_face(r, m, f, line);
+	}
+	if (result != vn_io_success)
+		return result;
+	if (next_line(r, &line)) {
+		token t;
+		next_token(&line, &t);
+		return fail(r, vn_io_error_parse, "unexpected '%s' after the last of the %zu faces the header announces",
+		            quote(t).text, (size_t)faces);
+	}
+	finish(r, m);
+	return vn_io_success;
+}
+
+/* ------------------------------------------------------------------ binary */
+
+/* Geomview binary OFF: after the header line, big-endian 32-bit words:
+ * [dimension] vertices faces edges, the vertices as floats (position, normal,
+ * RGBA colour, texture coordinates), then per face: corner count, indices,
+ * colour count, colour floats. */
+
+static uint32_t take_word(off_reader* r)
+{
+	uint32_t w = (uint32_t)r->p[0] << 24 | (uint32_t)r->p[1] << 16 | (uint32_t)r->p[2] << 8 | r->p[3];
+	r->p += 4;
+	return w;
+}
+
+/* Marks the position for messages; 1 when `words` more words are there. */
+static int expect_words(off_reader* r, uint64_t words)
+{
+	r->where = (size_t)(r->p - r->begin);
+	return words <= (uint64_t)(r->end - r->p) / 4;
+}
+
+static int64_t as_int32(uint32_t w)
+{
+	return w <= INT32_MAX ? (int64_t)w : (int64_t)w - INT64_C(4294967296);
+}
+
+static float as_float(uint32_t w)
+{
+	float f;
+	memcpy(&f, &w, sizeof f);
+	return f;
+}
+
+static vn_io_result read_binary_face(off_reader* r, vn_io_mesh* m, size_t f)
+{
+	if (!expect_words(r, 1))
+		return fail(r, vn_io_error_parse, "the file ends before face %zu of %zu", f, m->face_count);
+	int64_t corners = as_int32(take_word(r));
+	if (corners <= 0)
+		return fail(r, vn_io_error_parse, "face %zu has %lld corners", f, (long long)corners);
+	/* Checked before reserving: the count alone must not allocate. */
+	if (!expect_words(r, (uint64_t)corners + 1))
+		return fail(r, vn_io_error_parse, "face %zu has %lld corners, more than the rest of the file holds", f,
+		            (long long)corners);
+	size_t used = m->face_offsets[f];
+	vn_io_result result = reserve_indices(r, m, f, used, (uint64_t)corners);
+	if (result != vn_io_success)
+		return result;
+	for (size_t k = 0; k < (size_t)corners; k++) {
+		int64_t index = as_int32(take_word(r));
+		if (index < 0)
+			return fail(r, vn_io_error_parse, "face %zu has a negative index %lld", f, (long long)index);
+		if ((uint64_t)index >= m->vertex_count)
+			return fail(r, vn_io_error_parse, "face %zu has index %lld, but the file has %zu vertices", f,
+			            (long long)index, m->vertex_count);
+		m->indices[used + k] = (uint32_t)index;
+	}
+	m->face_offsets[f + 1] = (uint32_t)(used + (size_t)corners);
+
+	int64_t colours = as_int32(take_word(r));
+	if (colours < 0 || colours == 2 || colours > 4)
+		return fail(r, vn_io_error_parse,
+		            "face %zu has %lld colour components; a face colour is 0, 1 (colormap index), 3 or 4 numbers", f,
+		            (long long)colours);
+	if (!expect_words(r, (uint64_t)colours))
+		return fail(r, vn_io_error_parse, "the file ends inside the colour of face %zu", f);
+	if (colours == 1) {
+		r->p += 4; /* colormap index: see read_ascii_face */
+	} else if (colours >= 3) {
+		float* rgba = NULL;
+		result = face_colour(r, m, f, &rgba);
+		for (int64_t k = 0; k < colours && result == vn_io_success; k++) {
+			double v = as_float(take_word(r));
+			result = check_colour(r, 1, f, v);
+			if (result == vn_io_success)
+				rgba[k] = (float)v;
+		}
+	}
+	return result;
+}
+
+static vn_io_result read_binary(off_reader* r, vn_io_mesh* m)
+{
+	if (r->ndim) {
+		if (!expect_words(r, 1))
+			return fail(r, vn_io_error_parse, "the file ends before the nOFF dimension");
+		int64_t dimension = as_int32(take_word(r));
+		if (dimension != 3)
+			return fail(r, vn_io_error_unsupported,
+			            "nOFF dimension %lld is not supported: vn reads 3-dimensional vertices only",
+			            (long long)dimension);
+	}
+	static const char* const names[3] = {"vertex", "face", "edge"};
+	int64_t counts[3];
+	size_t counts_at = (size_t)(r->p - r->begin);
+	for (size_t i = 0; i < 3; i++) {
+		if (!expect_words(r, 1))
+			return fail(r, vn_io_error_parse, "the file ends before the %s count", names[i]);
+		counts[i] = as_int32(take_word(r));
+		if (counts[i] < 0)
+			return fail(r, vn_io_error_parse, "the %s count %lld is negative", names[i], (long long)counts[i]);
+	}
+	/* Binary vertex colours are always 4 floats (RGBA). */
+	size_t words = r->coords + (r->normal ? 3u : 0u) + (r->colour ? 4u : 0u) + (r->st ? 2u : 0u);
+	/* A face is at least 3 words: 1 corner, its index, 0 colours. */
+	r->where = counts_at;
+	vn_io_result result =
+	    check_counts(r, (uint64_t)counts[0], (uint64_t)counts[1], 4 * words, 12, (uint64_t)(r->end - r->p));
+	if (result == vn_io_success)
+		result = allocate(r, m, (size_t)counts[0], (size_t)counts[1]);
+	/* Vertices have a fixed size, so check_counts has made sure they are all there. */
+	for (size_t i = 0; i < m->vertex_count && result == vn_io_success; i++) {
+		double v[OFF_VERTEX_MAX];
+		r->where = (size_t)(r->p - r->begin);
+		for (size_t k = 0; k < words; k++)
+			v[k] = as_float(take_word(r));
+		result = store_vertex(r, m, i, v, r->colour ? 4 : 0);
+	}
+	for (size_t f = 0; f < m->face_count && result == vn_io_success; f++)
+		result = read_binary_face(r, m, f);
+	if (result != vn_io_success)
+		return result;
+	if (r->p != r->end) {
+		r->where = (size_t)(r->p - r->begin);
+		return fail(r, vn_io_error_parse, "%zu unexpected bytes after the last face", (size_t)(r->end - r->p));
+	}
+	finish(r, m);
+	return vn_io_success;
+}
+
+/* ------------------------------------------------------------------ entry points */
+
+static vn_io_result read_off(off_reader* r, vn_io_mesh* m)
+{
+	off_line line;
+	token t;
+	if (!next_line(r, &line))
+		return vn_io_fail(r->error, vn_io_error_parse, "%s: expected an OFF header keyword, but the file is %s",
+		                  r->name, r->end == r->begin ? "empty" : "only blanks and comments");
+	next_token(&line, &t);
+	if (!parse_keyword(r, t))
+		return fail(r, vn_io_error_parse, "expected an OFF header keyword ([ST][C][N][4][n]OFF), found '%s'",
+		            quote(t).text);
+	off_line rest = line;
+	if (next_token(&rest, &t) && t.n == 6 && memcmp(t.p, "BINARY", 6) == 0) {
+		if (next_token(&rest, &t))
+			return fail(r, vn_io_error_parse, "unexpected '%s' after BINARY", quote(t).text);
+		/* Binary data starts right after the header line's line break. */
+		r->binary = 1;
+		return read_binary(r, m);
+	}
+	return read_ascii(r, m, line);
+}
+
+vn_io_result vn_io_off_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
+                                   vn_io_error* error)
+{
+	memset(mesh, 0, sizeof *mesh);
+	off_reader r;
+	memset(&r, 0, sizeof r);
+	r.name = name;
+	r.error = error;
+	r.begin = (const unsigned char*)(data ? data : "");
+	r.p = r.begin;
+	r.end = r.begin + (data ? size : 0);
+	r.line = 1;
+	r.coords = 3;
+	/* A UTF-8 byte order mark, as some Windows editors write. */
+	if (r.end - r.p >= 3 && memcmp(r.p, "\xEF\xBB\xBF", 3) == 0)
+		r.p += 3;
+
+	c_locale locale;
+	if (!c_locale_enter(&locale))
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+	vn_io_result result = read_off(&r, mesh);
+	c_locale_leave(&locale);
+	if (result != vn_io_success)
+		vn_io_mesh_free(mesh);
+	return result;
+}
+
+vn_io_result vn_io_off_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)
+{
+	char* data;
+	size_t size;
+	memset(mesh, 0, sizeof *mesh);
+	vn_io_result result = vn_io_read_all(path, &data, &size, error);
+	if (result != vn_io_success)
+		return result;
+	result = vn_io_off_read_memory(data, size, path, mesh, error);
+	free(data);
+	return result;
+}
+
+/* ------------------------------------------------------------------ writer */
+
+typedef struct off_writer {
+	FILE* out;
+	int failed;
+	int error_number; /* errno of the first failed write */
+} off_writer;
+
+static void put(off_writer* w, const char* text)
+{
+	if (!w->failed && fputs(text, w->out) == EOF) {
+		w->failed = 1;
+		w->error_number = errno;
+	}
+}
+
+/* 9 significant digits: enough for a float to read back unchanged. */
+static void put_float9(off_writer* w, double v)
+{
+	char text[40];
+	snprintf(text, sizeof text, " %.9g", v);
+	put(w, text);
+}
+
+/* Positions are doubles: the shortest of 15, 16 or 17 significant digits that
+ * reads back as the same double, so that 0.1 stays "0.1" and every double
+ * survives a round trip exactly. */
+static void put_exact(off_writer* w, const char* separator, double v)
+{
+	char text[40];
+	for (int digits = 15;; digits++) {
+		snprintf(text, sizeof text, "%s%.*g", separator, digits, v);
+		if (digits == 17 || strtod(text, NULL) == v)
+			break;
+	}
+	put(w, text);
+}
+
+static int colour_byte(float c)
+{
+	return !(c > 0.0f) ? 0 : c >= 1.0f ? 255 : (int)(c * 255.0f + 0.5f);
+}
+
+static void put_colour(off_writer* w, const float* rgba, int bytes, int alpha)
+{
+	for (size_t k = 0; k < (alpha ? 4u : 3u); k++) {
+		if (bytes) {
+			char text[16];
+			snprintf(text, sizeof text, " %d", colour_byte(rgba[k]));
+			put(w, text);
+		} else {
+			put_float9(w, rgba[k]);
+		}
+	}
+}
+
+/* RGBA is written only when some alpha is not 1, as most files have RGB. */
+static int any_alpha(const float* colours, size_t count)
+{
+	for (size_t i = 0; i < count; i++)
+		if (colours[4 * i + 3] != 1.0f)
+			return 1;
+	return 0;
+}
+
+vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error)
+{
+	c_locale locale;
+	if (!c_locale_enter(&locale))
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);
+	off_writer w = {out, 0, 0};
+	int vertex_alpha = mesh->colors && any_alpha(mesh->colors, mesh->vertex_count);
+	int face_alpha = mesh->face_colors && any_alpha(mesh->face_colors, mesh->face_count);
+
+	char text[64];
+	/* The edge count is not used by anyone; 0 is what most writers put. */
+	snprintf(text, sizeof text, "%s%s%sOFF\n%zu %zu 0\n", mesh->texcoords ? "ST" : "", mesh->colors ? "C" : "",
+	         mesh->normals ? "N" : "", mesh->vertex_count, mesh->face_count);
+	put(&w, text);
+	for (size_t i = 0; i < mesh->vertex_count && !w.failed; i++) {
+		for (size_t k = 0; k < 3; k++)
+			put_exact(&w, k ? " " : "", mesh->positions[3 * i + k]);
+		/* Normals are unit vectors made for rendering: float precision. */
+		if (mesh->normals)
+			for (size_t k = 0; k < 3; k++)
+				put_float9(&w, mesh->normals[3 * i + k]);
+		if (mesh->colors)
+			put_colour(&w, mesh->colors + 4 * i, mesh->colors_are_bytes, vertex_alpha);
+		if (mesh->texcoords)
+			for (size_t k = 0; k < 2; k++)
+				put_float9(&w, mesh->texcoords[2 * i + k]);
+		put(&w, "\n");
+	}
+	for (size_t f = 0; f < mesh->face_count && !w.failed; f++) {
+		uint32_t begin = mesh->face_offsets[f], end = mesh->face_offsets[f + 1];
+		snprintf(text, sizeof text, "%" PRIu32, end - begin);
+		put(&w, text);
+		for (uint32_t k = begin; k < end; k++) {
+			snprintf(text, sizeof text, " %" PRIu32, mesh->indices[k]);
+			put(&w, text);
+		}
+		if (mesh->face_colors)
+			put_colour(&w, mesh->face_colors + 4 * f, mesh->face_colors_are_bytes, face_alpha);
+		put(&w, "\n");
+	}
+	c_locale_leave(&locale);
+	if (w.failed)
+		return vn_io_fail(error, vn_io_error_write, "%s: cannot write: %s", path, strerror(w.error_number));
+	return vn_io_success;
+}

@@ -1,0 +1,204 @@
+/* Running a computation on several workers with bit-identical results.
+ *
+ * Vertices are split into contiguous ranges, one per worker. Every worker
+ * walks all faces in index order but adds only to the vertices it owns, then
+ * normalizes them. Each vertex's sum is therefore formed by one worker, in
+ * the same order and with the same operations whatever the worker count, and
+ * workers never write the same memory: no locks, no reduction step. A face
+ * whose corners fall in two ranges is evaluated by both workers; on meshes
+ * with locality (indices roughly in face order) these are few. */
+#include <pthread.h>
+#include <stdlib.h>
+
+#include "internal.h"
+#include "simd.h"
+
+/* Below this many vertices per worker, thread start-up costs more than it saves. */
+#define VN_MIN_VERTICES_PER_THREAD 16384
+#define VN_MAX_THREADS 256
+/* Squared lengths normalized directly; outside, the sum is rescaled first. */
+#define VN_LEN2_MIN 0x1p-900
+#define VN_LEN2_MAX 0x1p900
+
+typedef struct vn_task {
+	const vn_work* work;
+	vn_accumulate_fn accumulate;
+	uint32_t lo, hi;
+	vn_range_stats stats;
+} vn_task;
+
+VN_INLINE void store(const vn_work* w, uint32_t v, double x, double y, double z)
+{
+	unsigned char* dst = (unsigned char*)w->out->data + (size_t)v * w->out->stride;
+	if (w->out->type == vn_scalar_float32) {
+		const float f[3] = {(float)x, (float)y, (float)z};
+		memcpy(dst, f, sizeof(f));
+	} else {
+		const double d[3] = {x, y, z};
+		memcpy(dst, d, sizeof(d));
+	}
+}
+
+/* Normalizes acc[v] into the output; a sum with no usable direction (zero,
+ * or beyond double range) becomes the zero vector. Returns 1 for zero. */
+VN_INLINE int finalize_one(const vn_work* w, uint32_t v)
+{
+	const double* a = w->acc + 4 * (size_t)v;
+	double x = a[0], y = a[1], z = a[2];
+	const double len2 = x * x + y * y + z * z;
+	if (len2 >= VN_LEN2_MIN && len2 <= VN_LEN2_MAX) {
+		const double inv = 1.0 / sqrt(len2);
+		store(w, v, x * inv, y * inv, z * inv);
+		return 0;
+	}
+	/* Rare: rescale first so that squaring neither overflows nor underflows.
+	 * The sum of magnitudes also catches NaN and Inf. */
+	const double m = fabs(x) + fabs(y) + fabs(z);
+	if (m > 0.0 && m <= DBL_MAX) {
+		x /= m, y /= m, z /= m;
+		const double inv = 1.0 / sqrt(x * x + y * y + z * z);
+		store(w, v, x * inv, y * inv, z * inv);
+		return 0;
+	}
+	store(w, v, 0.0, 0.0, 0.0);
+	return 1;
+}
+
+static void count_nonfinite(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	for (uint32_t v = lo; v < hi; ++v) {
+		double p[3];
+		vn_load(w, w->type, v, p);
+		st->nonfinite_vertices += !(isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]));
+	}
+}
+
+static void finalize(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	size_t zero = 0;
+	for (uint32_t v = lo; v < hi; ++v)
+		zero += finalize_one(w, v);
+	st->zero_normals += zero;
+}
+
+#ifdef VN_HAVE_AVX2
+/* finalize() four vertices at a time, with the same operations. */
+static VN_AVX2 void finalize_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	const __m256d one = _mm256_set1_pd(1.0), lmin = _mm256_set1_pd(VN_LEN2_MIN), lmax = _mm256_set1_pd(VN_LEN2_MAX);
+	size_t zero = 0;
+	uint32_t v = lo;
+	for (; v + 4 <= hi; v += 4) {
+		const double* a = w->acc + 4 * (size_t)v;
+		const __m256d a0 = _mm256_load_pd(a), a1 = _mm256_load_pd(a + 4);
+		const __m256d a2 = _mm256_load_pd(a + 8), a3 = _mm256_load_pd(a + 12);
+		const __m256d t0 = _mm256_unpacklo_pd(a0, a1), t1 = _mm256_unpackhi_pd(a0, a1);
+		const __m256d t2 = _mm256_unpacklo_pd(a2, a3), t3 = _mm256_unpackhi_pd(a2, a3);
+		const __m256d x = _mm256_permute2f128_pd(t0, t2, 0x20), y = _mm256_permute2f128_pd(t1, t3, 0x20);
+		const __m256d z = _mm256_permute2f128_pd(t0, t2, 0x31);
+		const __m256d len2 = vn_dot4(x, y, z, x, y, z);
+		const __m256d in = _mm256_and_pd(_mm256_cmp_pd(len2, lmin, _CMP_GE_OQ), _mm256_cmp_pd(len2, lmax, _CMP_LE_OQ));
+		if (_mm256_movemask_pd(in) != 15) {
+			for (uint32_t k = 0; k < 4; ++k)
+				zero += finalize_one(w, v + k);
+			continue;
+		}
+		const __m256d inv = _mm256_div_pd(one, _mm256_sqrt_pd(len2));
+		double nx[4], ny[4], nz[4];
+		_mm256_storeu_pd(nx, _mm256_mul_pd(x, inv));
+		_mm256_storeu_pd(ny, _mm256_mul_pd(y, inv));
+		_mm256_storeu_pd(nz, _mm256_mul_pd(z, inv));
+		for (uint32_t k = 0; k < 4; ++k)
+			store(w, v + k, nx[k], ny[k], nz[k]);
+	}
+	for (; v < hi; ++v)
+		zero += finalize_one(w, v);
+	st->zero_normals += zero;
+}
+#endif
+
+static void* run_task(void* arg)
+{
+	vn_task* t = (vn_task*)arg;
+	const vn_work* w = t->work;
+	memset(w->acc + 4 * (size_t)t->lo, 0, 4 * sizeof(double) * (size_t)(t->hi - t->lo));
+	t->accumulate(w, t->lo, t->hi, &t->stats);
+#ifdef VN_HAVE_AVX2
+	if (w->simd)
+		finalize_avx2(w, t->lo, t->hi, &t->stats);
+	else
+#endif
+		finalize(w, t->lo, t->hi, &t->stats);
+	if (w->want_stats)
+		count_nonfinite(w, t->lo, t->hi, &t->stats);
+	return NULL;
+}
+
+static void* default_allocate(void* user, size_t size)
+{
+	(void)user;
+	return malloc(size);
+}
+
+static void default_deallocate(void* user, void* ptr)
+{
+	(void)user;
+	free(ptr);
+}
+
+vn_result vn_run(const vn_work* work, vn_accumulate_fn accumulate, unsigned threads, const vn_allocator* alloc,
+                 vn_range_stats* st)
+{
+	void* (*allocate)(void*, size_t) = alloc->allocate ? alloc->allocate : default_allocate;
+	void (*deallocate)(void*, void*) = alloc->allocate ? alloc->deallocate : default_deallocate;
+
+	const uint32_t nv = work->vertex_count;
+	unsigned nt = threads ? threads : 1;
+	if (nt > VN_MAX_THREADS)
+		nt = VN_MAX_THREADS;
+	if ((size_t)nt * VN_MIN_VERTICES_PER_THREAD > nv)
+		nt = nv / VN_MIN_VERTICES_PER_THREAD > 1 ? (unsigned)(nv / VN_MIN_VERTICES_PER_THREAD) : 1;
+
+	/* The accumulators, 32-byte aligned whatever the allocator returns, and
+	 * the task records in the same block. */
+	const size_t acc_bytes = 4 * sizeof(double) * (size_t)nv;
+	const size_t task_bytes = sizeof(vn_task) * nt;
+	const size_t thread_bytes = (sizeof(pthread_t) + 1) * nt;
+	unsigned char* block = (unsigned char*)allocate(alloc->user, acc_bytes + task_bytes + thread_bytes + 32);
+	if (!block)
+		return vn_result_out_of_memory;
+	unsigned char* aligned = block + ((32 - ((uintptr_t)block & 31)) & 31);
+	vn_work w = *work;
+	w.acc = (double*)aligned;
+	vn_task* tasks = (vn_task*)(aligned + acc_bytes);
+	pthread_t* ids = (pthread_t*)(aligned + acc_bytes + task_bytes);
+
+	for (unsigned t = 0; t < nt; ++t) {
+		tasks[t].work = &w;
+		tasks[t].accumulate = accumulate;
+		tasks[t].lo = (uint32_t)((uint64_t)nv * t / nt);
+		tasks[t].hi = (uint32_t)((uint64_t)nv * (t + 1) / nt);
+		memset(&tasks[t].stats, 0, sizeof(tasks[t].stats));
+	}
+
+	/* Workers 1..nt-1 run on new threads, worker 0 on the caller's; a worker
+	 * whose thread cannot be started runs on the caller's too. */
+	unsigned char* started = (unsigned char*)(ids + nt);
+	for (unsigned t = 1; t < nt; ++t)
+		started[t] = pthread_create(&ids[t], NULL, run_task, &tasks[t]) == 0;
+	run_task(&tasks[0]);
+	for (unsigned t = 1; t < nt; ++t) {
+		if (started[t])
+			pthread_join(ids[t], NULL);
+		else
+			run_task(&tasks[t]);
+	}
+
+	for (unsigned t = 0; t < nt; ++t) {
+		st->degenerate_faces += tasks[t].stats.degenerate_faces;
+		st->zero_normals += tasks[t].stats.zero_normals;
+		st->nonfinite_vertices += tasks[t].stats.nonfinite_vertices;
+	}
+	deallocate(alloc->user, block);
+	return vn_result_success;
+}

@@ -1,0 +1,154 @@
+/* AVX2 helpers for the triangle kernels: four triangles at a time.
+ *
+ * The kernels load the 12 corners of a group of four triangles, transpose
+ * them to structure-of-arrays doubles, do the per-face arithmetic on four
+ * lanes, and transpose back to add each corner's vector to its accumulator.
+ *
+ * Bit-identical to the scalar code by construction: the same IEEE operations
+ * (add, sub, mul, div, sqrt, exact conversions) in the same order, no FMA
+ * (the library builds with -ffp-contract=off), and accumulators updated
+ * triangle by triangle, corner by corner, exactly as the scalar loop does. */
+#ifndef VN_SIMD_H
+#define VN_SIMD_H
+
+#include "internal.h"
+
+#if (defined(__x86_64__) || defined(_M_X64)) && (defined(__GNUC__) || defined(__clang__))
+#define VN_HAVE_AVX2 1
+#include <immintrin.h>
+
+#define VN_AVX2 __attribute__((target("avx2")))
+#define VN_AVX2_INLINE static inline __attribute__((target("avx2"), always_inline))
+
+/* The corners of one group: x, y, z of corner c, lane k = triangle k. */
+typedef struct vn_group {
+	__m256d x[3], y[3], z[3];
+} vn_group;
+
+/* True when any of the group's 12 indices is the last vertex, whose data may
+ * end the buffer: the loads below read 16 (float) or 32 (double) bytes from
+ * each vertex, past its z. Such groups take the scalar path. */
+VN_AVX2_INLINE int vn_group_touches_last(const uint32_t* idx, uint32_t last)
+{
+	const __m256i l = _mm256_set1_epi32((int)last);
+	const __m256i a = _mm256_cmpeq_epi32(_mm256_loadu_si256((const __m256i*)idx), l);
+	const __m128i b = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i*)(idx + 8)), _mm256_castsi256_si128(l));
+	return !_mm256_testz_si256(a, a) || !_mm_testz_si128(b, b);
+}
+
+/* 4 vertices (x, y, z, junk) -> x, y, z lanes as doubles. */
+VN_AVX2_INLINE void vn_load4(const vn_work* w, vn_scalar type, uint32_t a, uint32_t b, uint32_t c, uint32_t d,
+                             __m256d* x, __m256d* y, __m256d* z)
+{
+	const unsigned char* base = w->positions;
+	const size_t s = w->stride;
+	if (type == vn_scalar_float32) {
+		const __m128 va = _mm_loadu_ps((const float*)(base + a * s)), vb = _mm_loadu_ps((const float*)(base + b * s));
+		const __m128 vc = _mm_loadu_ps((const float*)(base + c * s)), vd = _mm_loadu_ps((const float*)(base + d * s));
+		const __m128 t0 = _mm_unpacklo_ps(va, vb), t1 = _mm_unpacklo_ps(vc, vd);
+		const __m128 t2 = _mm_unpackhi_ps(va, vb), t3 = _mm_unpackhi_ps(vc, vd);
+		*x = _mm256_cvtps_pd(_mm_movelh_ps(t0, t1));
+		*y = _mm256_cvtps_pd(_mm_movehl_ps(t1, t0));
+		*z = _mm256_cvtps_pd(_mm_movelh_ps(t2, t3));
+	} else {
+		const __m256d va = _mm256_loadu_pd((const double*)(base + a * s));
+		const __m256d vb = _mm256_loadu_pd((const double*)(base + b * s));
+		const __m256d vc = _mm256_loadu_pd((const double*)(base + c * s));
+		const __m256d vd = _mm256_loadu_pd((const double*)(base + d * s));
+		const __m256d t0 = _mm256_unpacklo_pd(va, vb), t1 = _mm256_unpackhi_pd(va, vb);
+		const __m256d t2 = _mm256_unpacklo_pd(vc, vd), t3 = _mm256_unpackhi_pd(vc, vd);
+		*x = _mm256_permute2f128_pd(t0, t2, 0x20);
+		*y = _mm256_permute2f128_pd(t1, t3, 0x20);
+		*z = _mm256_permute2f128_pd(t0, t2, 0x31);
+	}
+}
+
+/* Triangles idx[0..12) as corners of a group. */
+VN_AVX2_INLINE void vn_load_group(const vn_work* w, vn_scalar type, const uint32_t* idx, vn_group* g)
+{
+	for (int c = 0; c < 3; ++c)
+		vn_load4(w, type, idx[c], idx[3 + c], idx[6 + c], idx[9 + c], &g->x[c], &g->y[c], &g->z[c]);
+}
+
+VN_AVX2_INLINE __m256d vn_dot4(__m256d ax, __m256d ay, __m256d az, __m256d bx, __m256d by, __m256d bz)
+{
+	return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ax, bx), _mm256_mul_pd(ay, by)), _mm256_mul_pd(az, bz));
+}
+
+/* r = a x b, lane by lane, in vn_cross's order of operations. */
+VN_AVX2_INLINE void vn_cross4(__m256d ax, __m256d ay, __m256d az, __m256d bx, __m256d by, __m256d bz, __m256d* rx,
+                              __m256d* ry, __m256d* rz)
+{
+	*rx = _mm256_sub_pd(_mm256_mul_pd(ay, bz), _mm256_mul_pd(az, by));
+	*ry = _mm256_sub_pd(_mm256_mul_pd(az, bx), _mm256_mul_pd(ax, bz));
+	*rz = _mm256_sub_pd(_mm256_mul_pd(ax, by), _mm256_mul_pd(ay, bx));
+}
+
+/* The usable lanes (vn_usable) as a 4-bit mask. */
+VN_AVX2_INLINE int vn_usable4(__m256d len2)
+{
+	const __m256d ok = _mm256_and_pd(_mm256_cmp_pd(len2, _mm256_set1_pd(DBL_MIN), _CMP_GE_OQ),
+	                                 _mm256_cmp_pd(len2, _mm256_set1_pd(DBL_MAX), _CMP_LE_OQ));
+	return _mm256_movemask_pd(ok);
+}
+
+/* Adds corner c's vector (x[c], y[c], z[c]) lane k to acc[idx[3k + c]] for the
+ * usable lanes whose corner is owned, triangle by triangle in index order. */
+VN_AVX2_INLINE void vn_scatter_group(double* acc, const uint32_t* idx, int usable, uint32_t lo, uint32_t span,
+                                     const __m256d x[3], const __m256d y[3], const __m256d z[3])
+{
+	__m256d v[3][4]; /* [corner][lane]: (x, y, z, 0) */
+	const __m256d zero = _mm256_setzero_pd();
+	for (int c = 0; c < 3; ++c) {
+		const __m256d t0 = _mm256_unpacklo_pd(x[c], y[c]), t1 = _mm256_unpackhi_pd(x[c], y[c]);
+		const __m256d t2 = _mm256_unpacklo_pd(z[c], zero), t3 = _mm256_unpackhi_pd(z[c], zero);
+		v[c][0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+		v[c][1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+		v[c][2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+		v[c][3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+	}
+	for (int k = 0; k < 4; ++k) {
+		if (!(usable >> k & 1))
+			continue;
+		for (int c = 0; c < 3; ++c) {
+			const uint32_t i = idx[3 * k + c];
+			if (vn_owned(i, lo, span)) {
+				double* a = acc + 4 * (size_t)i;
+				_mm256_store_pd(a, _mm256_add_pd(_mm256_load_pd(a), v[c][k]));
+			}
+		}
+	}
+}
+
+/* Degenerate faces of a group counted as the scalar loop does: by the worker
+ * owning corner 0. */
+static inline size_t vn_group_degenerate(const uint32_t* idx, int usable, uint32_t lo, uint32_t span)
+{
+	size_t n = 0;
+	for (int k = 0; k < 4; ++k)
+		n += !(usable >> k & 1) && vn_owned(idx[3 * k], lo, span);
+	return n;
+}
+
+/* True when at least one of the group's corners is owned. */
+static inline int vn_group_owned(const uint32_t* idx, uint32_t lo, uint32_t span)
+{
+	int any = 0;
+	for (int i = 0; i < 12; ++i)
+		any |= vn_owned(idx[i], lo, span);
+	return any;
+}
+
+static inline int vn_cpu_has_avx2(void)
+{
+	return __builtin_cpu_supports("avx2");
+}
+
+#else
+static inline int vn_cpu_has_avx2(void)
+{
+	return 0;
+}
+#endif /* x86-64 with GCC or Clang */
+
+#endif /* VN_SIMD_H */

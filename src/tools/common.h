@@ -1,0 +1,87 @@
+/* Small helpers shared by the command-line programs (header-only: each
+ * program is one translation unit plus the libraries). */
+#ifndef VN_TOOLS_COMMON_H
+#define VN_TOOLS_COMMON_H
+
+/* clock_gettime, isatty and sysconf are POSIX, not C11. */
+#ifndef _POSIX_C_SOURCE
+#define _POSIX_C_SOURCE 200809L
+#endif
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "vn.h"
+#include "vn_io.h"
+
+static inline double tool_now(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Parses a whole decimal number in [lo, hi]; false on anything else. */
+static inline int tool_parse_uint(const char* s, unsigned long lo, unsigned long hi, unsigned long* out)
+{
+	if (!s || !*s || *s == '-' || *s == '+')
+		return 0;
+	char* end;
+	errno = 0;
+	unsigned long v = strtoul(s, &end, 10);
+	if (errno || *end || v < lo || v > hi)
+		return 0;
+	*out = v;
+	return 1;
+}
+
+static inline unsigned tool_cpu_count(void)
+{
+	long n = sysconf(_SC_NPROCESSORS_ONLN);
+	return n > 0 ? (unsigned)n : 1;
+}
+
+/* Exits with 1 unless the library this program runs with has the major
+ * version it was compiled against. */
+static inline void tool_check_version(const char* prog)
+{
+	if (vn_version() >> 16 != VN_VERSION_MAJOR) {
+		fprintf(stderr, "%s: error: built for libvn %s but running with %s\n", prog, VN_VERSION_STRING,
+		        vn_version_string());
+		exit(1);
+	}
+}
+
+static inline void tool_list_methods(FILE* out)
+{
+	for (unsigned m = 0; m < vn_method_count; ++m)
+		fprintf(out, "%-7s %s [%s]\n", vn_method_name((vn_method)m), vn_method_description((vn_method)m),
+		        vn_method_reference((vn_method)m));
+}
+
+/* Computes normals of mesh into mesh->normals (allocated here), choosing the
+ * triangle or polygon entry point. */
+static inline vn_result tool_compute(vn_io_mesh* mesh, vn_method method, unsigned threads, vn_stats* stats)
+{
+	if (!mesh->normals) {
+		mesh->normals = (double*)malloc(3 * sizeof(double) * (mesh->vertex_count ? mesh->vertex_count : 1));
+		if (!mesh->normals)
+			return vn_result_out_of_memory;
+	}
+	const vn_positions pos = {mesh->positions, mesh->vertex_count, 0, vn_scalar_float64};
+	const vn_vectors out = {mesh->normals, 0, vn_scalar_float64};
+	vn_options opt;
+	memset(&opt, 0, sizeof(opt));
+	opt.threads = threads;
+	if (vn_io_mesh_is_triangles(mesh))
+		return vn_triangle_normals(&out, &pos, mesh->indices, 3 * mesh->face_count, method, &opt, stats);
+	static const uint32_t no_faces[1] = {0};
+	return vn_polygon_normals(&out, &pos, mesh->indices, mesh->face_count ? mesh->face_offsets : no_faces,
+	                          mesh->face_count, method, &opt, stats);
+}
+
+#endif /* VN_TOOLS_COMMON_H */

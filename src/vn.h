@@ -1,0 +1,195 @@
+/*
+ * vn: vertex normals with any published weighting scheme.
+ *
+ * This header is the manual. Conventions used throughout:
+ *  - Inputs are plain arrays with byte strides; the caller owns every output
+ *    array and sizes it as each function says.
+ *  - Every function returns a vn_result; vn_result_string() names it.
+ *  - Options structs are all-zero for the defaults; a NULL options pointer
+ *    means the same.
+ *  - Nothing is global or mutable: distinct meshes may be processed from
+ *    distinct threads at the same time.
+ *  - Positions are in any length unit; normals are unitless unit vectors.
+ *
+ * Weighting schemes: Jin, Lewis, West, "A Comparison of Algorithms for Vertex
+ * Normal Computation", 2005 (the paper's equation numbers are cited below).
+ */
+#ifndef VN_H
+#define VN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(_WIN32) && defined(VN_SHARED)
+#  ifdef VN_BUILDING
+#    define VN_API __declspec(dllexport)
+#  else
+#    define VN_API __declspec(dllimport)
+#  endif
+#elif defined(__GNUC__) || defined(__clang__)
+#  define VN_API __attribute__((visibility("default")))
+#else
+#  define VN_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ version */
+
+#define VN_VERSION_MAJOR 0
+#define VN_VERSION_MINOR 1
+#define VN_VERSION_PATCH 0
+/* (major << 16) | (minor << 8) | patch, comparable as an integer. */
+#define VN_VERSION ((VN_VERSION_MAJOR << 16) | (VN_VERSION_MINOR << 8) | VN_VERSION_PATCH)
+#define VN_VERSION_STRING "0.1.0"
+
+/* The VN_VERSION the library was built with. A program should check at start
+ * that vn_version() >> 16 == VN_VERSION_MAJOR (same major: compatible ABI). */
+VN_API uint32_t vn_version(void);
+/* The same as a "MAJOR.MINOR.PATCH" string with static storage. */
+VN_API const char* vn_version_string(void);
+
+/* ------------------------------------------------------------------ results */
+
+typedef enum vn_result {
+	vn_result_success = 0,
+	vn_result_invalid_argument,   /* a required pointer is NULL, a stride too small, a count inconsistent */
+	vn_result_index_out_of_range, /* an index >= vertex_count; nothing was written */
+	vn_result_unknown_method,     /* not a vn_method value, or a name no method has */
+	vn_result_out_of_memory,      /* the allocator returned NULL; nothing was written */
+	vn_result_count_
+} vn_result;
+
+/* A short English description of r ("index out of range"); never NULL. */
+VN_API const char* vn_result_string(vn_result r);
+
+/* ------------------------------------------------------------------ methods */
+
+/* The paper's seven schemes. For a face f around vertex v: N_f is f's unit
+ * normal (Newell's method on polygons), E and E' the vectors from v to its
+ * previous and next corner in f, alpha = atan2(|E x E'|, E . E'). Every method
+ * normalizes the sum at the end. */
+typedef enum vn_method {
+	vn_method_mwe = 0, /* sum N_f                              (Gouraud 1971, eq. 1) */
+	vn_method_mwa,     /* sum alpha N_f                        (Thurmer & Wuthrich 1998, eq. 2) */
+	vn_method_mwselr,  /* sum N_f sin(alpha) / (|E||E'|)       (Max 1999, eq. 4) */
+	vn_method_mwaat,   /* sum N_f |E x E'|                     (Max 1999, eq. 5) */
+	vn_method_mwelr,   /* sum N_f / (|E||E'|)                  (Max 1999, eq. 6) */
+	vn_method_mwrelr,  /* sum N_f / sqrt(|E||E'|)              (Max 1999, eq. 7) */
+	vn_method_mewcsa,  /* sum (p_next - p_prev) x N_f; on triangles the cotangent
+	                      formula (Desbrun et al. 1999, eq. 9). The sign is NOT
+	                      corrected: it points inward where mean curvature < 0. */
+	vn_method_count
+} vn_method;
+
+/* The method's lower-case name ("mwselr"), or NULL for an invalid value. */
+VN_API const char* vn_method_name(vn_method m);
+/* One line saying what the method weights by, or NULL for an invalid value. */
+VN_API const char* vn_method_description(vn_method m);
+/* The method's origin as a short citation, or NULL for an invalid value. */
+VN_API const char* vn_method_reference(vn_method m);
+/* Finds a method by name, case-insensitively. Writes *out only on success;
+ * returns vn_result_unknown_method for an unknown name, invalid_argument for NULL. */
+VN_API vn_result vn_method_from_name(const char* name, vn_method* out);
+
+/* ------------------------------------------------------------------ data */
+
+typedef enum vn_scalar {
+	vn_scalar_float32 = 0,
+	vn_scalar_float64 = 1
+} vn_scalar;
+
+/* Input positions: count vertices, each x, y, z of type `type`, the first at
+ * `data`, vertex i at (const char*)data + i * stride. stride 0 means packed
+ * (3 * scalar size). Computation is in double whatever the input type. */
+typedef struct vn_positions {
+	const void* data;
+	size_t count;
+	size_t stride;
+	vn_scalar type;
+} vn_positions;
+
+/* Output vectors: one x, y, z triple of type `type` per element, element i at
+ * (char*)data + i * stride; stride 0 means packed. The caller allocates. */
+typedef struct vn_vectors {
+	void* data;
+	size_t stride;
+	vn_scalar type;
+} vn_vectors;
+
+/* Memory for temporary work arrays. Both functions NULL means malloc/free. */
+typedef struct vn_allocator {
+	void* (*allocate)(void* user, size_t size);
+	void (*deallocate)(void* user, void* ptr);
+	void* user;
+} vn_allocator;
+
+/* Whether the triangle kernels may use the CPU's vector instructions (AVX2 on
+ * x86-64, detected at run time). Results are bit-identical either way. */
+typedef enum vn_simd {
+	vn_simd_auto = 0, /* use them when the CPU has them */
+	vn_simd_off = 1   /* portable scalar code only: to verify or to measure */
+} vn_simd;
+
+typedef struct vn_options {
+	/* Worker threads; 0 or 1 computes on the calling thread. Results are
+	 * bit-identical whatever the thread count. Meshes with fewer than 16384
+	 * vertices per thread use fewer threads; a thread that cannot be started
+	 * has its share computed on the calling thread. */
+	unsigned threads;
+	vn_simd simd;
+	vn_allocator allocator; /* for the work arrays (32 bytes per vertex) */
+} vn_options;
+
+/* What the computation met. Every field is a count. */
+typedef struct vn_stats {
+	size_t faces;            /* faces given */
+	size_t degenerate_faces; /* faces that contributed nothing: fewer than 3
+	                            corners, zero or non-finite area, or a vertex
+	                            with a non-finite coordinate */
+	size_t zero_normals;     /* vertices whose output is the zero vector: no
+	                            face contributed (isolated, or every face
+	                            degenerate), or the contributions cancelled */
+	size_t nonfinite_vertices; /* vertices with a NaN or infinite coordinate */
+} vn_stats;
+
+/* ------------------------------------------------------------------ vertex normals */
+
+/* Per-vertex normals of a triangle mesh.
+ *
+ * Triangle t has corners indices[3t], indices[3t+1], indices[3t+2], counter-
+ * clockwise seen from the side its normal points to; index_count must be a
+ * multiple of 3. normals receives positions->count unit vectors.
+ *
+ * Degenerate input never yields NaN: a triangle with zero or non-finite area
+ * (including a repeated index or a NaN/Inf coordinate) contributes nothing; a
+ * vertex no face contributes to gets (0, 0, 0). Non-manifold edges need no
+ * special care: each face simply contributes to its corners.
+ *
+ * indices are all checked against positions->count before any work starts;
+ * on any error nothing is written. stats may be NULL; options may be NULL.
+ */
+VN_API vn_result vn_triangle_normals(const vn_vectors* normals, const vn_positions* positions,
+                                     const uint32_t* indices, size_t index_count, vn_method method,
+                                     const vn_options* options, vn_stats* stats);
+
+/* Per-vertex normals of a polygon mesh.
+ *
+ * Face f has the corners indices[face_offsets[f]] .. indices[face_offsets[f+1] - 1]
+ * in order; face_offsets has face_count + 1 non-decreasing entries, the last
+ * the number of indices. Faces of any size; a face with fewer than 3 corners
+ * is degenerate. N_f is Newell's normal. A corner whose E or E' has zero
+ * length (a repeated index) contributes nothing; otherwise as
+ * vn_triangle_normals, with which it agrees on triangles.
+ */
+VN_API vn_result vn_polygon_normals(const vn_vectors* normals, const vn_positions* positions,
+                                    const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
+                                    vn_method method, const vn_options* options, vn_stats* stats);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* VN_H */

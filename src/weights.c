@@ -1,0 +1,271 @@
+/* The face-normal weighted family: N_v || sum_f w(f, v) N_f.
+ *
+ * For a face f around vertex v, N_f is f's unit normal, E and E' run from v to
+ * its previous and next corner in f, and alpha = atan2(|E x E'|, E . E').
+ *   MWE     w = 1                               Gouraud 1971            (eq. 1)
+ *   MWA     w = alpha                           Thurmer & Wuthrich 1998 (eq. 2)
+ *   MWSELR  w = sin(alpha) / (|E||E'|)          Max 1999                (eq. 4)
+ *   MWAAT   w = |E x E'|                        Max 1999                (eq. 5)
+ *   MWELR   w = 1 / (|E||E'|)                   Max 1999                (eq. 6)
+ *   MWRELR  w = 1 / sqrt(|E||E'|)               Max 1999                (eq. 7)
+ *
+ * On a triangle |E x E'| is the same at all three corners: the length l of
+ * the unnormalized normal n. So w N_f = n * (w / l), and every weight needs
+ * only l and the squared edge lengths (sin(alpha)/(|E||E'|) * N_f =
+ * n / (|E|^2 |E'|^2), |E x E'| N_f = n).
+ *
+ * Scalar sqrt and division throughput bounds this loop, so each method uses
+ * one division per triangle and as few square roots as its weight allows.
+ */
+#include "internal.h"
+
+#include "fastmath.h"
+
+/* ---------------------------------------------------------------- triangles */
+
+VN_INLINE void triangles(const vn_work* w, vn_scalar type, vn_method method, uint32_t lo, uint32_t hi,
+                         vn_range_stats* st)
+{
+	const uint32_t span = hi - lo;
+	const uint32_t* idx = w->indices;
+	double* acc = w->acc;
+	size_t degenerate = 0;
+
+	for (size_t f = 0; f < w->face_count; ++f) {
+		const uint32_t i0 = idx[3 * f], i1 = idx[3 * f + 1], i2 = idx[3 * f + 2];
+		const int o0 = vn_owned(i0, lo, span), o1 = vn_owned(i1, lo, span), o2 = vn_owned(i2, lo, span);
+		if (!(o0 | o1 | o2))
+			continue;
+
+		double p0[3], p1[3], p2[3], e01[3], e12[3], e20[3], n[3];
+		vn_load(w, type, i0, p0);
+		vn_load(w, type, i1, p1);
+		vn_load(w, type, i2, p2);
+		vn_sub(p1, p0, e01);
+		vn_sub(p2, p1, e12);
+		vn_sub(p0, p2, e20);
+		vn_cross(e20, e01, n); /* = (p1 - p0) x (p2 - p0) */
+		const double l2 = vn_dot(n, n);
+		if (!vn_usable(l2)) {
+			degenerate += o0;
+			continue;
+		}
+
+		/* Corner k's weight over l, with one division per triangle: the
+		 * products |E||E'| at the three corners are ca, ab, bc for edge
+		 * lengths a = |e01|, b = |e12|, c = |e20|, so 1 / (ca) = b / (abc). */
+		double w0, w1, w2;
+		switch (method) {
+		case vn_method_mwe:
+			w0 = w1 = w2 = 1.0 / sqrt(l2);
+			break;
+		case vn_method_mwa: {
+			/* Angles at corners 0 and 1 from atan2(|E x E'|, E . E'); the
+			 * third is pi minus both (exact for a triangle). */
+			const double l = sqrt(l2), inv = 1.0 / l;
+			const double a0 = vn_atan2_nonneg(l, -vn_dot(e20, e01));
+			const double a1 = vn_atan2_nonneg(l, -vn_dot(e01, e12));
+			w0 = a0 * inv, w1 = a1 * inv, w2 = (VN_PI - a0 - a1) * inv;
+			break;
+		}
+		case vn_method_mwselr: { /* sin(alpha) / (|E||E'|) * N_f = n / (|E|^2 |E'|^2) */
+			const double sa = vn_dot(e01, e01), sb = vn_dot(e12, e12), sc = vn_dot(e20, e20);
+			const double inv = 1.0 / (sa * sb * sc);
+			w0 = sb * inv, w1 = sc * inv, w2 = sa * inv;
+			break;
+		}
+		case vn_method_mwaat: /* |E x E'| N_f = n */
+			w0 = w1 = w2 = 1.0;
+			break;
+		case vn_method_mwelr: {
+			const double a = sqrt(vn_dot(e01, e01)), b = sqrt(vn_dot(e12, e12)), c = sqrt(vn_dot(e20, e20));
+			const double inv = 1.0 / (a * b * c * sqrt(l2));
+			w0 = b * inv, w1 = c * inv, w2 = a * inv;
+			break;
+		}
+		default: { /* vn_method_mwrelr: 1 / sqrt(|E||E'|) with A = sqrt(a) etc. */
+			const double a = sqrt(sqrt(vn_dot(e01, e01))), b = sqrt(sqrt(vn_dot(e12, e12))),
+			             c = sqrt(sqrt(vn_dot(e20, e20)));
+			const double inv = 1.0 / (a * b * c * sqrt(l2));
+			w0 = b * inv, w1 = c * inv, w2 = a * inv;
+			break;
+		}
+		}
+		if (o0)
+			vn_add_scaled(acc + 4 * (size_t)i0, n, w0);
+		if (o1)
+			vn_add_scaled(acc + 4 * (size_t)i1, n, w1);
+		if (o2)
+			vn_add_scaled(acc + 4 * (size_t)i2, n, w2);
+	}
+	st->degenerate_faces += degenerate;
+}
+
+#ifdef VN_HAVE_AVX2
+/* The same arithmetic as triangles(), four triangles per step (see simd.h);
+ * groups that touch the last vertex and the tail take the scalar loop. */
+VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, vn_method method, uint32_t lo, uint32_t hi,
+                                   vn_range_stats* st)
+{
+	const uint32_t span = hi - lo, last = w->vertex_count - 1;
+	const size_t groups = w->face_count / 4;
+	size_t degenerate = 0;
+	vn_work rest = *w;
+
+	for (size_t g = 0; g < groups; ++g) {
+		const uint32_t* idx = w->indices + 12 * g;
+		if (!vn_group_owned(idx, lo, span))
+			continue;
+		if (vn_group_touches_last(idx, last)) {
+			rest.indices = idx;
+			rest.face_count = 4;
+			triangles(&rest, type, method, lo, hi, st);
+			continue;
+		}
+		vn_group p;
+		vn_load_group(w, type, idx, &p);
+		const __m256d e01x = _mm256_sub_pd(p.x[1], p.x[0]), e01y = _mm256_sub_pd(p.y[1], p.y[0]),
+		              e01z = _mm256_sub_pd(p.z[1], p.z[0]);
+		const __m256d e12x = _mm256_sub_pd(p.x[2], p.x[1]), e12y = _mm256_sub_pd(p.y[2], p.y[1]),
+		              e12z = _mm256_sub_pd(p.z[2], p.z[1]);
+		const __m256d e20x = _mm256_sub_pd(p.x[0], p.x[2]), e20y = _mm256_sub_pd(p.y[0], p.y[2]),
+		              e20z = _mm256_sub_pd(p.z[0], p.z[2]);
+		__m256d nx, ny, nz;
+		vn_cross4(e20x, e20y, e20z, e01x, e01y, e01z, &nx, &ny, &nz);
+		const __m256d l2 = vn_dot4(nx, ny, nz, nx, ny, nz);
+		const int usable = vn_usable4(l2);
+		degenerate += vn_group_degenerate(idx, usable, lo, span);
+		if (!usable)
+			continue;
+
+		const __m256d one = _mm256_set1_pd(1.0);
+		__m256d wt[3];
+		switch (method) {
+		case vn_method_mwe:
+			wt[0] = wt[1] = wt[2] = _mm256_div_pd(one, _mm256_sqrt_pd(l2));
+			break;
+		case vn_method_mwa: {
+			const __m256d l = _mm256_sqrt_pd(l2), inv = _mm256_div_pd(one, l);
+			const __m256d neg = _mm256_set1_pd(-0.0);
+			const __m256d a0 = vn_atan2_nonneg4(l, _mm256_xor_pd(neg, vn_dot4(e20x, e20y, e20z, e01x, e01y, e01z)));
+			const __m256d a1 = vn_atan2_nonneg4(l, _mm256_xor_pd(neg, vn_dot4(e01x, e01y, e01z, e12x, e12y, e12z)));
+			wt[0] = _mm256_mul_pd(a0, inv);
+			wt[1] = _mm256_mul_pd(a1, inv);
+			wt[2] = _mm256_mul_pd(_mm256_sub_pd(_mm256_sub_pd(_mm256_set1_pd(VN_PI), a0), a1), inv);
+			break;
+		}
+		case vn_method_mwselr: {
+			const __m256d sa = vn_dot4(e01x, e01y, e01z, e01x, e01y, e01z);
+			const __m256d sb = vn_dot4(e12x, e12y, e12z, e12x, e12y, e12z);
+			const __m256d sc = vn_dot4(e20x, e20y, e20z, e20x, e20y, e20z);
+			const __m256d inv = _mm256_div_pd(one, _mm256_mul_pd(_mm256_mul_pd(sa, sb), sc));
+			wt[0] = _mm256_mul_pd(sb, inv), wt[1] = _mm256_mul_pd(sc, inv), wt[2] = _mm256_mul_pd(sa, inv);
+			break;
+		}
+		case vn_method_mwaat:
+			wt[0] = wt[1] = wt[2] = one;
+			break;
+		default: { /* MWELR, MWRELR: a, b, c are edge lengths or their square roots */
+			__m256d a = _mm256_sqrt_pd(vn_dot4(e01x, e01y, e01z, e01x, e01y, e01z));
+			__m256d b = _mm256_sqrt_pd(vn_dot4(e12x, e12y, e12z, e12x, e12y, e12z));
+			__m256d c = _mm256_sqrt_pd(vn_dot4(e20x, e20y, e20z, e20x, e20y, e20z));
+			if (method == vn_method_mwrelr)
+				a = _mm256_sqrt_pd(a), b = _mm256_sqrt_pd(b), c = _mm256_sqrt_pd(c);
+			const __m256d inv =
+			    _mm256_div_pd(one, _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(a, b), c), _mm256_sqrt_pd(l2)));
+			wt[0] = _mm256_mul_pd(b, inv), wt[1] = _mm256_mul_pd(c, inv), wt[2] = _mm256_mul_pd(a, inv);
+			break;
+		}
+		}
+		__m256d cx[3], cy[3], cz[3];
+		for (int k = 0; k < 3; ++k)
+			cx[k] = _mm256_mul_pd(nx, wt[k]), cy[k] = _mm256_mul_pd(ny, wt[k]), cz[k] = _mm256_mul_pd(nz, wt[k]);
+		vn_scatter_group(w->acc, idx, usable, lo, span, cx, cy, cz);
+	}
+	st->degenerate_faces += degenerate;
+	rest.indices = w->indices + 12 * groups;
+	rest.face_count = w->face_count - 4 * groups;
+	triangles(&rest, type, method, lo, hi, st);
+}
+#define VN_TRIANGLES_FAST(name, type, method)                                                              \
+	static VN_AVX2 void name##_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)        \
+	{                                                                                                      \
+		triangles_avx2(w, type, method, lo, hi, st);                                                       \
+	}
+#else
+#define VN_TRIANGLES_FAST(name, type, method)
+#endif
+
+/* One specialized copy per (position type, method): the switch above folds
+ * away and the loop keeps no per-face branches on the method. */
+#define VN_TRIANGLES(name, type, method)                                                                   \
+	static void name(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)                       \
+	{                                                                                                      \
+		triangles(w, type, method, lo, hi, st);                                                            \
+	}                                                                                                      \
+	VN_TRIANGLES_FAST(name, type, method)
+VN_TRIANGLES(tri_f_mwe, vn_scalar_float32, vn_method_mwe)
+VN_TRIANGLES(tri_f_mwa, vn_scalar_float32, vn_method_mwa)
+VN_TRIANGLES(tri_f_mwselr, vn_scalar_float32, vn_method_mwselr)
+VN_TRIANGLES(tri_f_mwaat, vn_scalar_float32, vn_method_mwaat)
+VN_TRIANGLES(tri_f_mwelr, vn_scalar_float32, vn_method_mwelr)
+VN_TRIANGLES(tri_f_mwrelr, vn_scalar_float32, vn_method_mwrelr)
+VN_TRIANGLES(tri_d_mwe, vn_scalar_float64, vn_method_mwe)
+VN_TRIANGLES(tri_d_mwa, vn_scalar_float64, vn_method_mwa)
+VN_TRIANGLES(tri_d_mwselr, vn_scalar_float64, vn_method_mwselr)
+VN_TRIANGLES(tri_d_mwaat, vn_scalar_float64, vn_method_mwaat)
+VN_TRIANGLES(tri_d_mwelr, vn_scalar_float64, vn_method_mwelr)
+VN_TRIANGLES(tri_d_mwrelr, vn_scalar_float64, vn_method_mwrelr)
+
+void vn_accumulate_weighted_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	/* Indexed by [simd][type][method], in vn_method order up to MWRELR. */
+	static const vn_accumulate_fn table[2][2][6] = {
+	    {{tri_f_mwe, tri_f_mwa, tri_f_mwselr, tri_f_mwaat, tri_f_mwelr, tri_f_mwrelr},
+	     {tri_d_mwe, tri_d_mwa, tri_d_mwselr, tri_d_mwaat, tri_d_mwelr, tri_d_mwrelr}},
+#ifdef VN_HAVE_AVX2
+	    {{tri_f_mwe_avx2, tri_f_mwa_avx2, tri_f_mwselr_avx2, tri_f_mwaat_avx2, tri_f_mwelr_avx2, tri_f_mwrelr_avx2},
+	     {tri_d_mwe_avx2, tri_d_mwa_avx2, tri_d_mwselr_avx2, tri_d_mwaat_avx2, tri_d_mwelr_avx2, tri_d_mwrelr_avx2}},
+#else
+	    {{tri_f_mwe, tri_f_mwa, tri_f_mwselr, tri_f_mwaat, tri_f_mwelr, tri_f_mwrelr},
+	     {tri_d_mwe, tri_d_mwa, tri_d_mwselr, tri_d_mwaat, tri_d_mwelr, tri_d_mwrelr}},
+#endif
+	};
+	table[w->simd != 0][w->type == vn_scalar_float64][w->method](w, lo, hi, st);
+}
+
+/* ---------------------------------------------------------------- polygons */
+
+/* Adds w(f, v) N_f for a polygon corner with edges E, E' of non-zero length. */
+static void weighted_corner(vn_method method, double* acc, const double n[3], const double e[3], const double e2[3])
+{
+	const double se = vn_dot(e, e), se2 = vn_dot(e2, e2);
+	double c[3], wt;
+	vn_cross(e, e2, c);
+	switch (method) {
+	case vn_method_mwe:
+		wt = 1.0;
+		break;
+	case vn_method_mwa:
+		wt = vn_atan2_nonneg(sqrt(vn_dot(c, c)), vn_dot(e, e2));
+		break;
+	case vn_method_mwselr:
+		wt = sqrt(vn_dot(c, c)) / (se * se2);
+		break;
+	case vn_method_mwaat:
+		wt = sqrt(vn_dot(c, c));
+		break;
+	case vn_method_mwelr:
+		wt = 1.0 / sqrt(se * se2);
+		break;
+	default: /* vn_method_mwrelr */
+		wt = 1.0 / sqrt(sqrt(se * se2));
+		break;
+	}
+	vn_add_scaled(acc, n, wt);
+}
+
+void vn_accumulate_weighted_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	vn_polygons(w, lo, hi, st, weighted_corner);
+}

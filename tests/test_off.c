@@ -1,0 +1,1478 @@
+/*
+ * vn_io and the OFF format: reading every header variant, colours, polygons,
+ * binary files, the exact error messages of malformed files, write/read
+ * round trips and the atomic writer.
+ *
+ * Runs from tests/ (fixtures in data/off/); malformed inputs are written to a
+ * temporary folder from the literals next to their expected message.
+ */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp, link, symlink, umask */
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "off.h"
+#include "vn_io.h"
+
+/* ------------------------------------------------------------------ helpers */
+
+static char folder[64]; /* the temporary folder, made by main */
+
+static void path_in_folder(char* out, size_t size, const char* name)
+{
+	snprintf(out, size, "%s/%s", folder, name);
+}
+
+static void write_bytes(const char* name, const void* data, size_t size)
+{
+	char path[256];
+	path_in_folder(path, sizeof path, name);
+	FILE* f = fopen(path, "wb");
+	assert_non_null(f);
+	assert_int_equal(fwrite(data, 1, size, f), size);
+	assert_int_equal(fclose(f), 0);
+}
+
+/* The whole file as a string; the caller frees it. */
+static char* slurp(const char* path)
+{
+	char* data;
+	size_t size;
+	vn_io_error error;
+	assert_int_equal(vn_io_read_all(path, &data, &size, &error), vn_io_success);
+	return data;
+}
+
+/* Exact comparison that shows both values on failure. */
+#define assert_exact(actual, expected)                                                                    \
+	do {                                                                                                  \
+		double actual_ = (actual), expected_ = (expected);                                                \
+		if (!(actual_ == expected_))                                                                      \
+			fail_msg("%s is %.17g, expected %.17g", #actual, actual_, expected_);                         \
+	} while (0)
+
+static void assert_doubles(const double* actual, const double* expected, size_t count)
+{
+	for (size_t i = 0; i < count; i++)
+		if (!(actual[i] == expected[i]))
+			fail_msg("element %zu is %.17g, expected %.17g", i, actual[i], expected[i]);
+}
+
+static void assert_floats(const float* actual, const float* expected, size_t count)
+{
+	for (size_t i = 0; i < count; i++)
+		if (!(actual[i] == expected[i]))
+			fail_msg("element %zu is %.9g, expected %.9g", i, actual[i], expected[i]);
+}
+
+static void assert_u32s(const uint32_t* actual, const uint32_t* expected, size_t count)
+{
+	for (size_t i = 0; i < count; i++)
+		if (actual[i] != expected[i])
+			fail_msg("element %zu is %u, expected %u", i, (unsigned)actual[i], (unsigned)expected[i]);
+}
+
+static void read_path_ok(const char* path, vn_io_mesh* mesh)
+{
+	vn_io_error error;
+	vn_io_result r = vn_io_read_file(path, NULL, mesh, &error);
+	if (r != vn_io_success)
+		fail_msg("%s", error.message);
+}
+
+/* Writes size bytes to <folder>/name, reads it and requires success. */
+static void read_bytes_ok(const char* name, const void* data, size_t size, vn_io_mesh* mesh)
+{
+	char path[256];
+	write_bytes(name, data, size);
+	path_in_folder(path, sizeof path, name);
+	read_path_ok(path, mesh);
+}
+
+static void read_ok(const char* text, vn_io_mesh* mesh)
+{
+	read_bytes_ok("good.off", text, strlen(text), mesh);
+}
+
+/* Reads size bytes as <folder>/bad.off and requires `expected` with the
+ * message "<folder>/" + message; the mesh must come back zeroed. */
+static void expect_error_bytes(const void* data, size_t size, vn_io_result expected, const char* message)
+{
+	char path[256], full[600];
+	vn_io_mesh mesh;
+	vn_io_error error;
+	write_bytes("bad.off", data, size);
+	path_in_folder(path, sizeof path, "bad.off");
+	memset(&mesh, 0xAB, sizeof mesh);
+	vn_io_result r = vn_io_read_file(path, NULL, &mesh, &error);
+	if (r != expected)
+		fail_msg("result %d (%s), expected %d; message: %s", (int)r, vn_io_result_string(r), (int)expected,
+		         r == vn_io_success ? "" : error.message);
+	snprintf(full, sizeof full, "%s/%s", folder, message);
+	assert_string_equal(error.message, full);
+	assert_null(mesh.positions);
+	assert_null(mesh.indices);
+	assert_int_equal(mesh.vertex_count, 0);
+}
+
+static void expect_error(const char* text, vn_io_result expected, const char* message)
+{
+	expect_error_bytes(text, strlen(text), expected, message);
+}
+
+/* A binary OFF file under construction: big-endian words after a text header. */
+typedef struct bytes {
+	unsigned char data[512];
+	size_t size;
+} bytes;
+
+static void add_text(bytes* b, const char* text)
+{
+	size_t n = strlen(text);
+	assert_true(b->size + n <= sizeof b->data);
+	memcpy(b->data + b->size, text, n);
+	b->size += n;
+}
+
+static void add_word(bytes* b, uint32_t w)
+{
+	assert_true(b->size + 4 <= sizeof b->data);
+	for (int k = 0; k < 4; k++)
+		b->data[b->size++] = (unsigned char)(w >> (24 - 8 * k));
+}
+
+static void add_ints(bytes* b, size_t count, const int32_t* v)
+{
+	for (size_t i = 0; i < count; i++)
+		add_word(b, (uint32_t)v[i]);
+}
+
+static void add_floats(bytes* b, size_t count, const float* v)
+{
+	for (size_t i = 0; i < count; i++) {
+		uint32_t w;
+		memcpy(&w, &v[i], sizeof w);
+		add_word(b, w);
+	}
+}
+
+#define ADD_INTS(b, ...) add_ints((b), sizeof((int32_t[]){__VA_ARGS__}) / sizeof(int32_t), (int32_t[]){__VA_ARGS__})
+#define ADD_FLOATS(b, ...) add_floats((b), sizeof((float[]){__VA_ARGS__}) / sizeof(float), (float[]){__VA_ARGS__})
+
+/* The triangle (0,0,0) (1,0,0) (0,1,0) that most tests read. */
+static const double triangle_positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+static const uint32_t triangle_offsets[2] = {0, 3};
+static const uint32_t triangle_indices[3] = {0, 1, 2};
+
+static void assert_triangle(const vn_io_mesh* m)
+{
+	assert_int_equal(m->vertex_count, 3);
+	assert_doubles(m->positions, triangle_positions, 9);
+	assert_int_equal(m->face_count, 1);
+	assert_u32s(m->face_offsets, triangle_offsets, 2);
+	assert_u32s(m->indices, triangle_indices, 3);
+}
+
+/* ------------------------------------------------------------------ header variants */
+
+static void test_off_counts_on_next_line(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", &m);
+	assert_triangle(&m);
+	assert_null(m.normals);
+	assert_null(m.colors);
+	assert_null(m.texcoords);
+	assert_null(m.face_colors);
+	assert_int_equal(m.colors_are_bytes, 0);
+	assert_true(vn_io_mesh_is_triangles(&m));
+	vn_io_mesh_free(&m);
+}
+
+static void test_off_counts_on_header_line(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", &m);
+	assert_triangle(&m);
+	vn_io_mesh_free(&m);
+}
+
+static void test_off_two_counts(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2", &m); /* and no final line break */
+	assert_triangle(&m);
+	vn_io_mesh_free(&m);
+}
+
+static void test_off_comments_and_blank_lines(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("# written by hand\n"
+	        "\n"
+	        "OFF # the keyword\n"
+	        "# counts next\n"
+	        "\t\n"
+	        "3 1 0 # vertices faces edges\n"
+	        "0 0 0 # first\n"
+	        "\n"
+	        "#1 1 1 (a commented-out vertex)\n"
+	        "1 0 0\n"
+	        "  0 1 0#glued comment\n"
+	        "3 0 1 2 # the face\n"
+	        "# trailing comment\n"
+	        "\n",
+	        &m);
+	assert_triangle(&m);
+	vn_io_mesh_free(&m);
+}
+
+static void test_off_crlf_and_byte_order_mark(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("\xEF\xBB\xBFOFF\r\n3 1 0\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n", &m);
+	assert_triangle(&m);
+	vn_io_mesh_free(&m);
+}
+
+static void test_off_carriage_returns_count_as_lines(void** state)
+{
+	(void)state;
+	expect_error("OFF\r3 1 0\r0 0 0\r1 0 0\r0 1 0\r3 0 1 5\r", vn_io_error_parse,
+	             "bad.off:6: face 0 has index 5, but the file has 3 vertices");
+}
+
+static void test_coff_float_colours_rgb_and_rgba(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("COFF\n3 1 0\n"
+	        "0 0 0 1 0 0\n"
+	        "1 0 0 0 0.5 0 0.25\n"
+	        "0 1 0 0 0 1 1\n"
+	        "3 0 1 2\n",
+	        &m);
+	assert_triangle(&m);
+	const float colours[12] = {1, 0, 0, 1, 0, 0.5f, 0, 0.25f, 0, 0, 1, 1};
+	assert_non_null(m.colors);
+	assert_floats(m.colors, colours, 12);
+	assert_int_equal(m.colors_are_bytes, 0);
+	assert_null(m.normals);
+	vn_io_mesh_free(&m);
+}
+
+static void test_coff_byte_colours(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("COFF\n3 1 0\n"
+	        "0 0 0 255 0 0\n"
+	        "1 0 0 0 51 0 102\n"
+	        "0 1 0 1 0 0 255\n" /* 1 is a byte here, as the other colours are */
+	        "3 0 1 2\n",
+	        &m);
+	const float colours[12] = {1, 0, 0, 1, 0, 0.2f, 0, 0.4f, 1 / 255.0f, 0, 0, 1};
+	assert_floats(m.colors, colours, 12);
+	assert_int_equal(m.colors_are_bytes, 1);
+	assert_int_equal(m.face_colors_are_bytes, 0);
+	vn_io_mesh_free(&m);
+}
+
+static void test_noff_normals(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0.6 0.8\n0 1 0 -1 0 0\n3 0 1 2\n", &m);
+	assert_triangle(&m);
+	const double normals[9] = {0, 0, 1, 0, 0.6, 0.8, -1, 0, 0};
+	assert_non_null(m.normals);
+	assert_doubles(m.normals, normals, 9);
+	assert_null(m.colors);
+	vn_io_mesh_free(&m);
+}
+
+static void test_cnoff_reads_position_normal_colour(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("CNOFF\n3 1 0\n"
+	        "0 0 0  0 0 1  1 0 0\n"
+	        "1 0 0  0 0 1  0 1 0 0.5\n"
+	        "0 1 0  0 0 1  0 0 1\n"
+	        "3 0 1 2\n",
+	        &m);
+	assert_triangle(&m);
+	const double normals[9] = {0, 0, 1, 0, 0, 1, 0, 0, 1};
+	const float colours[12] = {1, 0, 0, 1, 0, 1, 0, 0.5f, 0, 0, 1, 1};
+	assert_doubles(m.normals, normals, 9);
+	assert_floats(m.colors, colours, 12);
+	vn_io_mesh_free(&m);
+}
+
+static void test_stoff_texture_coordinates(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("STOFF\n3 1 0\n0 0 0 0.25 0.75\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n", &m);
+	assert_triangle(&m);
+	const float st[6] = {0.25f, 0.75f, 1, 0, 0, 1};
+	assert_non_null(m.texcoords);
+	assert_floats(m.texcoords, st, 6);
+	assert_null(m.colors);
+	assert_null(m.normals);
+	vn_io_mesh_free(&m);
+}
+
+static void test_stcnoff_reads_every_field_in_order(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("STCNOFF\n3 1 0\n"
+	        "0 0 0  1 0 0  0.5 0.5 0.5  0.125 0.25\n"
+	        "1 0 0  0 1 0  1 1 1 0  0.5 1\n"
+	        "0 1 0  0 0 1  0 0 0  1 0.5\n"
+	        "3 0 1 2\n",
+	        &m);
+	assert_triangle(&m);
+	const double normals[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+	const float colours[12] = {0.5f, 0.5f, 0.5f, 1, 1, 1, 1, 0, 0, 0, 0, 1};
+	const float st[6] = {0.125f, 0.25f, 0.5f, 1, 1, 0.5f};
+	assert_doubles(m.normals, normals, 9);
+	assert_floats(m.colors, colours, 12);
+	assert_floats(m.texcoords, st, 6);
+	vn_io_mesh_free(&m);
+}
+
+static void test_4off_divides_by_w(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("4OFF\n3 1 0\n0 0 0 1\n2 0 0 2\n0 -0.5 0 -0.5\n3 0 1 2\n", &m);
+	assert_triangle(&m);
+	vn_io_mesh_free(&m);
+}
+
+static void test_noff_dimension_3_on_own_line(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("nOFF\n3\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", &m);
+	assert_triangle(&m);
+	vn_io_mesh_free(&m);
+}
+
+static void test_noff_dimension_and_counts_on_header_line(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("nOFF 3 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", &m);
+	assert_triangle(&m);
+	vn_io_mesh_free(&m);
+}
+
+static void test_nan_and_inf_coordinates_are_read(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("OFF\n2 0 0\nnan 1 -inf\n1e400 -0 2.5e-3\n", &m);
+	assert_int_equal(m.vertex_count, 2);
+	assert_true(isnan(m.positions[0]));
+	assert_exact(m.positions[1], 1);
+	assert_exact(m.positions[2], -INFINITY);
+	assert_exact(m.positions[3], INFINITY);
+	assert_true(m.positions[4] == 0 && signbit(m.positions[4]));
+	assert_exact(m.positions[5], 0.0025);
+	assert_int_equal(m.face_count, 0);
+	assert_int_equal(m.face_offsets[0], 0);
+	assert_false(vn_io_mesh_is_triangles(&m));
+	vn_io_mesh_free(&m);
+}
+
+/* ------------------------------------------------------------------ polygons and face colours */
+
+static void test_polygons_of_every_size(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("OFF\n5 5 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 1.5 0\n"
+	        "3 0 1 2\n"
+	        "4 0 1 2 3\n"
+	        "5 0 1 2 4 3\n"
+	        "2 3 4\n" /* fewer than 3 corners: kept, the core calls it degenerate */
+	        "1 4\n",
+	        &m);
+	const uint32_t offsets[6] = {0, 3, 7, 12, 14, 15};
+	const uint32_t indices[15] = {0, 1, 2, 0, 1, 2, 3, 0, 1, 2, 4, 3, 3, 4, 4};
+	assert_int_equal(m.face_count, 5);
+	assert_u32s(m.face_offsets, offsets, 6);
+	assert_u32s(m.indices, indices, 15);
+	assert_false(vn_io_mesh_is_triangles(&m));
+	vn_io_mesh_free(&m);
+}
+
+static void test_face_colours_float_rgb_and_rgba(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 1 0.5 0\n3 2 1 0 0 0 1 0.75\n", &m);
+	const float colours[8] = {1, 0.5f, 0, 1, 0, 0, 1, 0.75f};
+	assert_non_null(m.face_colors);
+	assert_floats(m.face_colors, colours, 8);
+	assert_int_equal(m.face_colors_are_bytes, 0);
+	assert_null(m.colors);
+	vn_io_mesh_free(&m);
+}
+
+static void test_face_colours_bytes(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 255 0 51\n3 2 1 0 0 255 0 102\n", &m);
+	const float colours[8] = {1, 0, 0.2f, 1, 0, 1, 0, 0.4f};
+	assert_floats(m.face_colors, colours, 8);
+	assert_int_equal(m.face_colors_are_bytes, 1);
+	vn_io_mesh_free(&m);
+}
+
+static void test_face_colormap_index_is_ignored(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 17\n", &m);
+	assert_triangle(&m);
+	assert_null(m.face_colors);
+	vn_io_mesh_free(&m);
+}
+
+static void test_uncoloured_faces_get_geomview_grey(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("OFF\n3 3 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2 0 0 255\n3 0 1 2 4\n", &m);
+	const float grey = 170 / 255.0f;
+	const float colours[12] = {grey, grey, grey, 1, 0, 0, 1, 1, grey, grey, grey, 1};
+	assert_floats(m.face_colors, colours, 12);
+	assert_int_equal(m.face_colors_are_bytes, 1);
+	vn_io_mesh_free(&m);
+}
+
+/* ------------------------------------------------------------------ fixtures */
+
+static void test_fixture_cube(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_path_ok("data/off/cube.off", &m);
+	const double positions[24] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+	const uint32_t offsets[7] = {0, 4, 8, 12, 16, 20, 24};
+	const uint32_t indices[24] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
+	assert_int_equal(m.vertex_count, 8);
+	assert_doubles(m.positions, positions, 24);
+	assert_int_equal(m.face_count, 6);
+	assert_u32s(m.face_offsets, offsets, 7);
+	assert_u32s(m.indices, indices, 24);
+	vn_io_mesh_free(&m);
+}
+
+static void test_fixture_colored(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_path_ok("data/off/colored.off", &m);
+	const float grey = 170 / 255.0f;
+	const float colours[16] = {1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 128 / 255.0f, 1, 1, 1, 1};
+	const float face_colours[16] = {1, 0, 0, 1, 0, 1, 0, 1, grey, grey, grey, 1, grey, grey, grey, 1};
+	assert_int_equal(m.vertex_count, 4);
+	assert_int_equal(m.face_count, 4);
+	assert_floats(m.colors, colours, 16);
+	assert_floats(m.face_colors, face_colours, 16);
+	assert_int_equal(m.colors_are_bytes, 1);
+	assert_int_equal(m.face_colors_are_bytes, 1);
+	vn_io_mesh_free(&m);
+}
+
+static void test_fixture_binary(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_path_ok("data/off/tetra_binary.off", &m);
+	const double positions[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+	const uint32_t indices[12] = {0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2};
+	const float grey = 170 / 255.0f;
+	const float face_colours[16] = {1, 0, 0, 1, grey, grey, grey, 1, 0, 0.5f, 1, 1, grey, grey, grey, 1};
+	assert_int_equal(m.vertex_count, 4);
+	assert_doubles(m.positions, positions, 12);
+	assert_int_equal(m.face_count, 4);
+	assert_u32s(m.indices, indices, 12);
+	assert_floats(m.face_colors, face_colours, 16);
+	assert_int_equal(m.face_colors_are_bytes, 0);
+	assert_true(vn_io_mesh_is_triangles(&m));
+	vn_io_mesh_free(&m);
+}
+
+/* ------------------------------------------------------------------ binary */
+
+static void test_binary_off(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "OFF BINARY\n");
+	ADD_INTS(&b, 3, 1, 0);
+	ADD_FLOATS(&b, 0, 0, 0, 1, 0, 0, 0, 1, 0);
+	ADD_INTS(&b, 3, 0, 1, 2, 0);
+	vn_io_mesh m;
+	read_bytes_ok("binary.off", b.data, b.size, &m);
+	assert_triangle(&m);
+	assert_null(m.face_colors);
+	vn_io_mesh_free(&m);
+}
+
+static void test_binary_noff_with_comment_before_header(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "# binary with normals\nNOFF BINARY\n");
+	ADD_INTS(&b, 3, 1, 0);
+	ADD_FLOATS(&b, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0.6f, 0.8f, 0, 1, 0, -1, 0, 0);
+	ADD_INTS(&b, 3, 0, 1, 2, 0);
+	vn_io_mesh m;
+	read_bytes_ok("binary.off", b.data, b.size, &m);
+	assert_triangle(&m);
+	const double normals[9] = {0, 0, 1, 0, 0.6f, 0.8f, -1, 0, 0};
+	assert_doubles(m.normals, normals, 9);
+	vn_io_mesh_free(&m);
+}
+
+static void test_binary_coff_and_face_colours(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "COFF BINARY\n");
+	ADD_INTS(&b, 3, 2, 0);
+	ADD_FLOATS(&b, 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 1, 0, 0.5f, 0, 1, 0, 0, 0, 1, 0.25f);
+	ADD_INTS(&b, 3, 0, 1, 2, 3);
+	ADD_FLOATS(&b, 0, 0, 1);
+	ADD_INTS(&b, 3, 2, 1, 0, 4);
+	ADD_FLOATS(&b, 1, 1, 0, 0.5f);
+	vn_io_mesh m;
+	read_bytes_ok("binary.off", b.data, b.size, &m);
+	assert_int_equal(m.vertex_count, 3);
+	assert_doubles(m.positions, triangle_positions, 9);
+	const float colours[12] = {1, 0, 0, 1, 0, 1, 0, 0.5f, 0, 0, 1, 0.25f};
+	const float face_colours[8] = {0, 0, 1, 1, 1, 1, 0, 0.5f};
+	const uint32_t indices[6] = {0, 1, 2, 2, 1, 0};
+	assert_floats(m.colors, colours, 12);
+	assert_floats(m.face_colors, face_colours, 8);
+	assert_u32s(m.indices, indices, 6);
+	vn_io_mesh_free(&m);
+}
+
+static void test_binary_stoff_and_ndim(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "STnOFF BINARY\n");
+	ADD_INTS(&b, 3, 3, 1, 0); /* dimension 3, then the counts */
+	ADD_FLOATS(&b, 0, 0, 0, 0.25f, 0.5f, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1);
+	ADD_INTS(&b, 3, 0, 1, 2, 1);
+	ADD_FLOATS(&b, 9); /* colormap index: ignored */
+	vn_io_mesh m;
+	read_bytes_ok("binary.off", b.data, b.size, &m);
+	assert_triangle(&m);
+	const float st[6] = {0.25f, 0.5f, 1, 0, 0, 1};
+	assert_floats(m.texcoords, st, 6);
+	assert_null(m.face_colors);
+	vn_io_mesh_free(&m);
+}
+
+static void test_binary_4off(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "4OFF BINARY\n");
+	ADD_INTS(&b, 3, 1, 0);
+	ADD_FLOATS(&b, 0, 0, 0, 4, 2, 0, 0, 2, 0, 3, 0, 3);
+	ADD_INTS(&b, 3, 0, 1, 2, 0);
+	vn_io_mesh m;
+	read_bytes_ok("binary.off", b.data, b.size, &m);
+	assert_triangle(&m);
+	vn_io_mesh_free(&m);
+}
+
+static void test_binary_truncated_vertex(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "OFF BINARY\n"); /* 11 bytes, then the counts */
+	ADD_INTS(&b, 2, 0, 0);
+	ADD_FLOATS(&b, 0, 0, 0, 1, 0);
+	expect_error_bytes(b.data, b.size, vn_io_error_parse,
+	                   "bad.off: byte 11: the header announces 2 vertices and 0 faces, more than the 20 bytes that "
+	                   "follow can hold");
+}
+
+static void test_binary_truncated_face(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "OFF BINARY\n");
+	ADD_INTS(&b, 3, 1, 0);
+	ADD_FLOATS(&b, 0, 0, 0, 1, 0, 0, 0, 1, 0);
+	ADD_INTS(&b, 3, 0, 1); /* the face starts at byte 59 */
+	expect_error_bytes(b.data, b.size, vn_io_error_parse,
+	                   "bad.off: byte 63: face 0 has 3 corners, more than the rest of the file holds");
+}
+
+static void test_binary_index_out_of_range(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "OFF BINARY\n");
+	ADD_INTS(&b, 3, 1, 0);
+	ADD_FLOATS(&b, 0, 0, 0, 1, 0, 0, 0, 1, 0);
+	ADD_INTS(&b, 3, 0, 3, 2, 0);
+	expect_error_bytes(b.data, b.size, vn_io_error_parse,
+	                   "bad.off: byte 63: face 0 has index 3, but the file has 3 vertices");
+}
+
+static void test_binary_negative_count(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "OFF BINARY\n");
+	ADD_INTS(&b, 3, -1, 0);
+	expect_error_bytes(b.data, b.size, vn_io_error_parse, "bad.off: byte 15: the face count -1 is negative");
+}
+
+static void test_binary_counts_beyond_file_size(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "OFF BINARY\n");
+	ADD_INTS(&b, 2000000000, 0, 0);
+	ADD_FLOATS(&b, 0, 0, 0);
+	expect_error_bytes(b.data, b.size, vn_io_error_parse,
+	                   "bad.off: byte 11: the header announces 2000000000 vertices and 0 faces, more than the 12 "
+	                   "bytes that follow can hold");
+}
+
+static void test_binary_trailing_bytes(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "OFF BINARY\n");
+	ADD_INTS(&b, 3, 1, 0);
+	ADD_FLOATS(&b, 0, 0, 0, 1, 0, 0, 0, 1, 0);
+	ADD_INTS(&b, 3, 0, 1, 2, 0);
+	add_text(&b, "xy");
+	expect_error_bytes(b.data, b.size, vn_io_error_parse, "bad.off: byte 79: 2 unexpected bytes after the last face");
+}
+
+static void test_binary_bad_face_colour_count(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "OFF BINARY\n");
+	ADD_INTS(&b, 3, 1, 0);
+	ADD_FLOATS(&b, 0, 0, 0, 1, 0, 0, 0, 1, 0);
+	ADD_INTS(&b, 3, 0, 1, 2, 2);
+	ADD_FLOATS(&b, 0, 0);
+	expect_error_bytes(b.data, b.size, vn_io_error_parse,
+	                   "bad.off: byte 63: face 0 has 2 colour components; a face colour is 0, 1 (colormap index), "
+	                   "3 or 4 numbers");
+}
+
+static void test_binary_text_after_keyword(void** state)
+{
+	(void)state;
+	expect_error("OFF BINARY 3 1 0\n", vn_io_error_parse, "bad.off:1: unexpected '3' after BINARY");
+}
+
+/* ------------------------------------------------------------------ malformed ASCII */
+
+static void test_error_missing_keyword(void** state)
+{
+	(void)state;
+	expect_error("3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", vn_io_error_parse,
+	             "bad.off:1: expected an OFF header keyword ([ST][C][N][4][n]OFF), found '3'");
+}
+
+static void test_error_unknown_keyword(void** state)
+{
+	(void)state;
+	expect_error("# ply?\nNCOFF 3 1 0\n", vn_io_error_parse,
+	             "bad.off:2: expected an OFF header keyword ([ST][C][N][4][n]OFF), found 'NCOFF'");
+}
+
+static void test_error_empty_file(void** state)
+{
+	(void)state;
+	expect_error("", vn_io_error_parse, "bad.off: expected an OFF header keyword, but the file is empty");
+}
+
+static void test_error_only_comments(void** state)
+{
+	(void)state;
+	expect_error("# nothing\n\n", vn_io_error_parse,
+	             "bad.off: expected an OFF header keyword, but the file is only blanks and comments");
+}
+
+static void test_error_ndim_other_than_3(void** state)
+{
+	(void)state;
+	expect_error("nOFF\n4\n3 1 0\n", vn_io_error_unsupported,
+	             "bad.off:2: nOFF dimension 4 is not supported: vn reads 3-dimensional vertices only");
+}
+
+static void test_error_missing_counts(void** state)
+{
+	(void)state;
+	expect_error("OFF\n# no counts\n", vn_io_error_parse, "bad.off:2: the file ends before the vertex and face counts");
+}
+
+static void test_error_one_count(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3\n", vn_io_error_parse, "bad.off:2: expected the counts 'vertices faces [edges]', found 1 value");
+}
+
+static void test_error_four_counts(void** state)
+{
+	(void)state;
+	expect_error("OFF 3 1 0 0\n", vn_io_error_parse,
+	             "bad.off:1: expected the counts 'vertices faces [edges]', found 4 values");
+}
+
+static void test_error_count_not_integer(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 1.5 0\n", vn_io_error_parse, "bad.off:2: the face count '1.5' is not a non-negative integer");
+	expect_error("OFF\n-3 1 0\n", vn_io_error_parse,
+	             "bad.off:2: the vertex count '-3' is not a non-negative integer");
+	expect_error("OFF\n3 1 x\n", vn_io_error_parse, "bad.off:2: the edge count 'x' is not a non-negative integer");
+}
+
+static void test_error_counts_beyond_file_size(void** state)
+{
+	(void)state;
+	expect_error("OFF\n1000000000000000 1 0\n0 0 0\n", vn_io_error_parse,
+	             "bad.off:2: the header announces 1000000000000000 vertices and 1 faces, more than the 6 bytes "
+	             "that follow can hold");
+	expect_error("OFF\n1 99999999999999999999999 0\n0 0 0\n", vn_io_error_parse,
+	             "bad.off:2: the face count '99999999999999999999999' is too large");
+}
+
+static void test_error_vertex_too_few_numbers(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n", vn_io_error_parse,
+	             "bad.off:4: vertex 1 has 2 numbers, but OFF vertices have 3 (x y z)");
+}
+
+static void test_error_vertex_too_many_numbers(void** state)
+{
+	(void)state;
+	expect_error("NOFF\n3 1 0\n0 0 0 0 0 1 7\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n", vn_io_error_parse,
+	             "bad.off:3: vertex 0 has 7 numbers, but NOFF vertices have 6 (x y z nx ny nz)");
+}
+
+static void test_error_colour_vertex_count(void** state)
+{
+	(void)state;
+	expect_error("STCOFF\n1 0 0\n0 0 0 1 1 0 0\n# padding: the header check wants 16 bytes\n", vn_io_error_parse,
+	             "bad.off:3: vertex 0 has 7 numbers, but STCOFF vertices have 8 or 9 (x y z r g b [a] s t)");
+}
+
+static void test_error_not_a_number(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 1 0\n0 0 0\n1.0abc 0 0\n0 1 0\n3 0 1 2\n", vn_io_error_parse,
+	             "bad.off:4: vertex 1: '1.0abc' is not a number");
+	expect_error("OFF\n1 0 0\n0 0 0,5\n", vn_io_error_parse, "bad.off:3: vertex 0: '0,5' is not a number");
+}
+
+static void test_error_binary_garbage_is_quoted_safely(void** state)
+{
+	(void)state;
+	expect_error("OFF\n1 0 0\n0 \x01\x02z 0\n", vn_io_error_parse, "bad.off:3: vertex 0: '??z' is not a number");
+	expect_error("OFF\n1 0 0\n0 0 1234567890123456789012345678901234567890x\n", vn_io_error_parse,
+	             "bad.off:3: vertex 0: '123456789012345678901234...' is not a number");
+}
+
+static void test_error_homogeneous_w_zero(void** state)
+{
+	(void)state;
+	expect_error("4OFF\n3 1 0\n0 0 0 1\n1 0 0 0\n0 1 0 1\n3 0 1 2\n", vn_io_error_parse,
+	             "bad.off:4: vertex 1 has w = 0; 4OFF coordinates are divided by w");
+}
+
+static void test_error_truncated_vertices(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n# the third vertex went missing\n", vn_io_error_parse,
+	             "bad.off:5: the file ends after 2 of the 3 vertices the header announces");
+}
+
+static void test_error_truncated_faces(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n# end\n", vn_io_error_parse,
+	             "bad.off:7: the file ends after 1 of the 2 faces the header announces");
+}
+
+static void test_error_index_out_of_range(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", vn_io_error_parse,
+	             "bad.off:6: face 0 has index 3, but the file has 3 vertices");
+}
+
+static void test_error_negative_index(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n", vn_io_error_parse,
+	             "bad.off:6: face 0 has a negative index -1");
+}
+
+static void test_error_index_not_an_integer(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1.0 2\n", vn_io_error_parse,
+	             "bad.off:6: face 0: '1.0' is not a vertex index");
+}
+
+static void test_error_face_more_corners_than_indices(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n", vn_io_error_parse,
+	             "bad.off:6: face 0 has 4 corners, but only 3 indices follow");
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n", vn_io_error_parse,
+	             "bad.off:6: face 0 has 4000000000 corners, but only 3 indices follow");
+}
+
+static void test_error_face_without_corners(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n0 # nothing\n", vn_io_error_parse, "bad.off:6: face 0 has 0 corners");
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\nthree 0 1 2\n", vn_io_error_parse,
+	             "bad.off:6: face 0: expected the number of corners, found 'three'");
+}
+
+static void test_error_face_colour_lengths(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 0.5 0.5\n", vn_io_error_parse,
+	             "bad.off:6: face 0 has 2 numbers after its 3 indices; a face colour is 1 colormap index, 3 (RGB) "
+	             "or 4 (RGBA) numbers");
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 1 1 1 1 1\n", vn_io_error_parse,
+	             "bad.off:6: face 0 has 5 numbers after its 3 indices; a face colour is 1 colormap index, 3 (RGB) "
+	             "or 4 (RGBA) numbers");
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 0.5\n", vn_io_error_parse,
+	             "bad.off:6: face 0: '0.5' after the indices is not a colormap index");
+}
+
+static void test_error_colour_out_of_range(void** state)
+{
+	(void)state;
+	expect_error("COFF\n1 0 0\n0 0 0 300 0 0\n", vn_io_error_parse,
+	             "bad.off:3: vertex 0 has colour component 300; components are fractions in [0, 1] or integers "
+	             "0..255");
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 1.5 0 0\n", vn_io_error_parse,
+	             "bad.off:6: face 0 has colour component 1.5; components are fractions in [0, 1] or integers "
+	             "0..255");
+	expect_error("COFF\n1 0 0\n0 0 0 -0.5 0 0\n", vn_io_error_parse,
+	             "bad.off:3: vertex 0 has colour component -0.5; components are fractions in [0, 1] or integers "
+	             "0..255");
+	expect_error("COFF\n1 0 0\n0 0 0 nan 0 0\n", vn_io_error_parse,
+	             "bad.off:3: vertex 0 has colour component nan; components are fractions in [0, 1] or integers "
+	             "0..255");
+}
+
+static void test_error_colour_styles_mixed(void** state)
+{
+	(void)state;
+	expect_error("COFF\n2 0 0\n0 0 0 200 0 0\n1 0 0 0.5 0 0\n", vn_io_error_parse,
+	             "bad.off:4: vertex 1 has colour component 0.5, but vertex 0 has 200: colours must be all "
+	             "fractions in [0, 1] or all integers 0..255");
+}
+
+static void test_error_trailing_content(void** state)
+{
+	(void)state;
+	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n# fine\n3 0 1 2\n", vn_io_error_parse,
+	             "bad.off:8: unexpected '3' after the last of the 1 faces the header announces");
+	expect_error("OFF\n1 0 0\n0 0 0\nEND\n", vn_io_error_parse,
+	             "bad.off:4: unexpected 'END' after the last of the 0 faces the header announces");
+}
+
+/* ------------------------------------------------------------------ writing */
+
+static vn_io_result write_to_folder(const char* name, const vn_io_mesh* m, vn_io_error* error)
+{
+	char path[256];
+	path_in_folder(path, sizeof path, name);
+	return vn_io_write_file(path, NULL, m, error);
+}
+
+static void test_write_exact_text(void** state)
+{
+	(void)state;
+	double positions[9] = {0, 0.1, -2.5, 1.0 / 3.0, 1e-300, 123456789, 0.1f, 0, -0.0};
+	double normals[9] = {0, 0, 1, 0.6, 0.8, 0, 1.0 / 3.0, 0, 0};
+	uint32_t offsets[3] = {0, 3, 4};
+	uint32_t indices[4] = {0, 1, 2, 2};
+	vn_io_mesh m = {0};
+	m.vertex_count = 3;
+	m.positions = positions;
+	m.normals = normals;
+	m.face_count = 2;
+	m.face_offsets = offsets;
+	m.indices = indices;
+	vn_io_error error;
+	assert_int_equal(write_to_folder("exact.off", &m, &error), vn_io_success);
+	char path[256];
+	path_in_folder(path, sizeof path, "exact.off");
+	char* text = slurp(path);
+	assert_string_equal(text, "NOFF\n"
+	                          "3 2 0\n"
+	                          "0 0.1 -2.5 0 0 1\n"
+	                          "0.3333333333333333 1e-300 123456789 0.6 0.8 0\n"
+	                          "0.10000000149011612 0 -0 0.333333333 0 0\n"
+	                          "3 0 1 2\n"
+	                          "1 2\n");
+	free(text);
+}
+
+static void test_write_colours_in_source_style(void** state)
+{
+	(void)state;
+	double positions[6] = {0, 0, 0, 1, 0, 0};
+	float colors[8] = {1, 0, 0.2f, 1, 0, 1, 0, 0.4f};
+	float texcoords[4] = {0.5f, 0.25f, 1, 0};
+	uint32_t offsets[2] = {0, 2};
+	uint32_t indices[2] = {0, 1};
+	float face_colors[4] = {0.5f, 0.25f, 1, 1};
+	vn_io_mesh m = {0};
+	m.vertex_count = 2;
+	m.positions = positions;
+	m.colors = colors;
+	m.colors_are_bytes = 1;
+	m.texcoords = texcoords;
+	m.face_count = 1;
+	m.face_offsets = offsets;
+	m.indices = indices;
+	m.face_colors = face_colors;
+	vn_io_error error;
+	assert_int_equal(write_to_folder("style.off", &m, &error), vn_io_success);
+	char path[256];
+	path_in_folder(path, sizeof path, "style.off");
+	char* text = slurp(path);
+	assert_string_equal(text, "STCOFF\n"
+	                          "2 1 0\n"
+	                          "0 0 0 255 0 51 255 0.5 0.25\n"
+	                          "1 0 0 0 255 0 102 1 0\n"
+	                          "2 0 1 0.5 0.25 1\n");
+	free(text);
+}
+
+static void test_round_trip_is_exact(void** state)
+{
+	(void)state;
+	double positions[12] = {0.1, -1.0 / 3.0, 1e-310, 6.02214076e23, 0.1f, -0.0, 1 + 0x1p-52, 3, 4, 5, 6, 7};
+	double normals[12] = {0, 0, 1, 0.6, 0.8, 0, -0.5, 0.25, 0.125, 1, 0, 0};
+	float colors[16] = {0.1f, 0.2f, 0.3f, 1, 1.0f / 3.0f, 0, 1, 0.5f, 0, 0, 0, 0, 1, 1, 1, 1};
+	float texcoords[8] = {0.1f, 0.9f, 1e-7f, 1, 0, 0, 0.5f, 0.5f};
+	uint32_t offsets[3] = {0, 3, 7};
+	uint32_t indices[7] = {0, 1, 2, 3, 2, 1, 0};
+	float face_colors[8] = {0.7f, 0.1f, 0.2f, 1, 0, 0, 0, 1};
+	vn_io_mesh m = {0};
+	m.vertex_count = 4;
+	m.positions = positions;
+	m.normals = normals;
+	m.colors = colors;
+	m.texcoords = texcoords;
+	m.face_count = 2;
+	m.face_offsets = offsets;
+	m.indices = indices;
+	m.face_colors = face_colors;
+	vn_io_error error;
+	assert_int_equal(write_to_folder("trip.off", &m, &error), vn_io_success);
+
+	vn_io_mesh back;
+	char path[256];
+	path_in_folder(path, sizeof path, "trip.off");
+	read_path_ok(path, &back);
+	assert_int_equal(back.vertex_count, 4);
+	assert_doubles(back.positions, positions, 12);
+	assert_doubles(back.normals, normals, 12);
+	assert_floats(back.colors, colors, 16);
+	assert_floats(back.texcoords, texcoords, 8);
+	assert_int_equal(back.face_count, 2);
+	assert_u32s(back.face_offsets, offsets, 3);
+	assert_u32s(back.indices, indices, 7);
+	assert_floats(back.face_colors, face_colors, 8);
+	assert_int_equal(back.colors_are_bytes, 0);
+	assert_int_equal(back.face_colors_are_bytes, 0);
+	vn_io_mesh_free(&back);
+}
+
+static void test_round_trip_keeps_byte_colours(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_path_ok("data/off/colored.off", &m);
+	vn_io_error error;
+	assert_int_equal(write_to_folder("colored.off", &m, &error), vn_io_success);
+	char path[256];
+	path_in_folder(path, sizeof path, "colored.off");
+	char* text = slurp(path);
+	assert_string_equal(text, "COFF\n"
+	                          "4 4 0\n"
+	                          "0 0 0 255 0 0 255\n"
+	                          "1 0 0 0 255 0 255\n"
+	                          "0 1 0 0 0 255 128\n"
+	                          "0 0 1 255 255 255 255\n"
+	                          "3 0 2 1 255 0 0\n"
+	                          "3 0 1 3 0 255 0\n"
+	                          "3 1 2 3 170 170 170\n"
+	                          "3 0 3 2 170 170 170\n");
+	free(text);
+	vn_io_mesh back;
+	read_path_ok(path, &back);
+	assert_floats(back.colors, m.colors, 16);
+	assert_floats(back.face_colors, m.face_colors, 16);
+	assert_int_equal(back.colors_are_bytes, 1);
+	assert_int_equal(back.face_colors_are_bytes, 1);
+	vn_io_mesh_free(&back);
+	vn_io_mesh_free(&m);
+}
+
+static void test_writer_reports_stream_errors(void** state)
+{
+	(void)state;
+	char path[256];
+	path_in_folder(path, sizeof path, "readonly.off");
+	write_bytes("readonly.off", "x", 1);
+	FILE* in = fopen(path, "rb"); /* writing to a read-only stream fails */
+	assert_non_null(in);
+	vn_io_mesh m = {0};
+	double positions[3] = {1, 2, 3};
+	uint32_t offsets[1] = {0};
+	m.vertex_count = 1;
+	m.positions = positions;
+	m.face_offsets = offsets;
+	vn_io_error error;
+	assert_int_equal(vn_io_off_write(in, "out.off", &m, &error), vn_io_error_write);
+	assert_string_equal(error.message, "out.off: cannot write: Bad file descriptor");
+	fclose(in);
+}
+
+/* A format whose writer writes a little, then fails like a full disk. */
+static vn_io_result failing_write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error)
+{
+	(void)mesh;
+	fputs("partial output\n", out);
+	return vn_io_fail(error, vn_io_error_write, "%s: disk full", path);
+}
+
+static const vn_io_format failing_format = {"failing", ".fail", "fails after writing a line", NULL, failing_write};
+
+/* The names in folder/sub, sorted, joined by spaces. */
+static void list_folder(const char* sub, char* out, size_t size)
+{
+	char path[256];
+	path_in_folder(path, sizeof path, sub);
+	struct dirent** entries;
+	int n = scandir(path, &entries, NULL, alphasort);
+	assert_true(n >= 0);
+	out[0] = '\0';
+	for (int i = 0; i < n; i++) {
+		if (strcmp(entries[i]->d_name, ".") != 0 && strcmp(entries[i]->d_name, "..") != 0) {
+			size_t used = strlen(out);
+			snprintf(out + used, size - used, "%s%s", used ? " " : "", entries[i]->d_name);
+		}
+		free(entries[i]);
+	}
+	free(entries);
+}
+
+static void test_failed_write_leaves_destination_untouched(void** state)
+{
+	(void)state;
+	char sub[256], path[256], names[256];
+	path_in_folder(sub, sizeof sub, "atomic");
+	assert_int_equal(mkdir(sub, 0755), 0);
+	write_bytes("atomic/out.off", "original\n", 9);
+	path_in_folder(path, sizeof path, "atomic/out.off");
+
+	vn_io_mesh m = {0};
+	vn_io_error error;
+	assert_int_equal(vn_io_write_file(path, &failing_format, &m, &error), vn_io_error_write);
+	char expected[300];
+	snprintf(expected, sizeof expected, "%s: disk full", path);
+	assert_string_equal(error.message, expected);
+	char* text = slurp(path);
+	assert_string_equal(text, "original\n");
+	free(text);
+	list_folder("atomic", names, sizeof names);
+	assert_string_equal(names, "out.off");
+
+	/* Without a previous file, nothing at all is left. */
+	path_in_folder(path, sizeof path, "atomic/new.off");
+	assert_int_equal(vn_io_write_file(path, &failing_format, &m, &error), vn_io_error_write);
+	list_folder("atomic", names, sizeof names);
+	assert_string_equal(names, "out.off");
+}
+
+static void test_write_replaces_existing_file(void** state)
+{
+	(void)state;
+	char sub[256], path[256], names[256];
+	path_in_folder(sub, sizeof sub, "replace");
+	assert_int_equal(mkdir(sub, 0755), 0);
+	write_bytes("replace/out.off", "original\n", 9);
+	path_in_folder(path, sizeof path, "replace/out.off");
+	double positions[3] = {1, 2, 3};
+	uint32_t offsets[1] = {0};
+	vn_io_mesh m = {0};
+	m.vertex_count = 1;
+	m.positions = positions;
+	m.face_offsets = offsets;
+	vn_io_error error;
+	assert_int_equal(vn_io_write_file(path, NULL, &m, &error), vn_io_success);
+	char* text = slurp(path);
+	assert_string_equal(text, "OFF\n1 0 0\n1 2 3\n");
+	free(text);
+	list_folder("replace", names, sizeof names);
+	assert_string_equal(names, "out.off");
+}
+
+static void test_written_file_mode_follows_umask(void** state)
+{
+	(void)state;
+	char path[256];
+	struct stat st;
+	vn_io_mesh m = {0};
+	uint32_t offsets[1] = {0};
+	m.face_offsets = offsets;
+	vn_io_error error;
+	mode_t saved = umask(022);
+	assert_int_equal(write_to_folder("mode644.off", &m, &error), vn_io_success);
+	umask(077);
+	assert_int_equal(write_to_folder("mode600.off", &m, &error), vn_io_success);
+	umask(saved);
+	path_in_folder(path, sizeof path, "mode644.off");
+	assert_int_equal(stat(path, &st), 0);
+	assert_int_equal(st.st_mode & 0777, 0644);
+	path_in_folder(path, sizeof path, "mode600.off");
+	assert_int_equal(stat(path, &st), 0);
+	assert_int_equal(st.st_mode & 0777, 0600);
+}
+
+static void test_write_into_missing_folder(void** state)
+{
+	(void)state;
+	char path[256], expected[400];
+	path_in_folder(path, sizeof path, "no/such/folder/out.off");
+	vn_io_mesh m = {0};
+	vn_io_error error;
+	assert_int_equal(vn_io_write_file(path, NULL, &m, &error), vn_io_error_write);
+	snprintf(expected, sizeof expected, "%s: cannot create a temporary file next to it: No such file or directory",
+	         path);
+	assert_string_equal(error.message, expected);
+}
+
+static void test_write_unknown_extension(void** state)
+{
+	(void)state;
+	vn_io_mesh m = {0};
+	vn_io_error error;
+	assert_int_equal(vn_io_write_file("out.xyz", NULL, &m, &error), vn_io_error_format);
+	assert_string_equal(error.message, "out.xyz: unknown file extension (vn knows .off)");
+}
+
+/* ------------------------------------------------------------------ files and formats */
+
+static void test_read_missing_file(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	vn_io_error error;
+	assert_int_equal(vn_io_read_file("data/off/missing.off", NULL, &m, &error), vn_io_error_open);
+	assert_string_equal(error.message, "data/off/missing.off: cannot open: No such file or directory");
+	assert_null(m.positions);
+}
+
+static void test_read_unknown_extension(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	vn_io_error error;
+	assert_int_equal(vn_io_read_file("data/off/cube.stl", NULL, &m, &error), vn_io_error_format);
+	assert_string_equal(error.message, "data/off/cube.stl: unknown file extension (vn knows .off)");
+}
+
+static void test_read_with_explicit_format(void** state)
+{
+	(void)state;
+	const char text[] = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+	char path[256];
+	write_bytes("mesh.txt", text, sizeof text - 1);
+	path_in_folder(path, sizeof path, "mesh.txt");
+	vn_io_mesh m;
+	vn_io_error error;
+	assert_int_equal(vn_io_read_file(path, vn_io_format_by_name("off"), &m, &error), vn_io_success);
+	assert_triangle(&m);
+	vn_io_mesh_free(&m);
+}
+
+static void test_read_all(void** state)
+{
+	(void)state;
+	char path[256];
+	write_bytes("all.bin", "ab\0cd", 5);
+	path_in_folder(path, sizeof path, "all.bin");
+	char* data;
+	size_t size;
+	vn_io_error error;
+	assert_int_equal(vn_io_read_all(path, &data, &size, &error), vn_io_success);
+	assert_int_equal(size, 5);
+	assert_memory_equal(data, "ab\0cd", 6); /* and NUL-terminated */
+	free(data);
+	assert_int_equal(vn_io_read_all(folder, &data, &size, &error), vn_io_error_open);
+	assert_null(data);
+	char expected[200];
+	snprintf(expected, sizeof expected, "%s: cannot read: Is a directory", folder);
+	assert_string_equal(error.message, expected);
+}
+
+static void test_read_memory_names_the_source(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	vn_io_error error;
+	const char text[] = "OFF\n1 0 0\n0 0 0\n";
+	/* Not NUL-terminated after `size` bytes: the trailing "junk" must not be read. */
+	const char buffer[] = "OFF\n1 0 0\n0 0 0\njunk";
+	assert_int_equal(vn_io_off_read_memory(buffer, sizeof text - 1, "memory", &m, &error), vn_io_success);
+	assert_int_equal(m.vertex_count, 1);
+	vn_io_mesh_free(&m);
+	assert_int_equal(vn_io_off_read_memory(buffer, sizeof buffer - 1, "memory", &m, &error), vn_io_error_parse);
+	assert_string_equal(error.message, "memory:4: unexpected 'junk' after the last of the 0 faces the header announces");
+}
+
+static void test_same_file(void** state)
+{
+	(void)state;
+	char a[256], b[256], c[256], d[256], missing[256];
+	write_bytes("same_a.off", "x", 1);
+	write_bytes("same_d.off", "x", 1);
+	path_in_folder(a, sizeof a, "same_a.off");
+	path_in_folder(b, sizeof b, "same_b.off");
+	path_in_folder(c, sizeof c, "same_c.off");
+	path_in_folder(d, sizeof d, "same_d.off");
+	path_in_folder(missing, sizeof missing, "same_missing.off");
+	assert_int_equal(link(a, b), 0);
+	assert_int_equal(symlink(a, c), 0);
+	assert_true(vn_io_same_file(a, a));
+	assert_true(vn_io_same_file(a, b));
+	assert_true(vn_io_same_file(c, a));
+	assert_false(vn_io_same_file(a, d));
+	assert_false(vn_io_same_file(a, missing));
+	assert_false(vn_io_same_file(missing, missing));
+}
+
+static void test_format_lookup(void** state)
+{
+	(void)state;
+	const vn_io_format* off = vn_io_format_at(0);
+	assert_non_null(off);
+	assert_string_equal(off->name, "off");
+	assert_string_equal(off->extensions, ".off");
+	assert_null(vn_io_format_at(1));
+	assert_ptr_equal(vn_io_format_for_path("dir.d/mesh.OFF"), off);
+	assert_ptr_equal(vn_io_format_for_path("mesh.off"), off);
+	assert_null(vn_io_format_for_path("mesh.off.gz"));
+	assert_null(vn_io_format_for_path("off"));
+	assert_null(vn_io_format_for_path(NULL));
+	assert_ptr_equal(vn_io_format_by_name("Off"), off);
+	assert_null(vn_io_format_by_name("of"));
+	assert_null(vn_io_format_by_name(NULL));
+}
+
+static void test_result_strings(void** state)
+{
+	(void)state;
+	assert_string_equal(vn_io_result_string(vn_io_success), "success");
+	assert_string_equal(vn_io_result_string(vn_io_error_parse), "malformed file");
+	assert_string_equal(vn_io_result_string(vn_io_error_same_file), "the output is the input file");
+	assert_string_equal(vn_io_result_string(vn_io_result_count_), "unknown vn_io result");
+	for (int r = 0; r < vn_io_result_count_; r++)
+		for (int s = r + 1; s < vn_io_result_count_; s++)
+			assert_string_not_equal(vn_io_result_string((vn_io_result)r), vn_io_result_string((vn_io_result)s));
+}
+
+static void test_fail_formats_and_returns(void** state)
+{
+	(void)state;
+	vn_io_error error;
+	assert_int_equal(vn_io_fail(&error, vn_io_error_memory, "%s:%d: %s", "a.off", 7, "why"), vn_io_error_memory);
+	assert_string_equal(error.message, "a.off:7: why");
+	assert_int_equal(vn_io_fail(NULL, vn_io_error_parse, "ignored"), vn_io_error_parse);
+}
+
+static void test_mesh_free_and_is_triangles(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 2 1 3\n", &m);
+	assert_true(vn_io_mesh_is_triangles(&m));
+	m.face_offsets[1] = 2; /* a 2-gon and a 4-gon */
+	assert_false(vn_io_mesh_is_triangles(&m));
+	vn_io_mesh_free(&m);
+	assert_null(m.positions);
+	assert_null(m.face_offsets);
+	assert_int_equal(m.face_count, 0);
+	vn_io_mesh_free(&m); /* a zeroed mesh is fine */
+	vn_io_mesh_free(NULL);
+	assert_false(vn_io_mesh_is_triangles(NULL));
+}
+
+/* ------------------------------------------------------------------ runner */
+
+static void remove_tree(const char* path)
+{
+	struct stat st;
+	if (lstat(path, &st) != 0)
+		return;
+	if (S_ISDIR(st.st_mode)) {
+		DIR* dir = opendir(path);
+		struct dirent* entry;
+		while (dir && (entry = readdir(dir))) {
+			if (strcmp(entry->d_name, ".") == 0 || strcmp(entry->d_name, "..") == 0)
+				continue;
+			char child[512];
+			snprintf(child, sizeof child, "%s/%s", path, entry->d_name);
+			remove_tree(child);
+		}
+		if (dir)
+			closedir(dir);
+		rmdir(path);
+	} else {
+		unlink(path);
+	}
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+	    cmocka_unit_test(test_off_counts_on_next_line),
+	    cmocka_unit_test(test_off_counts_on_header_line),
+	    cmocka_unit_test(test_off_two_counts),
+	    cmocka_unit_test(test_off_comments_and_blank_lines),
+	    cmocka_unit_test(test_off_crlf_and_byte_order_mark),
+	    cmocka_unit_test(test_off_carriage_returns_count_as_lines),
+	    cmocka_unit_test(test_coff_float_colours_rgb_and_rgba),
+	    cmocka_unit_test(test_coff_byte_colours),
+	    cmocka_unit_test(test_noff_normals),
+	    cmocka_unit_test(test_cnoff_reads_position_normal_colour),
+	    cmocka_unit_test(test_stoff_texture_coordinates),
+	    cmocka_unit_test(test_stcnoff_reads_every_field_in_order),
+	    cmocka_unit_test(test_4off_divides_by_w),
+	    cmocka_unit_test(test_noff_dimension_3_on_own_line),
+	    cmocka_unit_test(test_noff_dimension_and_counts_on_header_line),
+	    cmocka_unit_test(test_nan_and_inf_coordinates_are_read),
+	    cmocka_unit_test(test_polygons_of_every_size),
+	    cmocka_unit_test(test_face_colours_float_rgb_and_rgba),
+	    cmocka_unit_test(test_face_colours_bytes),
+	    cmocka_unit_test(test_face_colormap_index_is_ignored),
+	    cmocka_unit_test(test_uncoloured_faces_get_geomview_grey),
+	    cmocka_unit_test(test_fixture_cube),
+	    cmocka_unit_test(test_fixture_colored),
+	    cmocka_unit_test(test_fixture_binary),
+	    cmocka_unit_test(test_binary_off),
+	    cmocka_unit_test(test_binary_noff_with_comment_before_header),
+	    cmocka_unit_test(test_binary_coff_and_face_colours),
+	    cmocka_unit_test(test_binary_stoff_and_ndim),
+	    cmocka_unit_test(test_binary_4off),
+	    cmocka_unit_test(test_binary_truncated_vertex),
+	    cmocka_unit_test(test_binary_truncated_face),
+	    cmocka_unit_test(test_binary_index_out_of_range),
+	    cmocka_unit_test(test_binary_negative_count),
+	    cmocka_unit_test(test_binary_counts_beyond_file_size),
+	    cmocka_unit_test(test_binary_trailing_bytes),
+	    cmocka_unit_test(test_binary_bad_face_colour_count),
+	    cmocka_unit_test(test_binary_text_after_keyword),
+	    cmocka_unit_test(test_error_missing_keyword),
+	    cmocka_unit_test(test_error_unknown_keyword),
+	    cmocka_unit_test(test_error_empty_file),
+	    cmocka_unit_test(test_error_only_comments),
+	    cmocka_unit_test(test_error_ndim_other_than_3),
+	    cmocka_unit_test(test_error_missing_counts),
+	    cmocka_unit_test(test_error_one_count),
+	    cmocka_unit_test(test_error_four_counts),
+	    cmocka_unit_test(test_error_count_not_integer),
+	    cmocka_unit_test(test_error_counts_beyond_file_size),
+	    cmocka_unit_test(test_error_vertex_too_few_numbers),
+	    cmocka_unit_test(test_error_vertex_too_many_numbers),
+	    cmocka_unit_test(test_error_colour_vertex_count),
+	    cmocka_unit_test(test_error_not_a_number),
+	    cmocka_unit_test(test_error_binary_garbage_is_quoted_safely),
+	    cmocka_unit_test(test_error_homogeneous_w_zero),
+	    cmocka_unit_test(test_error_truncated_vertices),
+	    cmocka_unit_test(test_error_truncated_faces),
+	    cmocka_unit_test(test_error_index_out_of_range),
+	    cmocka_unit_test(test_error_negative_index),
+	    cmocka_unit_test(test_error_index_not_an_integer),
+	    cmocka_unit_test(test_error_face_more_corners_than_indices),
+	    cmocka_unit_test(test_error_face_without_corners),
+	    cmocka_unit_test(test_error_face_colour_lengths),
+	    cmocka_unit_test(test_error_colour_out_of_range),
+	    cmocka_unit_test(test_error_colour_styles_mixed),
+	    cmocka_unit_test(test_error_trailing_content),
+	    cmocka_unit_test(test_write_exact_text),
+	    cmocka_unit_test(test_write_colours_in_source_style),
+	    cmocka_unit_test(test_round_trip_is_exact),
+	    cmocka_unit_test(test_round_trip_keeps_byte_colours),
+	    cmocka_unit_test(test_writer_reports_stream_errors),
+	    cmocka_unit_test(test_failed_write_leaves_destination_untouched),
+	    cmocka_unit_test(test_write_replaces_existing_file),
+	    cmocka_unit_test(test_written_file_mode_follows_umask),
+	    cmocka_unit_test(test_write_into_missing_folder),
+	    cmocka_unit_test(test_write_unknown_extension),
+	    cmocka_unit_test(test_read_missing_file),
+	    cmocka_unit_test(test_read_unknown_extension),
+	    cmocka_unit_test(test_read_with_explicit_format),
+	    cmocka_unit_test(test_read_all),
+	    cmocka_unit_test(test_read_memory_names_the_source),
+	    cmocka_unit_test(test_same_file),
+	    cmocka_unit_test(test_format_lookup),
+	    cmocka_unit_test(test_result_strings),
+	    cmocka_unit_test(test_fail_formats_and_returns),
+	    cmocka_unit_test(test_mesh_free_and_is_triangles),
+	};
+	snprintf(folder, sizeof folder, "/tmp/vn_test_off.XXXXXX");
+	if (!mkdtemp(folder)) {
+		perror("mkdtemp");
+		return 1;
+	}
+	int failures = cmocka_run_group_tests(tests, NULL, NULL);
+	remove_tree(folder);
+	return failures;
+}
