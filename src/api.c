@@ -139,8 +139,8 @@ static vn_result compute(vn_work* w, const vn_vectors* normals, vn_accumulate_fn
 	w->want_stats = stats != NULL;
 	w->simd = o->simd == vn_simd_auto && vn_cpu_has_avx2();
 
-	vn_range_stats st = {0, 0, 0};
-	vn_result r = w->vertex_count ? vn_run(w, accumulate, o->threads, &o->allocator, &st) : vn_result_success;
+	vn_range_stats st = {0, 0, 0, 0};
+	vn_result r = w->vertex_count ? vn_run(w, accumulate, o, &st) : vn_result_success;
 	if (r == vn_result_success && stats) {
 		stats->faces = w->face_count;
 		stats->degenerate_faces = st.degenerate_faces;
@@ -152,6 +152,13 @@ static vn_result compute(vn_work* w, const vn_vectors* normals, vn_accumulate_fn
 
 /* ---------------------------------------------------------------- entry points */
 
+size_t vn_workspace_size(size_t vertex_count, const vn_options* options)
+{
+	if (vertex_count > UINT32_MAX)
+		return 0;
+	return vn_work_bytes((uint32_t)vertex_count, options ? options->threads : 0);
+}
+
 vn_result vn_triangle_normals(const vn_vectors* normals, const vn_positions* positions, const uint32_t* indices,
                               size_t index_count, vn_method method, const vn_options* options, vn_stats* stats)
 {
@@ -161,8 +168,9 @@ vn_result vn_triangle_normals(const vn_vectors* normals, const vn_positions* pos
 		return r;
 	if (index_count % 3 || (index_count && !indices))
 		return vn_result_invalid_argument;
-	if ((r = check_indices(indices, index_count, w.vertex_count)) != vn_result_success)
-		return r;
+	if (index_count && !w.vertex_count)
+		return vn_result_index_out_of_range;
+	/* The triangle kernels check the indices as they scan them. */
 	w.indices = indices;
 	w.face_count = index_count / 3;
 	return compute(&w, normals,

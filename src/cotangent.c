@@ -22,16 +22,17 @@ VN_INLINE void add_edge_cross(double* acc, const double d[3], const double n[3])
 	acc[0] += c[0], acc[1] += c[1], acc[2] += c[2];
 }
 
-VN_INLINE void triangles(const vn_work* w, vn_scalar type, uint32_t lo, uint32_t hi, vn_range_stats* st)
+VN_INLINE void triangles(const vn_work* w, vn_scalar type, vn_range range, vn_range_stats* st)
 {
-	const uint32_t span = hi - lo;
 	const uint32_t* idx = w->indices;
 	double* acc = w->acc;
 	size_t degenerate = 0;
 
 	for (size_t f = 0; f < w->face_count; ++f) {
 		const uint32_t i0 = idx[3 * f], i1 = idx[3 * f + 1], i2 = idx[3 * f + 2];
-		const int o0 = vn_owned(i0, lo, span), o1 = vn_owned(i1, lo, span), o2 = vn_owned(i2, lo, span);
+		if (vn_bad_triangle(w, i0, i1, i2, st))
+			return;
+		const int o0 = vn_owned(i0, range), o1 = vn_owned(i1, range), o2 = vn_owned(i2, range);
 		if (!(o0 | o1 | o2))
 			continue;
 
@@ -66,9 +67,9 @@ VN_INLINE void triangles(const vn_work* w, vn_scalar type, uint32_t lo, uint32_t
 
 #ifdef VN_HAVE_AVX2
 /* triangles() four at a time, operation for operation (see simd.h). */
-VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, uint32_t lo, uint32_t hi, vn_range_stats* st)
+VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, vn_range range, vn_range_stats* st)
 {
-	const uint32_t span = hi - lo, last = w->vertex_count - 1;
+	const uint32_t last = w->vertex_count - 1;
 	const size_t groups = w->face_count / 4;
 	const __m256d neg = _mm256_set1_pd(-0.0);
 	size_t degenerate = 0;
@@ -76,12 +77,15 @@ VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, uint32_t lo
 
 	for (size_t g = 0; g < groups; ++g) {
 		const uint32_t* idx = w->indices + 12 * g;
-		if (!vn_group_owned(idx, lo, span))
+		const int kind = vn_group_kind(idx, last, range);
+		if (kind == VN_GROUP_SKIP)
 			continue;
-		if (vn_group_touches_last(idx, last)) {
+		if (kind == VN_GROUP_SCALAR) {
 			rest.indices = idx;
 			rest.face_count = 4;
-			triangles(&rest, type, lo, hi, st);
+			triangles(&rest, type, range, st);
+			if (st->bad_index)
+				return;
 			continue;
 		}
 		vn_group p;
@@ -96,7 +100,7 @@ VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, uint32_t lo
 		vn_cross4(e20x, e20y, e20z, e01x, e01y, e01z, &nx, &ny, &nz);
 		const __m256d l2 = vn_dot4(nx, ny, nz, nx, ny, nz);
 		const int usable = vn_usable4(l2);
-		degenerate += vn_group_degenerate(idx, usable, lo, span);
+		degenerate += vn_group_degenerate(idx, usable, range);
 		if (!usable)
 			continue;
 		const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(l2));
@@ -108,33 +112,33 @@ VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, uint32_t lo
 		          &cy[1], &cz[1]);
 		vn_cross4(_mm256_xor_pd(neg, e01x), _mm256_xor_pd(neg, e01y), _mm256_xor_pd(neg, e01z), nx, ny, nz, &cx[2],
 		          &cy[2], &cz[2]);
-		vn_scatter_group(w->acc, idx, usable, lo, span, cx, cy, cz);
+		vn_scatter_group(w->acc, idx, usable, range, cx, cy, cz);
 	}
 	st->degenerate_faces += degenerate;
 	rest.indices = w->indices + 12 * groups;
 	rest.face_count = w->face_count - 4 * groups;
-	triangles(&rest, type, lo, hi, st);
+	triangles(&rest, type, range, st);
 }
 
 static VN_AVX2 void triangles_f_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	triangles_avx2(w, vn_scalar_float32, lo, hi, st);
+	VN_DISPATCH_RANGE(w, lo, hi, triangles_avx2(w, vn_scalar_float32, range, st));
 }
 
 static VN_AVX2 void triangles_d_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	triangles_avx2(w, vn_scalar_float64, lo, hi, st);
+	VN_DISPATCH_RANGE(w, lo, hi, triangles_avx2(w, vn_scalar_float64, range, st));
 }
 #endif
 
 static void triangles_f(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	triangles(w, vn_scalar_float32, lo, hi, st);
+	VN_DISPATCH_RANGE(w, lo, hi, triangles(w, vn_scalar_float32, range, st));
 }
 
 static void triangles_d(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	triangles(w, vn_scalar_float64, lo, hi, st);
+	VN_DISPATCH_RANGE(w, lo, hi, triangles(w, vn_scalar_float64, range, st));
 }
 
 void vn_accumulate_cotangent_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
@@ -160,5 +164,5 @@ static void cotangent_corner(vn_method method, double* acc, const double n[3], c
 
 void vn_accumulate_cotangent_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	vn_polygons(w, lo, hi, st, cotangent_corner);
+	VN_DISPATCH_RANGE(w, lo, hi, vn_polygons(w, range, st, cotangent_corner));
 }

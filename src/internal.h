@@ -35,11 +35,14 @@ typedef struct vn_range_stats {
 	size_t degenerate_faces; /* counted by the worker owning the face's first corner */
 	size_t zero_normals;
 	size_t nonfinite_vertices;
+	int bad_index; /* an index >= vertex_count was met (triangle kernels check as they scan) */
 } vn_range_stats;
 
 /* Each accumulator adds, for every face with a corner in [lo, hi), that
  * corner's contribution to acc. Faces are visited in index order, so a
- * vertex's sum does not depend on how vertices are split between workers. */
+ * vertex's sum does not depend on how vertices are split between workers.
+ * Triangle accumulators also check every index of every face, owned or not,
+ * before reading through it, and stop with st->bad_index set. */
 typedef void (*vn_accumulate_fn)(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 
 /* weights.c: the face-normal weighted family (MWE, MWA, MWSELR, MWAAT, MWELR, MWRELR). */
@@ -49,9 +52,11 @@ void vn_accumulate_weighted_polygons(const vn_work* w, uint32_t lo, uint32_t hi,
 void vn_accumulate_cotangent_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 void vn_accumulate_cotangent_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 
-/* parallel.c: zeroes, accumulates and normalizes on `threads` workers. */
-vn_result vn_run(const vn_work* w, vn_accumulate_fn accumulate, unsigned threads, const vn_allocator* alloc,
-                 vn_range_stats* st);
+/* parallel.c: zeroes, accumulates and normalizes on o->threads workers, in
+ * o->workspace when it is large enough, else in memory from o->allocator. */
+vn_result vn_run(const vn_work* w, vn_accumulate_fn accumulate, const vn_options* o, vn_range_stats* st);
+/* The work memory vn_run needs for nv vertices. */
+size_t vn_work_bytes(uint32_t nv, unsigned threads);
 
 /* ---------------------------------------------------------------- geometry helpers */
 
@@ -137,11 +142,40 @@ VN_INLINE int vn_corner_edges(const double prev[3], const double cur[3], const d
 	return vn_dot(e, e) * vn_dot(e2, e2) >= DBL_MIN;
 }
 
-/* True when the vertex index i falls in [lo, lo + span). */
-VN_INLINE int vn_owned(uint32_t i, uint32_t lo, uint32_t span)
+/* The vertices a worker owns: [lo, lo + span), or all of them (full), which
+ * the kernels are specialized for so that a single worker checks nothing. */
+typedef struct vn_range {
+	uint32_t lo, span;
+	int full;
+} vn_range;
+
+/* True, and st->bad_index set, when a triangle has an index out of range. */
+VN_INLINE int vn_bad_triangle(const vn_work* w, uint32_t i0, uint32_t i1, uint32_t i2, vn_range_stats* st)
 {
-	return (uint32_t)(i - lo) < span;
+	const uint32_t n = w->vertex_count;
+	if (i0 < n && i1 < n && i2 < n)
+		return 0;
+	st->bad_index = 1;
+	return 1;
 }
+
+VN_INLINE int vn_owned(uint32_t i, vn_range r)
+{
+	return r.full || (uint32_t)(i - r.lo) < r.span;
+}
+
+/* Calls kernel(w, ..., range, st) with the range's `full` a constant in each
+ * branch, so that each inlined copy folds its ownership checks away. */
+#define VN_DISPATCH_RANGE(w, lo, hi, call)                 \
+	do {                                                   \
+		if ((lo) == 0 && (hi) == (w)->vertex_count) {      \
+			const vn_range range = {0, 0, 1};              \
+			call;                                          \
+		} else {                                           \
+			const vn_range range = {(lo), (hi) - (lo), 0}; \
+			call;                                          \
+		}                                                  \
+	} while (0)
 
 /* Adds one polygon corner's contribution to its accumulator, given the face's
  * unit normal n and the corner's non-degenerate edges E and E'. */
@@ -149,27 +183,26 @@ typedef void (*vn_corner_fn)(vn_method method, double* acc, const double n[3], c
 
 /* The polygon walk both families share: faces in index order, Newell normal,
  * then every owned corner with a rolling window prev, cur, next. */
-VN_INLINE void vn_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st, vn_corner_fn corner)
+VN_INLINE void vn_polygons(const vn_work* w, vn_range range, vn_range_stats* st, vn_corner_fn corner)
 {
-	const uint32_t span = hi - lo;
 	const uint32_t* off = w->offsets;
 
 	for (size_t f = 0; f < w->face_count; ++f) {
 		const uint32_t* face = w->indices + off[f];
 		const uint32_t k = off[f + 1] - off[f];
 		if (k == 0) { /* cornerless: counted once, by the first worker */
-			st->degenerate_faces += lo == 0;
+			st->degenerate_faces += range.full || range.lo == 0;
 			continue;
 		}
 		int owned = 0;
 		for (uint32_t c = 0; c < k; ++c)
-			owned |= vn_owned(face[c], lo, span);
+			owned |= vn_owned(face[c], range);
 		if (!owned)
 			continue;
 
 		double n[3];
 		if (k < 3 || !vn_face_normal(w, face, k, n)) {
-			st->degenerate_faces += vn_owned(face[0], lo, span);
+			st->degenerate_faces += vn_owned(face[0], range);
 			continue;
 		}
 		double prev[3], cur[3], next[3], e[3], e2[3];
@@ -177,7 +210,7 @@ VN_INLINE void vn_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_
 		vn_load(w, w->type, face[0], cur);
 		for (uint32_t c = 0; c < k; ++c) {
 			vn_load(w, w->type, face[c + 1 == k ? 0 : c + 1], next);
-			if (vn_owned(face[c], lo, span) && vn_corner_edges(prev, cur, next, e, e2))
+			if (vn_owned(face[c], range) && vn_corner_edges(prev, cur, next, e, e2))
 				corner(w->method, w->acc + 4 * (size_t)face[c], n, e, e2);
 			memcpy(prev, cur, sizeof(cur));
 			memcpy(cur, next, sizeof(next));

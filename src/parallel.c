@@ -1,5 +1,8 @@
 /* Running a computation on several workers with bit-identical results.
  *
+ * Two phases: every worker first accumulates (and checks every index it
+ * reads), then, if all indices were valid, normalizes into the output.
+ *
  * Vertices are split into contiguous ranges, one per worker. Every worker
  * walks all faces in index order but adds only to the vertices it owns, then
  * normalizes them. Each vertex's sum is therefore formed by one worker, in
@@ -104,12 +107,31 @@ static VN_AVX2 void finalize_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn
 			continue;
 		}
 		const __m256d inv = _mm256_div_pd(one, _mm256_sqrt_pd(len2));
-		double nx[4], ny[4], nz[4];
-		_mm256_storeu_pd(nx, _mm256_mul_pd(x, inv));
-		_mm256_storeu_pd(ny, _mm256_mul_pd(y, inv));
-		_mm256_storeu_pd(nz, _mm256_mul_pd(z, inv));
-		for (uint32_t k = 0; k < 4; ++k)
-			store(w, v + k, nx[k], ny[k], nz[k]);
+		const __m256d nx = _mm256_mul_pd(x, inv), ny = _mm256_mul_pd(y, inv), nz = _mm256_mul_pd(z, inv);
+		unsigned char* dst = (unsigned char*)w->out->data + (size_t)v * w->out->stride;
+		if (w->out->type == vn_scalar_float32) {
+			/* (float) rounds to nearest, as _mm256_cvtpd_ps does. */
+			float f[12], fx[4], fy[4], fz[4];
+			_mm_storeu_ps(fx, _mm256_cvtpd_ps(nx));
+			_mm_storeu_ps(fy, _mm256_cvtpd_ps(ny));
+			_mm_storeu_ps(fz, _mm256_cvtpd_ps(nz));
+			for (int k = 0; k < 4; ++k)
+				f[3 * k] = fx[k], f[3 * k + 1] = fy[k], f[3 * k + 2] = fz[k];
+			if (w->out->stride == 3 * sizeof(float))
+				memcpy(dst, f, sizeof(f));
+			else
+				for (int k = 0; k < 4; ++k)
+					memcpy(dst + k * w->out->stride, f + 3 * k, 3 * sizeof(float));
+		} else {
+			double d[12], dx[4], dy[4], dz[4];
+			_mm256_storeu_pd(dx, nx);
+			_mm256_storeu_pd(dy, ny);
+			_mm256_storeu_pd(dz, nz);
+			for (int k = 0; k < 4; ++k)
+				d[3 * k] = dx[k], d[3 * k + 1] = dy[k], d[3 * k + 2] = dz[k];
+			for (int k = 0; k < 4; ++k)
+				memcpy(dst + k * w->out->stride, d + 3 * k, 3 * sizeof(double));
+		}
 	}
 	for (; v < hi; ++v)
 		zero += finalize_one(w, v);
@@ -117,12 +139,21 @@ static VN_AVX2 void finalize_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn
 }
 #endif
 
-static void* run_task(void* arg)
+/* Phase 1: zero the range's sums and add every face's contributions. */
+static void* accumulate_task(void* arg)
 {
 	vn_task* t = (vn_task*)arg;
 	const vn_work* w = t->work;
 	memset(w->acc + 4 * (size_t)t->lo, 0, 4 * sizeof(double) * (size_t)(t->hi - t->lo));
 	t->accumulate(w, t->lo, t->hi, &t->stats);
+	return NULL;
+}
+
+/* Phase 2, once every index is known to be valid: write the range's normals. */
+static void* finalize_task(void* arg)
+{
+	vn_task* t = (vn_task*)arg;
+	const vn_work* w = t->work;
 #ifdef VN_HAVE_AVX2
 	if (w->simd)
 		finalize_avx2(w, t->lo, t->hi, &t->stats);
@@ -132,6 +163,21 @@ static void* run_task(void* arg)
 	if (w->want_stats)
 		count_nonfinite(w, t->lo, t->hi, &t->stats);
 	return NULL;
+}
+
+/* Runs fn on every task: tasks 1..nt-1 on new threads, task 0 on the caller's;
+ * a task whose thread cannot be started runs on the caller's too. */
+static void run_all(void* (*fn)(void*), vn_task* tasks, unsigned nt, pthread_t* ids, unsigned char* started)
+{
+	for (unsigned t = 1; t < nt; ++t)
+		started[t] = pthread_create(&ids[t], NULL, fn, &tasks[t]) == 0;
+	fn(&tasks[0]);
+	for (unsigned t = 1; t < nt; ++t) {
+		if (started[t])
+			pthread_join(ids[t], NULL);
+		else
+			fn(&tasks[t]);
+	}
 }
 
 static void* default_allocate(void* user, size_t size)
@@ -146,27 +192,38 @@ static void default_deallocate(void* user, void* ptr)
 	free(ptr);
 }
 
-vn_result vn_run(const vn_work* work, vn_accumulate_fn accumulate, unsigned threads, const vn_allocator* alloc,
-                 vn_range_stats* st)
+static unsigned worker_count(uint32_t nv, unsigned threads)
 {
-	void* (*allocate)(void*, size_t) = alloc->allocate ? alloc->allocate : default_allocate;
-	void (*deallocate)(void*, void*) = alloc->allocate ? alloc->deallocate : default_deallocate;
-
-	const uint32_t nv = work->vertex_count;
 	unsigned nt = threads ? threads : 1;
 	if (nt > VN_MAX_THREADS)
 		nt = VN_MAX_THREADS;
 	if ((size_t)nt * VN_MIN_VERTICES_PER_THREAD > nv)
 		nt = nv / VN_MIN_VERTICES_PER_THREAD > 1 ? (unsigned)(nv / VN_MIN_VERTICES_PER_THREAD) : 1;
+	return nt;
+}
 
-	/* The accumulators, 32-byte aligned whatever the allocator returns, and
-	 * the task records in the same block. */
-	const size_t acc_bytes = 4 * sizeof(double) * (size_t)nv;
-	const size_t task_bytes = sizeof(vn_task) * nt;
-	const size_t thread_bytes = (sizeof(pthread_t) + 1) * nt;
-	unsigned char* block = (unsigned char*)allocate(alloc->user, acc_bytes + task_bytes + thread_bytes + 32);
+/* The work memory: 32-byte aligned accumulators, then the task records, the
+ * thread ids and their started flags, plus slack for the alignment. */
+size_t vn_work_bytes(uint32_t nv, unsigned threads)
+{
+	const size_t nt = worker_count(nv, threads);
+	return 4 * sizeof(double) * (size_t)nv + (sizeof(vn_task) + sizeof(pthread_t) + 1) * nt + 32;
+}
+
+vn_result vn_run(const vn_work* work, vn_accumulate_fn accumulate, const vn_options* o, vn_range_stats* st)
+{
+	const vn_allocator* alloc = &o->allocator;
+	void* (*allocate)(void*, size_t) = alloc->allocate ? alloc->allocate : default_allocate;
+	void (*deallocate)(void*, void*) = alloc->allocate ? alloc->deallocate : default_deallocate;
+
+	const uint32_t nv = work->vertex_count;
+	const unsigned nt = worker_count(nv, o->threads);
+	const size_t need = vn_work_bytes(nv, o->threads);
+	const int own = !(o->workspace && o->workspace_size >= need);
+	unsigned char* block = own ? (unsigned char*)allocate(alloc->user, need) : (unsigned char*)o->workspace;
 	if (!block)
 		return vn_result_out_of_memory;
+	const size_t acc_bytes = 4 * sizeof(double) * (size_t)nv, task_bytes = sizeof(vn_task) * nt;
 	unsigned char* aligned = block + ((32 - ((uintptr_t)block & 31)) & 31);
 	vn_work w = *work;
 	w.acc = (double*)aligned;
@@ -181,24 +238,22 @@ vn_result vn_run(const vn_work* work, vn_accumulate_fn accumulate, unsigned thre
 		memset(&tasks[t].stats, 0, sizeof(tasks[t].stats));
 	}
 
-	/* Workers 1..nt-1 run on new threads, worker 0 on the caller's; a worker
-	 * whose thread cannot be started runs on the caller's too. */
+	/* Nothing reaches the caller's output until every worker has checked
+	 * every index: the output is written in the second phase only. */
 	unsigned char* started = (unsigned char*)(ids + nt);
-	for (unsigned t = 1; t < nt; ++t)
-		started[t] = pthread_create(&ids[t], NULL, run_task, &tasks[t]) == 0;
-	run_task(&tasks[0]);
-	for (unsigned t = 1; t < nt; ++t) {
-		if (started[t])
-			pthread_join(ids[t], NULL);
-		else
-			run_task(&tasks[t]);
+	run_all(accumulate_task, tasks, nt, ids, started);
+	int bad_index = 0;
+	for (unsigned t = 0; t < nt; ++t)
+		bad_index |= tasks[t].stats.bad_index;
+	if (!bad_index) {
+		run_all(finalize_task, tasks, nt, ids, started);
+		for (unsigned t = 0; t < nt; ++t) {
+			st->degenerate_faces += tasks[t].stats.degenerate_faces;
+			st->zero_normals += tasks[t].stats.zero_normals;
+			st->nonfinite_vertices += tasks[t].stats.nonfinite_vertices;
+		}
 	}
-
-	for (unsigned t = 0; t < nt; ++t) {
-		st->degenerate_faces += tasks[t].stats.degenerate_faces;
-		st->zero_normals += tasks[t].stats.zero_normals;
-		st->nonfinite_vertices += tasks[t].stats.nonfinite_vertices;
-	}
-	deallocate(alloc->user, block);
-	return vn_result_success;
+	if (own)
+		deallocate(alloc->user, block);
+	return bad_index ? vn_result_index_out_of_range : vn_result_success;
 }

@@ -25,15 +25,40 @@ typedef struct vn_group {
 	__m256d x[3], y[3], z[3];
 } vn_group;
 
-/* True when any of the group's 12 indices is the last vertex, whose data may
- * end the buffer: the loads below read 16 (float) or 32 (double) bytes from
- * each vertex, past its z. Such groups take the scalar path. */
-VN_AVX2_INLINE int vn_group_touches_last(const uint32_t* idx, uint32_t last)
+/* How a group of four triangles (idx[0..12)) is handled:
+ *  - VN_GROUP_SCALAR: an index is the last vertex or beyond. The loads below
+ *    read 16 (float) or 32 (double) bytes from each vertex, past its z, which
+ *    the last vertex's data may not have; and an index beyond must be
+ *    reported. The scalar loop checks each index and reads exactly.
+ *  - VN_GROUP_SKIP: no corner is owned by this worker.
+ *  - VN_GROUP_SIMD: otherwise. */
+enum { VN_GROUP_SIMD, VN_GROUP_SCALAR, VN_GROUP_SKIP };
+
+/* Lanes of a that are <= limit (unsigned), as a mask of 8 and 4 bits. */
+VN_AVX2_INLINE int vn_le8(__m256i a, uint32_t limit)
 {
-	const __m256i l = _mm256_set1_epi32((int)last);
-	const __m256i a = _mm256_cmpeq_epi32(_mm256_loadu_si256((const __m256i*)idx), l);
-	const __m128i b = _mm_cmpeq_epi32(_mm_loadu_si128((const __m128i*)(idx + 8)), _mm256_castsi256_si128(l));
-	return !_mm256_testz_si256(a, a) || !_mm_testz_si128(b, b);
+	const __m256i m = _mm256_cmpeq_epi32(_mm256_min_epu32(a, _mm256_set1_epi32((int)limit)), a);
+	return _mm256_movemask_ps(_mm256_castsi256_ps(m));
+}
+
+VN_AVX2_INLINE int vn_le4(__m128i a, uint32_t limit)
+{
+	const __m128i m = _mm_cmpeq_epi32(_mm_min_epu32(a, _mm_set1_epi32((int)limit)), a);
+	return _mm_movemask_ps(_mm_castsi128_ps(m));
+}
+
+VN_AVX2_INLINE int vn_group_kind(const uint32_t* idx, uint32_t last, vn_range range)
+{
+	const __m256i a = _mm256_loadu_si256((const __m256i*)idx);
+	const __m128i b = _mm_loadu_si128((const __m128i*)(idx + 8));
+	if (last == 0 || vn_le8(a, last - 1) != 0xff || vn_le4(b, last - 1) != 0xf)
+		return VN_GROUP_SCALAR;
+	if (range.full)
+		return VN_GROUP_SIMD;
+	const __m256i lo8 = _mm256_set1_epi32((int)range.lo);
+	const int owned = vn_le8(_mm256_sub_epi32(a, lo8), range.span - 1) |
+	                  vn_le4(_mm_sub_epi32(b, _mm256_castsi256_si128(lo8)), range.span - 1);
+	return owned ? VN_GROUP_SIMD : VN_GROUP_SKIP;
 }
 
 /* 4 vertices (x, y, z, junk) -> x, y, z lanes as doubles. */
@@ -94,7 +119,7 @@ VN_AVX2_INLINE int vn_usable4(__m256d len2)
 
 /* Adds corner c's vector (x[c], y[c], z[c]) lane k to acc[idx[3k + c]] for the
  * usable lanes whose corner is owned, triangle by triangle in index order. */
-VN_AVX2_INLINE void vn_scatter_group(double* acc, const uint32_t* idx, int usable, uint32_t lo, uint32_t span,
+VN_AVX2_INLINE void vn_scatter_group(double* acc, const uint32_t* idx, int usable, vn_range range,
                                      const __m256d x[3], const __m256d y[3], const __m256d z[3])
 {
 	__m256d v[3][4]; /* [corner][lane]: (x, y, z, 0) */
@@ -112,7 +137,7 @@ VN_AVX2_INLINE void vn_scatter_group(double* acc, const uint32_t* idx, int usabl
 			continue;
 		for (int c = 0; c < 3; ++c) {
 			const uint32_t i = idx[3 * k + c];
-			if (vn_owned(i, lo, span)) {
+			if (vn_owned(i, range)) {
 				double* a = acc + 4 * (size_t)i;
 				_mm256_store_pd(a, _mm256_add_pd(_mm256_load_pd(a), v[c][k]));
 			}
@@ -122,22 +147,15 @@ VN_AVX2_INLINE void vn_scatter_group(double* acc, const uint32_t* idx, int usabl
 
 /* Degenerate faces of a group counted as the scalar loop does: by the worker
  * owning corner 0. */
-static inline size_t vn_group_degenerate(const uint32_t* idx, int usable, uint32_t lo, uint32_t span)
+VN_INLINE size_t vn_group_degenerate(const uint32_t* idx, int usable, vn_range range)
 {
 	size_t n = 0;
-	for (int k = 0; k < 4; ++k)
-		n += !(usable >> k & 1) && vn_owned(idx[3 * k], lo, span);
+	if (usable != 15)
+		for (int k = 0; k < 4; ++k)
+			n += !(usable >> k & 1) && vn_owned(idx[3 * k], range);
 	return n;
 }
 
-/* True when at least one of the group's corners is owned. */
-static inline int vn_group_owned(const uint32_t* idx, uint32_t lo, uint32_t span)
-{
-	int any = 0;
-	for (int i = 0; i < 12; ++i)
-		any |= vn_owned(idx[i], lo, span);
-	return any;
-}
 
 static inline int vn_cpu_has_avx2(void)
 {

@@ -140,7 +140,13 @@ typedef struct vn_options {
 	 * has its share computed on the calling thread. */
 	unsigned threads;
 	vn_simd simd;
-	vn_allocator allocator; /* for the work arrays (32 bytes per vertex) */
+	/* Work memory (about 32 bytes per vertex) comes from `workspace` when it
+	 * is not NULL and workspace_size >= vn_workspace_size(); the call then
+	 * allocates nothing. Otherwise it comes from `allocator`. A workspace
+	 * serves one call at a time. */
+	void* workspace;
+	size_t workspace_size;
+	vn_allocator allocator;
 } vn_options;
 
 /* What the computation met. Every field is a count. */
@@ -156,6 +162,10 @@ typedef struct vn_stats {
 } vn_stats;
 
 /* ------------------------------------------------------------------ vertex normals */
+
+/* Bytes of work memory a call for vertex_count vertices with these options
+ * (NULL: defaults) needs; 0 when vertex_count is too large (> UINT32_MAX). */
+VN_API size_t vn_workspace_size(size_t vertex_count, const vn_options* options);
 
 /* Per-vertex normals of a triangle mesh.
  *

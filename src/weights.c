@@ -23,17 +23,17 @@
 
 /* ---------------------------------------------------------------- triangles */
 
-VN_INLINE void triangles(const vn_work* w, vn_scalar type, vn_method method, uint32_t lo, uint32_t hi,
-                         vn_range_stats* st)
+VN_INLINE void triangles(const vn_work* w, vn_scalar type, vn_method method, vn_range range, vn_range_stats* st)
 {
-	const uint32_t span = hi - lo;
 	const uint32_t* idx = w->indices;
 	double* acc = w->acc;
 	size_t degenerate = 0;
 
 	for (size_t f = 0; f < w->face_count; ++f) {
 		const uint32_t i0 = idx[3 * f], i1 = idx[3 * f + 1], i2 = idx[3 * f + 2];
-		const int o0 = vn_owned(i0, lo, span), o1 = vn_owned(i1, lo, span), o2 = vn_owned(i2, lo, span);
+		if (vn_bad_triangle(w, i0, i1, i2, st))
+			return;
+		const int o0 = vn_owned(i0, range), o1 = vn_owned(i1, range), o2 = vn_owned(i2, range);
 		if (!(o0 | o1 | o2))
 			continue;
 
@@ -104,22 +104,25 @@ VN_INLINE void triangles(const vn_work* w, vn_scalar type, vn_method method, uin
 #ifdef VN_HAVE_AVX2
 /* The same arithmetic as triangles(), four triangles per step (see simd.h);
  * groups that touch the last vertex and the tail take the scalar loop. */
-VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, vn_method method, uint32_t lo, uint32_t hi,
+VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, vn_method method, vn_range range,
                                    vn_range_stats* st)
 {
-	const uint32_t span = hi - lo, last = w->vertex_count - 1;
+	const uint32_t last = w->vertex_count - 1;
 	const size_t groups = w->face_count / 4;
 	size_t degenerate = 0;
 	vn_work rest = *w;
 
 	for (size_t g = 0; g < groups; ++g) {
 		const uint32_t* idx = w->indices + 12 * g;
-		if (!vn_group_owned(idx, lo, span))
+		const int kind = vn_group_kind(idx, last, range);
+		if (kind == VN_GROUP_SKIP)
 			continue;
-		if (vn_group_touches_last(idx, last)) {
+		if (kind == VN_GROUP_SCALAR) {
 			rest.indices = idx;
 			rest.face_count = 4;
-			triangles(&rest, type, method, lo, hi, st);
+			triangles(&rest, type, method, range, st);
+			if (st->bad_index)
+				return;
 			continue;
 		}
 		vn_group p;
@@ -134,7 +137,7 @@ VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, vn_method m
 		vn_cross4(e20x, e20y, e20z, e01x, e01y, e01z, &nx, &ny, &nz);
 		const __m256d l2 = vn_dot4(nx, ny, nz, nx, ny, nz);
 		const int usable = vn_usable4(l2);
-		degenerate += vn_group_degenerate(idx, usable, lo, span);
+		degenerate += vn_group_degenerate(idx, usable, range);
 		if (!usable)
 			continue;
 
@@ -180,17 +183,17 @@ VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, vn_method m
 		__m256d cx[3], cy[3], cz[3];
 		for (int k = 0; k < 3; ++k)
 			cx[k] = _mm256_mul_pd(nx, wt[k]), cy[k] = _mm256_mul_pd(ny, wt[k]), cz[k] = _mm256_mul_pd(nz, wt[k]);
-		vn_scatter_group(w->acc, idx, usable, lo, span, cx, cy, cz);
+		vn_scatter_group(w->acc, idx, usable, range, cx, cy, cz);
 	}
 	st->degenerate_faces += degenerate;
 	rest.indices = w->indices + 12 * groups;
 	rest.face_count = w->face_count - 4 * groups;
-	triangles(&rest, type, method, lo, hi, st);
+	triangles(&rest, type, method, range, st);
 }
 #define VN_TRIANGLES_FAST(name, type, method)                                                              \
 	static VN_AVX2 void name##_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)        \
 	{                                                                                                      \
-		triangles_avx2(w, type, method, lo, hi, st);                                                       \
+		VN_DISPATCH_RANGE(w, lo, hi, triangles_avx2(w, type, method, range, st));                          \
 	}
 #else
 #define VN_TRIANGLES_FAST(name, type, method)
@@ -201,7 +204,7 @@ VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, vn_method m
 #define VN_TRIANGLES(name, type, method)                                                                   \
 	static void name(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)                       \
 	{                                                                                                      \
-		triangles(w, type, method, lo, hi, st);                                                            \
+		VN_DISPATCH_RANGE(w, lo, hi, triangles(w, type, method, range, st));                               \
 	}                                                                                                      \
 	VN_TRIANGLES_FAST(name, type, method)
 VN_TRIANGLES(tri_f_mwe, vn_scalar_float32, vn_method_mwe)
@@ -267,5 +270,5 @@ static void weighted_corner(vn_method method, double* acc, const double n[3], co
 
 void vn_accumulate_weighted_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	vn_polygons(w, lo, hi, st, weighted_corner);
+	VN_DISPATCH_RANGE(w, lo, hi, vn_polygons(w, range, st, weighted_corner));
 }

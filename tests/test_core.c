@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "vn.h"
+#include "fastmath.h" /* internal: the corner-angle atan2 of MWA */
 
 /* ---------------------------------------------------------------- helpers */
 
@@ -384,6 +385,45 @@ static void custom_allocator(void** state)
 	out[0] = 42.0;
 	assert_int_equal(vn_triangle_normals(&o, &p, fan_idx, 6, vn_method_mwe, &opt, NULL), vn_result_out_of_memory);
 	assert_true(out[0] == 42.0);
+
+	/* A large enough workspace: no allocation at all, same result. */
+	const size_t need = vn_workspace_size(5, &opt);
+	assert_true(need >= 5 * 32);
+	assert_int_equal(vn_workspace_size((size_t)UINT32_MAX + 1, &opt), 0);
+	unsigned char* ws = (unsigned char*)malloc(need + 1);
+	opt.workspace = ws + 1; /* misaligned on purpose */
+	opt.workspace_size = need;
+	assert_int_equal(vn_triangle_normals(&o, &p, fan_idx, 6, vn_method_mwe, &opt, NULL), vn_result_success);
+	assert_vec(out, 0.70710678118654746, 0, 0.70710678118654746, 1e-15);
+	assert_int_equal(c.allocations, 1);
+	/* One byte short: the allocator is used (and fails here). */
+	opt.workspace_size = need - 1;
+	assert_int_equal(vn_triangle_normals(&o, &p, fan_idx, 6, vn_method_mwe, &opt, NULL), vn_result_out_of_memory);
+	free(ws);
+}
+
+/* ---------------------------------------------------------------- corner angles */
+
+/* MWA's atan2 is within 2 ulp (relative) of libm's over angles from 1e-12 to
+ * pi - 1e-12 and magnitudes from 1e-30 to 1e30, including both branches of
+ * the reduction and the steep and obtuse cases. */
+static void corner_angle_matches_libm(void** state)
+{
+	(void)state;
+	double worst = 0.0;
+	for (int e = -30; e <= 30; e += 3)
+		for (int i = 0; i <= 20000; ++i) {
+			const double a = 1e-12 + (VN_PI - 2e-12) * i / 20000.0;
+			const double r = pow(10.0, e) * (1.0 + 0.37 * sin(i));
+			const double y = r * sin(a), x = r * cos(a);
+			const double want = atan2(y, x), got = vn_atan2_nonneg(y, x);
+			const double rel = fabs(got - want) / want;
+			worst = rel > worst ? rel : worst;
+		}
+	assert_true(worst <= 2 * DBL_EPSILON);
+	assert_true(vn_atan2_nonneg(0.0, 0.0) == 0.0);
+	assert_true(vn_atan2_nonneg(0.0, -1.0) == atan2(0.0, -1.0));
+	assert_true(vn_atan2_nonneg(1.0, 0.0) == atan2(1.0, 0.0));
 }
 
 /* ---------------------------------------------------------------- SIMD == scalar */
@@ -476,6 +516,7 @@ int main(void)
 	    cmocka_unit_test(strides_and_types),
 	    cmocka_unit_test(names_and_results),
 	    cmocka_unit_test(custom_allocator),
+	    cmocka_unit_test(corner_angle_matches_libm),
 	    cmocka_unit_test(simd_matches_scalar_bit_for_bit),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -251,11 +251,13 @@ static void test_off_crlf_and_byte_order_mark(void** state)
 	vn_io_mesh_free(&m);
 }
 
-static void test_off_carriage_returns_count_as_lines(void** state)
+static void test_off_line_numbers_with_carriage_returns(void** state)
 {
 	(void)state;
 	expect_error("OFF\r3 1 0\r0 0 0\r1 0 0\r0 1 0\r3 0 1 5\r", vn_io_error_parse,
 	             "bad.off:6: face 0 has index 5, but the file has 3 vertices");
+	expect_error("OFF\r\n3 1 0\r\n0 0 0\r\n\r\n1 0 0\r\n0 1 0\r\n3 0 1 5\r\n", vn_io_error_parse,
+	             "bad.off:7: face 0 has index 5, but the file has 3 vertices");
 }
 
 static void test_coff_float_colours_rgb_and_rgba(void** state)
@@ -1387,7 +1389,7 @@ int main(void)
 	    cmocka_unit_test(test_off_two_counts),
 	    cmocka_unit_test(test_off_comments_and_blank_lines),
 	    cmocka_unit_test(test_off_crlf_and_byte_order_mark),
-	    cmocka_unit_test(test_off_carriage_returns_count_as_lines),
+	    cmocka_unit_test(test_off_line_numbers_with_carriage_returns),
 	    cmocka_unit_test(test_coff_float_colours_rgb_and_rgba),
 	    cmocka_unit_test(test_coff_byte_colours),
 	    cmocka_unit_test(test_noff_normals),

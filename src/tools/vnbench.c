@@ -20,6 +20,8 @@ static void usage(FILE* out)
 	        "  -j, --threads N        worker threads (default 1)\n"
 	        "  -r, --repeat K         timed repetitions after one warm-up (default 9)\n"
 	        "      --float64          pass positions as float64 instead of float32\n"
+	        "      --alloc            let every call allocate its work memory (default: one\n"
+	        "                         workspace reused by all calls, as an application would)\n"
 	        "      --csv              print CSV: method,threads,triangles,median_ns_per_tri,mtri_per_s\n"
 	        "      --list-methods     list the schemes\n"
 	        "  -h, --help             this text\n"
@@ -47,7 +49,7 @@ int main(int argc, char** argv)
 {
 	tool_check_version(prog);
 	const char* path = NULL;
-	int all = 1, csv = 0, f64 = 0;
+	int all = 1, csv = 0, f64 = 0, alloc = 0;
 	vn_method method = vn_method_mwe;
 	unsigned long threads = 1, repeat = 9;
 
@@ -78,6 +80,8 @@ int main(int argc, char** argv)
 			csv = 1;
 		} else if (!strcmp(s, "--float64")) {
 			f64 = 1;
+		} else if (!strcmp(s, "--alloc")) {
+			alloc = 1;
 		} else if (s[0] == '-' && s[1]) {
 			die(2, "unknown option or missing value: '%s' (see --help)", s);
 		} else if (!path) {
@@ -121,6 +125,11 @@ int main(int argc, char** argv)
 	vn_options opt;
 	memset(&opt, 0, sizeof(opt));
 	opt.threads = (unsigned)threads;
+	if (!alloc) {
+		opt.workspace_size = vn_workspace_size(nv, &opt);
+		if (!(opt.workspace = malloc(opt.workspace_size)))
+			die(1, "%s", "out of memory");
+	}
 
 	if (csv)
 		printf("method,threads,triangles,median_ns_per_tri,mtri_per_s\n");
@@ -151,6 +160,7 @@ int main(int argc, char** argv)
 			printf("%-7s %8.2f ns/triangle %9.2f Mtriangles/s\n", vn_method_name((vn_method)m), ns, 1e3 / ns);
 		fflush(stdout);
 	}
+	free(opt.workspace);
 	free(times);
 	free(normals);
 	free(pos32);
