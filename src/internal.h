@@ -52,6 +52,10 @@ void vn_accumulate_weighted_polygons(const vn_work* w, uint32_t lo, uint32_t hi,
 void vn_accumulate_cotangent_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 void vn_accumulate_cotangent_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 
+/* api.c: `a` when it has both functions, else malloc/free (for an all-NULL
+ * allocator; callers reject half-set ones first). */
+vn_allocator vn_heap(const vn_allocator* a);
+
 /* parallel.c: zeroes, accumulates and normalizes on o->threads workers, in
  * o->workspace when it is large enough, else in memory from o->allocator. */
 vn_result vn_run(const vn_work* w, vn_accumulate_fn accumulate, const vn_options* o, vn_range_stats* st);

@@ -180,18 +180,6 @@ static void run_all(void* (*fn)(void*), vn_task* tasks, unsigned nt, pthread_t* 
 	}
 }
 
-static void* default_allocate(void* user, size_t size)
-{
-	(void)user;
-	return malloc(size);
-}
-
-static void default_deallocate(void* user, void* ptr)
-{
-	(void)user;
-	free(ptr);
-}
-
 static unsigned worker_count(uint32_t nv, unsigned threads)
 {
 	unsigned nt = threads ? threads : 1;
@@ -212,15 +200,13 @@ size_t vn_work_bytes(uint32_t nv, unsigned threads)
 
 vn_result vn_run(const vn_work* work, vn_accumulate_fn accumulate, const vn_options* o, vn_range_stats* st)
 {
-	const vn_allocator* alloc = &o->allocator;
-	void* (*allocate)(void*, size_t) = alloc->allocate ? alloc->allocate : default_allocate;
-	void (*deallocate)(void*, void*) = alloc->allocate ? alloc->deallocate : default_deallocate;
+	const vn_allocator heap = vn_heap(&o->allocator);
 
 	const uint32_t nv = work->vertex_count;
 	const unsigned nt = worker_count(nv, o->threads);
 	const size_t need = vn_work_bytes(nv, o->threads);
 	const int own = !(o->workspace && o->workspace_size >= need);
-	unsigned char* block = own ? (unsigned char*)allocate(alloc->user, need) : (unsigned char*)o->workspace;
+	unsigned char* block = own ? (unsigned char*)heap.allocate(heap.user, need) : (unsigned char*)o->workspace;
 	if (!block)
 		return vn_result_out_of_memory;
 	const size_t acc_bytes = 4 * sizeof(double) * (size_t)nv, task_bytes = sizeof(vn_task) * nt;
@@ -254,6 +240,6 @@ vn_result vn_run(const vn_work* work, vn_accumulate_fn accumulate, const vn_opti
 		}
 	}
 	if (own)
-		deallocate(alloc->user, block);
+		heap.deallocate(heap.user, block);
 	return bad_index ? vn_result_index_out_of_range : vn_result_success;
 }

@@ -494,6 +494,36 @@ static void simd_matches_scalar_bit_for_bit(void** state)
 	free(pos);
 }
 
+/* A large mesh (6.5 MB of work memory): the default allocator and a caller's
+ * workspace filled with garbage (which the computation must clear) give the
+ * same bits. */
+static void large_work_memory_paths_agree(void** state)
+{
+	(void)state;
+	const size_t n = 450, nv = n * n; /* 6.5 MB of accumulators */
+	double* pos = (double*)malloc(sizeof(double) * 3 * nv);
+	double* a = (double*)malloc(sizeof(double) * 3 * nv);
+	double* b = (double*)malloc(sizeof(double) * 3 * nv);
+	size_t ni;
+	uint32_t* idx = grid(n, pos, &ni);
+	const vn_positions p = {pos, nv, 0, vn_scalar_float64};
+	const vn_vectors oa = {a, 0, vn_scalar_float64}, ob = {b, 0, vn_scalar_float64};
+	vn_options opt;
+	memset(&opt, 0, sizeof(opt));
+	assert_int_equal(vn_triangle_normals(&oa, &p, idx, ni, vn_method_mwselr, &opt, NULL), vn_result_success);
+	opt.workspace_size = vn_workspace_size(nv, &opt);
+	opt.workspace = malloc(opt.workspace_size);
+	memset(opt.workspace, 0x7f, opt.workspace_size);
+	assert_int_equal(vn_triangle_normals(&ob, &p, idx, ni, vn_method_mwselr, &opt, NULL), vn_result_success);
+	assert_memory_equal(a, b, sizeof(double) * 3 * nv);
+	assert_true(fabs(a[3 * (nv / 2) + 2]) > 0.5); /* a height field: normals point up */
+	free(opt.workspace);
+	free(idx);
+	free(b);
+	free(a);
+	free(pos);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -518,6 +548,7 @@ int main(void)
 	    cmocka_unit_test(custom_allocator),
 	    cmocka_unit_test(corner_angle_matches_libm),
 	    cmocka_unit_test(simd_matches_scalar_bit_for_bit),
+	    cmocka_unit_test(large_work_memory_paths_agree),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

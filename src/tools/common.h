@@ -18,6 +18,16 @@
 #include "vn.h"
 #include "vn_io.h"
 
+/* One line on stderr, "PROG: error: ...", then exit(status): every failure
+ * of the tools ends this way. fmt has one %s, for arg. */
+static inline void tool_die(const char* prog, int status, const char* fmt, const char* arg)
+{
+	fprintf(stderr, "%s: error: ", prog);
+	fprintf(stderr, fmt, arg);
+	fputc('\n', stderr);
+	exit(status);
+}
+
 static inline double tool_now(void)
 {
 	struct timespec ts;

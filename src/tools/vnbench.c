@@ -31,13 +31,7 @@ static void usage(FILE* out)
 	        "the triangles of a fan triangulation, so ns per triangle stays comparable.\n");
 }
 
-static void die(int status, const char* fmt, const char* arg)
-{
-	fprintf(stderr, "%s: error: ", prog);
-	fprintf(stderr, fmt, arg);
-	fputc('\n', stderr);
-	exit(status);
-}
+#define die(status, fmt, arg) tool_die(prog, status, fmt, arg)
 
 static int cmp_double(const void* a, const void* b)
 {

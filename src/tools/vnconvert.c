@@ -41,14 +41,7 @@ static void usage(FILE* out)
 	        "normal in OFF, and a warning.\n");
 }
 
-/* One line on stderr, then exit; used for every failure. */
-static void die(int status, const char* fmt, const char* arg)
-{
-	fprintf(stderr, "%s: error: ", prog);
-	fprintf(stderr, fmt, arg);
-	fputc('\n', stderr);
-	exit(status);
-}
+#define die(status, fmt, arg) tool_die(prog, status, fmt, arg)
 
 typedef struct args {
 	const char* in;
