@@ -32,6 +32,16 @@ check "aliasing and speed figures" [ -s "$T/figs-a/fig4_turbulence_aliasing.svg"
 check "speed.csv has 7 methods" [ "$(tail -n +2 "$T/figs-a/speed.csv" | wc -l)" -eq 7 ]
 check "charts are SVG with a legend" grep -q "<text x=.*>mwselr</text>" "$T/figs-a/hist_sphere_tp_low.svg"
 
+# docs/REPRODUCTION.md's numbers and figures are what vneval produces now.
+DOC="$(cd "$(dirname "$0")/.." && pwd)/docs/figures"
+check "docs/figures/accuracy.csv is current (vneval --csv)" cmp -s "$T/a.csv" "$DOC/accuracy.csv"
+check "docs/figures/tables.md is current (vneval --table)" cmp -s "$T/a.md" "$DOC/tables.md"
+same=1
+for f in "$T"/figs-a/hist_*.svg "$T/figs-a/fig4_turbulence_aliasing.svg"; do
+  cmp -s "$f" "$DOC/$(basename "$f")" || { same=0; echo "stale: docs/figures/$(basename "$f")"; }
+done
+check "docs/figures charts are current (vneval --svg-dir)" [ $same -eq 1 ]
+
 # Max (1999): MWSELR is exact on a sphere, at every resolution.
 for r in low medium high; do
   check "MWSELR median on sphere_tp $r <= 0.001 deg" le "$(col sphere_tp $r mwselr median_deg)" 0.001
@@ -55,6 +65,21 @@ check "MEWCSA on sphere_tp: no sign failure" lt "$(col sphere_tp high mewcsa max
 for k in mwe mwa mwselr mwaat mwelr mwrelr; do
   check "turbulence $k median at high resolution in 15..45 deg" lt 15 "$(col turbulence_mt high $k median_deg)"
 done
+
+# Table 4 (rule in docs/REPRODUCTION.md): the paper's robust findings.
+cell() { awk -F'|' -v m="$1" -v c="$2" '$2 == " " m " " { gsub(/ /, "", $(c + 3)); print $(c + 3); exit }' "$T/a.md"; }
+col_of() { case $1 in mwe) echo 1;; mwa) echo 2;; mwselr) echo 3;; mwaat) echo 4;; mwelr) echo 5;; mwrelr) echo 6;; mewcsa) echo 7;; esac; }
+for m in sphere_tp torus_tp perlin_hf fractal09_hf fractal05_hf fractal01_hf sphere_mt cosine_mt perlin_mt turbulence_mt; do
+  check "Table 4: MEWCSA marked bad on $m" [ "$(cell $m $(col_of mewcsa))" = "×" ]
+done
+for m in sphere_tp torus_tp; do
+  check "Table 4: MWSELR good on $m" [ "$(cell $m $(col_of mwselr))" = "✓" ]
+  check "Table 4: MWA bad on $m" [ "$(cell $m $(col_of mwa))" = "×" ]
+done
+for m in fractal09_hf fractal01_hf turbulence_mt; do
+  check "Table 4: no scheme stands out on $m" [ -z "$(awk -F'|' -v m="$m" '$2 == " " m " "' "$T/a.md" | grep '✓')" ]
+done
+check "Table 4: MWA good on the MT sphere, cosine and Perlin" [ "$(cell sphere_mt 2)$(cell cosine_mt 2)$(cell perlin_mt 2)" = "✓✓✓" ]
 
 # Filters and exports.
 "$EVAL" -q --csv "$T/f.csv" --model sphere_tp,TORUS_TP --resolution low --method mwa,MWE

@@ -350,34 +350,26 @@ static vn_resolution paper_resolution(int m)
 	return m >= vn_model_sphere_mt ? vn_resolution_high : vn_resolution_low;
 }
 
-/* The rule that turns medians into marks (docs/REPRODUCTION.md):
- *   x  when the median is at least 1.5 times the best median of the row and
- *      at least 0.05 degrees above it;
- *   ok when the median is within max(10% of the best, 0.05 degrees) of the
- *      best, unless five or more of the six face-weighted schemes are: then
- *      none stands out and the row gets no tick. */
-#define TABLE4_RATIO_BAD 1.5
-#define TABLE4_CLOSE_REL 0.10
-#define TABLE4_CLOSE_ABS 0.05
+/* The rule that turns medians into marks (docs/REPRODUCTION.md). A row's
+ * reference is the typical face-weighted scheme: the median of the six
+ * face-weighted schemes' median discrepancies. A scheme is
+ *   ok (good) when its median is at most 0.9 times the reference,
+ *   x  (bad)  when it is at least 1.25 times the reference,
+ * and unmarked otherwise, so a row where no scheme stands out has no mark. */
+#define TABLE4_GOOD 0.9
+#define TABLE4_BAD 1.25
 
 static void table4_marks(const run* R, int m, const char* marks[NK])
 {
 	const vn_resolution r = paper_resolution(m);
-	double best = INFINITY;
-	for (int k = 0; k < NK; ++k)
-		best = R->res[m][r][k].median < best ? R->res[m][r][k].median : best;
-	const double close = fmax(TABLE4_CLOSE_REL * best, TABLE4_CLOSE_ABS);
-	int good = 0;
+	double face[vn_method_mewcsa];
 	for (int k = 0; k < vn_method_mewcsa; ++k)
-		good += R->res[m][r][k].median <= best + close;
+		face[k] = R->res[m][r][k].median;
+	qsort(face, vn_method_mewcsa, sizeof(double), cmp_double);
+	const double ref = 0.5 * (face[2] + face[3]);
 	for (int k = 0; k < NK; ++k) {
 		const double v = R->res[m][r][k].median;
-		if (v >= TABLE4_RATIO_BAD * best && v >= best + TABLE4_CLOSE_ABS)
-			marks[k] = "×";
-		else if (v <= best + close && good < 5)
-			marks[k] = "✓";
-		else
-			marks[k] = "";
+		marks[k] = v >= TABLE4_BAD * ref ? "×" : v <= TABLE4_GOOD * ref ? "✓" : "";
 	}
 }
 
