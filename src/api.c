@@ -107,36 +107,17 @@ vn_allocator vn_heap(const vn_allocator* a)
 
 /* ---------------------------------------------------------------- checks */
 
-static size_t scalar_size(vn_scalar t)
-{
-	return t == vn_scalar_float64 ? sizeof(double) : sizeof(float);
-}
-
 /* Validates everything but the indices and fills the common part of *w. */
 static vn_result prepare(vn_work* w, const vn_vectors* normals, const vn_positions* positions, vn_method method,
                          const vn_options* options)
 {
-	if (!normals || !positions)
-		return vn_result_invalid_argument;
-	if ((positions->type != vn_scalar_float32 && positions->type != vn_scalar_float64) ||
-	    (normals->type != vn_scalar_float32 && normals->type != vn_scalar_float64))
-		return vn_result_invalid_argument;
-	const size_t in_min = 3 * scalar_size(positions->type), out_min = 3 * scalar_size(normals->type);
-	if ((positions->stride && positions->stride < in_min) || (normals->stride && normals->stride < out_min))
-		return vn_result_invalid_argument;
-	if (positions->count > UINT32_MAX || (positions->count && (!positions->data || !normals->data)))
+	const size_t in_stride = vn_positions_stride(positions);
+	if (!in_stride || !vn_vectors_stride(normals) || (positions->count && !normals->data) ||
+	    !vn_options_valid(options))
 		return vn_result_invalid_argument;
 	if ((unsigned)method >= vn_method_count)
 		return vn_result_unknown_method;
-	if (options && (!options->allocator.allocate != !options->allocator.deallocate ||
-	                (options->simd != vn_simd_auto && options->simd != vn_simd_off)))
-		return vn_result_invalid_argument;
-
-	memset(w, 0, sizeof(*w));
-	w->positions = (const unsigned char*)positions->data;
-	w->stride = positions->stride ? positions->stride : in_min;
-	w->type = positions->type;
-	w->vertex_count = (uint32_t)positions->count;
+	*w = vn_position_reader(positions, in_stride);
 	w->method = method;
 	return vn_result_success;
 }
@@ -156,8 +137,7 @@ static vn_result compute(vn_work* w, const vn_vectors* normals, vn_accumulate_fn
 	static const vn_options defaults;
 	const vn_options* o = options ? options : &defaults;
 	vn_vectors out = *normals;
-	if (!out.stride)
-		out.stride = 3 * scalar_size(out.type);
+	out.stride = vn_vectors_stride(normals);
 	w->out = &out;
 	w->want_stats = stats != NULL;
 	w->simd = o->simd == vn_simd_auto && vn_cpu_has_avx2();

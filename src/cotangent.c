@@ -22,6 +22,17 @@ VN_INLINE void add_edge_cross(double* acc, const double d[3], const double n[3])
 	acc[0] += c[0], acc[1] += c[1], acc[2] += c[2];
 }
 
+/* The unit normal (n, normalized in place) and each corner's p_next - p_prev:
+ * p1 - p2 = -e12 at corner 0, and so on. */
+VN_INLINE void unit_and_chords(const double e01[3], const double e12[3], const double e20[3], double l2, double n[3],
+                               double d[3][3])
+{
+	const double inv = 1.0 / sqrt(l2);
+	n[0] *= inv, n[1] *= inv, n[2] *= inv;
+	for (int i = 0; i < 3; ++i)
+		d[0][i] = -e12[i], d[1][i] = -e20[i], d[2][i] = -e01[i];
+}
+
 VN_INLINE void triangles(const vn_work* w, vn_scalar type, vn_range range, vn_range_stats* st)
 {
 	const uint32_t* idx = w->indices;
@@ -36,33 +47,37 @@ VN_INLINE void triangles(const vn_work* w, vn_scalar type, vn_range range, vn_ra
 		if (!(o0 | o1 | o2))
 			continue;
 
-		double p0[3], p1[3], p2[3], e01[3], e12[3], e20[3], n[3];
+		double p0[3], p1[3], p2[3], e01[3], e12[3], e20[3], n[3], d[3][3];
 		vn_load(w, type, i0, p0);
 		vn_load(w, type, i1, p1);
 		vn_load(w, type, i2, p2);
-		vn_sub(p1, p0, e01);
-		vn_sub(p2, p1, e12);
-		vn_sub(p0, p2, e20);
-		vn_cross(e20, e01, n);
-		const double l2 = vn_dot(n, n);
+		const double l2 = vn_triangle_edges(p0, p1, p2, e01, e12, e20, n);
 		if (!vn_usable(l2)) {
 			degenerate += o0;
 			continue;
 		}
-		const double inv = 1.0 / sqrt(l2);
-		n[0] *= inv, n[1] *= inv, n[2] *= inv;
-		/* p_next - p_prev at corner 0 is p1 - p2 = -e12, and so on. */
-		const double d0[3] = {-e12[0], -e12[1], -e12[2]};
-		const double d1[3] = {-e20[0], -e20[1], -e20[2]};
-		const double d2[3] = {-e01[0], -e01[1], -e01[2]};
+		unit_and_chords(e01, e12, e20, l2, n, d);
 		if (o0)
-			add_edge_cross(acc + 4 * (size_t)i0, d0, n);
+			add_edge_cross(acc + 4 * (size_t)i0, d[0], n);
 		if (o1)
-			add_edge_cross(acc + 4 * (size_t)i1, d1, n);
+			add_edge_cross(acc + 4 * (size_t)i1, d[1], n);
 		if (o2)
-			add_edge_cross(acc + 4 * (size_t)i2, d2, n);
+			add_edge_cross(acc + 4 * (size_t)i2, d[2], n);
 	}
 	st->degenerate_faces += degenerate;
+}
+
+int vn_cotangent_triangle(vn_method method, const double p0[3], const double p1[3], const double p2[3], double c[3][3])
+{
+	(void)method;
+	double e01[3], e12[3], e20[3], n[3], d[3][3];
+	const double l2 = vn_triangle_edges(p0, p1, p2, e01, e12, e20, n);
+	if (!vn_usable(l2))
+		return 0;
+	unit_and_chords(e01, e12, e20, l2, n, d);
+	for (int k = 0; k < 3; ++k)
+		vn_cross(d[k], n, c[k]);
+	return 1;
 }
 
 #ifdef VN_HAVE_AVX2

@@ -52,6 +52,91 @@ void vn_accumulate_weighted_polygons(const vn_work* w, uint32_t lo, uint32_t hi,
 void vn_accumulate_cotangent_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 void vn_accumulate_cotangent_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 
+/* One triangle's corner contributions: c[k] receives the vector the method's
+ * triangle kernel adds to corner k's sum, computed with the same operations,
+ * so sums of them formed in face order equal vn_triangle_normals' sums bit
+ * for bit. Returns 0 (c untouched) when the triangle contributes nothing. */
+typedef int (*vn_triangle_fn)(vn_method method, const double p0[3], const double p1[3], const double p2[3],
+                              double c[3][3]);
+/* weights.c: MWE .. MWRELR. */
+int vn_weighted_triangle(vn_method method, const double p0[3], const double p1[3], const double p2[3], double c[3][3]);
+/* cotangent.c: MEWCSA (method is not read). */
+int vn_cotangent_triangle(vn_method method, const double p0[3], const double p1[3], const double p2[3], double c[3][3]);
+
+/* ---------------------------------------------------------------- checks shared by entry points */
+
+/* The bytes of one x, y, z triple of type t. */
+VN_INLINE size_t vn_triple_bytes(vn_scalar t)
+{
+	return 3 * (t == vn_scalar_float64 ? sizeof(double) : sizeof(float));
+}
+
+/* The byte stride of valid positions (0 resolved to packed), or 0 when they
+ * are not: NULL, an unknown type, a stride shorter than a triple, more
+ * vertices than 32-bit indices reach, or no data for a non-zero count. */
+VN_INLINE size_t vn_positions_stride(const vn_positions* p)
+{
+	if (!p || (p->type != vn_scalar_float32 && p->type != vn_scalar_float64))
+		return 0;
+	const size_t triple = vn_triple_bytes(p->type);
+	if ((p->stride && p->stride < triple) || p->count > UINT32_MAX || (p->count && !p->data))
+		return 0;
+	return p->stride ? p->stride : triple;
+}
+
+/* The byte stride of a valid output array (0 resolved to packed), or 0 when
+ * it is not: NULL, an unknown type or a stride shorter than a triple. */
+VN_INLINE size_t vn_vectors_stride(const vn_vectors* v)
+{
+	if (!v || (v->type != vn_scalar_float32 && v->type != vn_scalar_float64))
+		return 0;
+	const size_t triple = vn_triple_bytes(v->type);
+	if (v->stride && v->stride < triple)
+		return 0;
+	return v->stride ? v->stride : triple;
+}
+
+/* NULL, or a whole allocator (both functions or neither) and a known simd value. */
+VN_INLINE int vn_options_valid(const vn_options* o)
+{
+	return !o || (!o->allocator.allocate == !o->allocator.deallocate &&
+	              (o->simd == vn_simd_auto || o->simd == vn_simd_off));
+}
+
+/* A reader of positions for vn_load, which needs nothing else of a vn_work. */
+VN_INLINE vn_work vn_position_reader(const vn_positions* p, size_t stride)
+{
+	vn_work w;
+	memset(&w, 0, sizeof(w));
+	w.positions = (const unsigned char*)p->data;
+	w.stride = stride;
+	w.type = p->type;
+	w.vertex_count = (uint32_t)p->count;
+	return w;
+}
+
+/* Union-find over 32-bit ids in which a parent is never higher than its
+ * child: every set's root is its lowest id whatever the order of the unions,
+ * so the result is deterministic. Path halving keeps the paths short. */
+VN_INLINE uint32_t vn_find(uint32_t* parent, uint32_t x)
+{
+	while (parent[x] != x) {
+		parent[x] = parent[parent[x]];
+		x = parent[x];
+	}
+	return x;
+}
+
+VN_INLINE void vn_unite(uint32_t* parent, uint32_t a, uint32_t b)
+{
+	a = vn_find(parent, a);
+	b = vn_find(parent, b);
+	if (a < b)
+		parent[b] = a;
+	else
+		parent[a] = b;
+}
+
 /* api.c: `a` when it has both functions, else malloc/free (for an all-NULL
  * allocator; callers reject half-set ones first). */
 vn_allocator vn_heap(const vn_allocator* a);
@@ -100,6 +185,71 @@ VN_INLINE double vn_dot(const double a[3], const double b[3])
 VN_INLINE void vn_add_scaled(double* acc, const double v[3], double s)
 {
 	acc[0] += v[0] * s, acc[1] += v[1] * s, acc[2] += v[2] * s;
+}
+
+/* A triangle's edges e01 = p1 - p0, e12 = p2 - p1, e20 = p0 - p2 and its
+ * unnormalized normal n = e20 x e01 = (p1 - p0) x (p2 - p0), of length twice
+ * its area; returns |n|^2. */
+VN_INLINE double vn_triangle_edges(const double p0[3], const double p1[3], const double p2[3], double e01[3],
+                                   double e12[3], double e20[3], double n[3])
+{
+	vn_sub(p1, p0, e01);
+	vn_sub(p2, p1, e12);
+	vn_sub(p0, p2, e20);
+	vn_cross(e20, e01, n);
+	return vn_dot(n, n);
+}
+
+/* Squared lengths normalized directly; outside, the sum is rescaled first. */
+#define VN_LEN2_MIN 0x1p-900
+#define VN_LEN2_MAX 0x1p900
+
+/* Normalizes a sum in place; one with no usable direction (zero, or beyond
+ * double range) becomes the zero vector, and the function returns 1. */
+VN_INLINE int vn_normalize(double a[3])
+{
+	double x = a[0], y = a[1], z = a[2];
+	const double len2 = x * x + y * y + z * z;
+	if (len2 >= VN_LEN2_MIN && len2 <= VN_LEN2_MAX) {
+		const double inv = 1.0 / sqrt(len2);
+		a[0] = x * inv, a[1] = y * inv, a[2] = z * inv;
+		return 0;
+	}
+	/* Rare: rescale first so that squaring neither overflows nor underflows.
+	 * The sum of magnitudes also catches NaN and Inf. */
+	const double m = fabs(x) + fabs(y) + fabs(z);
+	if (m > 0.0 && m <= DBL_MAX) {
+		x /= m, y /= m, z /= m;
+		const double inv = 1.0 / sqrt(x * x + y * y + z * z);
+		a[0] = x * inv, a[1] = y * inv, a[2] = z * inv;
+		return 0;
+	}
+	a[0] = a[1] = a[2] = 0.0;
+	return 1;
+}
+
+/* Writes v as element i of out, whose stride is already resolved. */
+VN_INLINE void vn_store(const vn_vectors* out, size_t i, const double v[3])
+{
+	unsigned char* dst = (unsigned char*)out->data + i * out->stride;
+	if (out->type == vn_scalar_float32) {
+		const float f[3] = {(float)v[0], (float)v[1], (float)v[2]};
+		memcpy(dst, f, sizeof(f));
+	} else {
+		memcpy(dst, v, 3 * sizeof(double));
+	}
+}
+
+/* The vertices in [lo, hi) with a NaN or infinite coordinate. */
+VN_INLINE size_t vn_count_nonfinite(const vn_work* w, uint32_t lo, uint32_t hi)
+{
+	size_t bad = 0;
+	for (uint32_t v = lo; v < hi; ++v) {
+		double p[3];
+		vn_load(w, w->type, v, p);
+		bad += !(isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]));
+	}
+	return bad;
 }
 
 /* A face normal is usable when its squared length is a finite normal number:

@@ -19,9 +19,6 @@
 /* Below this many vertices per worker, thread start-up costs more than it saves. */
 #define VN_MIN_VERTICES_PER_THREAD 16384
 #define VN_MAX_THREADS 256
-/* Squared lengths normalized directly; outside, the sum is rescaled first. */
-#define VN_LEN2_MIN 0x1p-900
-#define VN_LEN2_MAX 0x1p900
 
 typedef struct vn_task {
 	const vn_work* work;
@@ -30,50 +27,14 @@ typedef struct vn_task {
 	vn_range_stats stats;
 } vn_task;
 
-VN_INLINE void store(const vn_work* w, uint32_t v, double x, double y, double z)
-{
-	unsigned char* dst = (unsigned char*)w->out->data + (size_t)v * w->out->stride;
-	if (w->out->type == vn_scalar_float32) {
-		const float f[3] = {(float)x, (float)y, (float)z};
-		memcpy(dst, f, sizeof(f));
-	} else {
-		const double d[3] = {x, y, z};
-		memcpy(dst, d, sizeof(d));
-	}
-}
-
-/* Normalizes acc[v] into the output; a sum with no usable direction (zero,
- * or beyond double range) becomes the zero vector. Returns 1 for zero. */
+/* Normalizes acc[v] into the output; returns 1 when it is the zero vector. */
 VN_INLINE int finalize_one(const vn_work* w, uint32_t v)
 {
-	const double* a = w->acc + 4 * (size_t)v;
-	double x = a[0], y = a[1], z = a[2];
-	const double len2 = x * x + y * y + z * z;
-	if (len2 >= VN_LEN2_MIN && len2 <= VN_LEN2_MAX) {
-		const double inv = 1.0 / sqrt(len2);
-		store(w, v, x * inv, y * inv, z * inv);
-		return 0;
-	}
-	/* Rare: rescale first so that squaring neither overflows nor underflows.
-	 * The sum of magnitudes also catches NaN and Inf. */
-	const double m = fabs(x) + fabs(y) + fabs(z);
-	if (m > 0.0 && m <= DBL_MAX) {
-		x /= m, y /= m, z /= m;
-		const double inv = 1.0 / sqrt(x * x + y * y + z * z);
-		store(w, v, x * inv, y * inv, z * inv);
-		return 0;
-	}
-	store(w, v, 0.0, 0.0, 0.0);
-	return 1;
-}
-
-static void count_nonfinite(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
-{
-	for (uint32_t v = lo; v < hi; ++v) {
-		double p[3];
-		vn_load(w, w->type, v, p);
-		st->nonfinite_vertices += !(isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]));
-	}
+	double a[3];
+	memcpy(a, w->acc + 4 * (size_t)v, sizeof(a));
+	const int zero = vn_normalize(a);
+	vn_store(w->out, v, a);
+	return zero;
 }
 
 static void finalize(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
@@ -161,7 +122,7 @@ static void* finalize_task(void* arg)
 #endif
 		finalize(w, t->lo, t->hi, &t->stats);
 	if (w->want_stats)
-		count_nonfinite(w, t->lo, t->hi, &t->stats);
+		t->stats.nonfinite_vertices += vn_count_nonfinite(w, t->lo, t->hi);
 	return NULL;
 }
 

@@ -143,7 +143,9 @@ typedef struct vn_options {
 	/* Work memory (about 32 bytes per vertex) comes from `workspace` when it
 	 * is not NULL and workspace_size >= vn_workspace_size(); the call then
 	 * allocates nothing. Otherwise it comes from `allocator`. A workspace
-	 * serves one call at a time. */
+	 * serves one call at a time. threads, simd and the workspace apply to
+	 * vn_triangle_normals and vn_polygon_normals; the other functions run on
+	 * the calling thread and use only the allocator. */
 	void* workspace;
 	size_t workspace_size;
 	vn_allocator allocator;
@@ -155,9 +157,10 @@ typedef struct vn_stats {
 	size_t degenerate_faces; /* faces that contributed nothing: fewer than 3
 	                            corners, zero or non-finite area, or a vertex
 	                            with a non-finite coordinate */
-	size_t zero_normals;     /* vertices whose output is the zero vector: no
-	                            face contributed (isolated, or every face
-	                            degenerate), or the contributions cancelled */
+	size_t zero_normals;     /* outputs (vertices; corners for vn_corner_normals)
+	                            that are the zero vector: no face contributed
+	                            (isolated, or every face degenerate), or the
+	                            contributions cancelled */
 	size_t nonfinite_vertices; /* vertices with a NaN or infinite coordinate */
 } vn_stats;
 
@@ -197,6 +200,51 @@ VN_API vn_result vn_triangle_normals(const vn_vectors* normals, const vn_positio
 VN_API vn_result vn_polygon_normals(const vn_vectors* normals, const vn_positions* positions,
                                     const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
                                     vn_method method, const vn_options* options, vn_stats* stats);
+
+/* ------------------------------------------------------------------ welding and split normals
+ *
+ * Files split vertices along UV seams and hard edges. Computing normals on
+ * the split mesh shows the seams; computing them on vertices welded by
+ * position and writing the result back to every copy does not. Hard edges
+ * are kept with per-corner normals: a corner's normal sums only the faces
+ * around its vertex that can be reached from it without crossing a sharp
+ * edge. */
+
+/* Welds vertices by position: remap[i] receives the representative of
+ * vertex i, the lowest-numbered vertex of its group, so remap[remap[i]] ==
+ * remap[i]. Two vertices are in one group when their positions differ by at
+ * most epsilon in every coordinate (same unit as the positions), or through
+ * a chain of such pairs. epsilon 0 welds exactly equal positions only (-0
+ * equals +0); a vertex with a NaN coordinate is never welded; equal infinite
+ * coordinates count as 0 apart. remap has positions->count entries. A
+ * negative, NaN or infinite epsilon is invalid_argument.
+ * Runs in O(n log n) expected time with no global state; options may be
+ * NULL (its allocator is used for work memory). */
+VN_API vn_result vn_weld_positions(uint32_t* remap, const vn_positions* positions, double epsilon,
+                                   const vn_options* options);
+
+/* Per-corner normals of a triangle mesh: corner i (index i of `indices`)
+ * gets normalize(sum of method's contributions, as in vn_triangle_normals,
+ * of the triangles around vertex indices[i] that are connected to corner
+ * i's triangle through smooth edges). An edge is sharp, and separates the
+ * faces on its two sides, when it is
+ *   - a boundary or non-manifold edge (used by other than two triangles, or
+ *     by two triangles that disagree on its direction),
+ *   - flagged: sharp_edges != NULL and sharp_edges[i] != 0 for either
+ *     corner i whose edge indices[i] -> next corner of its triangle it is,
+ *   - creased: the angle between its two triangles' unit normals exceeds
+ *     crease_angle (radians; pass a value >= pi to disable, 0 makes every
+ *     non-coplanar edge sharp).
+ * Edges are identified by vertex index: weld first (vn_weld_positions)
+ * when a file splits vertices along seams. normals receives index_count
+ * vectors. A corner of a degenerate triangle gets its vertex's smooth
+ * normal over all its non-degenerate triangles, or zero; degenerate
+ * triangles take part in no edge (so a zero-area sliver next to a face is a
+ * boundary of it). A negative or NaN crease_angle, or index_count above
+ * UINT32_MAX, is invalid_argument. */
+VN_API vn_result vn_corner_normals(const vn_vectors* normals, const vn_positions* positions, const uint32_t* indices,
+                                   size_t index_count, vn_method method, double crease_angle,
+                                   const uint8_t* sharp_edges, const vn_options* options, vn_stats* stats);
 
 /* ------------------------------------------------------------------ test ensemble
  *

@@ -23,6 +23,51 @@
 
 /* ---------------------------------------------------------------- triangles */
 
+/* Corner k's weight over l = sqrt(l2) = |n|, so that w[k] n = w(f, k) N_f,
+ * with one division per triangle: the products |E||E'| at the three corners
+ * are ca, ab, bc for edge lengths a = |e01|, b = |e12|, c = |e20|, so
+ * 1 / (ca) = b / (abc). */
+VN_INLINE void triangle_weights(vn_method method, const double e01[3], const double e12[3], const double e20[3],
+                                double l2, double w[3])
+{
+	switch (method) {
+	case vn_method_mwe:
+		w[0] = w[1] = w[2] = 1.0 / sqrt(l2);
+		break;
+	case vn_method_mwa: {
+		/* Angles at corners 0 and 1 from atan2(|E x E'|, E . E'); the
+		 * third is pi minus both (exact for a triangle). */
+		const double l = sqrt(l2), inv = 1.0 / l;
+		const double a0 = vn_atan2_nonneg(l, -vn_dot(e20, e01));
+		const double a1 = vn_atan2_nonneg(l, -vn_dot(e01, e12));
+		w[0] = a0 * inv, w[1] = a1 * inv, w[2] = (VN_PI - a0 - a1) * inv;
+		break;
+	}
+	case vn_method_mwselr: { /* sin(alpha) / (|E||E'|) * N_f = n / (|E|^2 |E'|^2) */
+		const double sa = vn_dot(e01, e01), sb = vn_dot(e12, e12), sc = vn_dot(e20, e20);
+		const double inv = 1.0 / (sa * sb * sc);
+		w[0] = sb * inv, w[1] = sc * inv, w[2] = sa * inv;
+		break;
+	}
+	case vn_method_mwaat: /* |E x E'| N_f = n */
+		w[0] = w[1] = w[2] = 1.0;
+		break;
+	case vn_method_mwelr: {
+		const double a = sqrt(vn_dot(e01, e01)), b = sqrt(vn_dot(e12, e12)), c = sqrt(vn_dot(e20, e20));
+		const double inv = 1.0 / (a * b * c * sqrt(l2));
+		w[0] = b * inv, w[1] = c * inv, w[2] = a * inv;
+		break;
+	}
+	default: { /* vn_method_mwrelr: 1 / sqrt(|E||E'|) with A = sqrt(a) etc. */
+		const double a = sqrt(sqrt(vn_dot(e01, e01))), b = sqrt(sqrt(vn_dot(e12, e12))),
+		             c = sqrt(sqrt(vn_dot(e20, e20)));
+		const double inv = 1.0 / (a * b * c * sqrt(l2));
+		w[0] = b * inv, w[1] = c * inv, w[2] = a * inv;
+		break;
+	}
+	}
+}
+
 VN_INLINE void triangles(const vn_work* w, vn_scalar type, vn_method method, vn_range range, vn_range_stats* st)
 {
 	const uint32_t* idx = w->indices;
@@ -37,68 +82,36 @@ VN_INLINE void triangles(const vn_work* w, vn_scalar type, vn_method method, vn_
 		if (!(o0 | o1 | o2))
 			continue;
 
-		double p0[3], p1[3], p2[3], e01[3], e12[3], e20[3], n[3];
+		double p0[3], p1[3], p2[3], e01[3], e12[3], e20[3], n[3], wt[3];
 		vn_load(w, type, i0, p0);
 		vn_load(w, type, i1, p1);
 		vn_load(w, type, i2, p2);
-		vn_sub(p1, p0, e01);
-		vn_sub(p2, p1, e12);
-		vn_sub(p0, p2, e20);
-		vn_cross(e20, e01, n); /* = (p1 - p0) x (p2 - p0) */
-		const double l2 = vn_dot(n, n);
+		const double l2 = vn_triangle_edges(p0, p1, p2, e01, e12, e20, n);
 		if (!vn_usable(l2)) {
 			degenerate += o0;
 			continue;
 		}
-
-		/* Corner k's weight over l, with one division per triangle: the
-		 * products |E||E'| at the three corners are ca, ab, bc for edge
-		 * lengths a = |e01|, b = |e12|, c = |e20|, so 1 / (ca) = b / (abc). */
-		double w0, w1, w2;
-		switch (method) {
-		case vn_method_mwe:
-			w0 = w1 = w2 = 1.0 / sqrt(l2);
-			break;
-		case vn_method_mwa: {
-			/* Angles at corners 0 and 1 from atan2(|E x E'|, E . E'); the
-			 * third is pi minus both (exact for a triangle). */
-			const double l = sqrt(l2), inv = 1.0 / l;
-			const double a0 = vn_atan2_nonneg(l, -vn_dot(e20, e01));
-			const double a1 = vn_atan2_nonneg(l, -vn_dot(e01, e12));
-			w0 = a0 * inv, w1 = a1 * inv, w2 = (VN_PI - a0 - a1) * inv;
-			break;
-		}
-		case vn_method_mwselr: { /* sin(alpha) / (|E||E'|) * N_f = n / (|E|^2 |E'|^2) */
-			const double sa = vn_dot(e01, e01), sb = vn_dot(e12, e12), sc = vn_dot(e20, e20);
-			const double inv = 1.0 / (sa * sb * sc);
-			w0 = sb * inv, w1 = sc * inv, w2 = sa * inv;
-			break;
-		}
-		case vn_method_mwaat: /* |E x E'| N_f = n */
-			w0 = w1 = w2 = 1.0;
-			break;
-		case vn_method_mwelr: {
-			const double a = sqrt(vn_dot(e01, e01)), b = sqrt(vn_dot(e12, e12)), c = sqrt(vn_dot(e20, e20));
-			const double inv = 1.0 / (a * b * c * sqrt(l2));
-			w0 = b * inv, w1 = c * inv, w2 = a * inv;
-			break;
-		}
-		default: { /* vn_method_mwrelr: 1 / sqrt(|E||E'|) with A = sqrt(a) etc. */
-			const double a = sqrt(sqrt(vn_dot(e01, e01))), b = sqrt(sqrt(vn_dot(e12, e12))),
-			             c = sqrt(sqrt(vn_dot(e20, e20)));
-			const double inv = 1.0 / (a * b * c * sqrt(l2));
-			w0 = b * inv, w1 = c * inv, w2 = a * inv;
-			break;
-		}
-		}
+		triangle_weights(method, e01, e12, e20, l2, wt);
 		if (o0)
-			vn_add_scaled(acc + 4 * (size_t)i0, n, w0);
+			vn_add_scaled(acc + 4 * (size_t)i0, n, wt[0]);
 		if (o1)
-			vn_add_scaled(acc + 4 * (size_t)i1, n, w1);
+			vn_add_scaled(acc + 4 * (size_t)i1, n, wt[1]);
 		if (o2)
-			vn_add_scaled(acc + 4 * (size_t)i2, n, w2);
+			vn_add_scaled(acc + 4 * (size_t)i2, n, wt[2]);
 	}
 	st->degenerate_faces += degenerate;
+}
+
+int vn_weighted_triangle(vn_method method, const double p0[3], const double p1[3], const double p2[3], double c[3][3])
+{
+	double e01[3], e12[3], e20[3], n[3], wt[3];
+	const double l2 = vn_triangle_edges(p0, p1, p2, e01, e12, e20, n);
+	if (!vn_usable(l2))
+		return 0;
+	triangle_weights(method, e01, e12, e20, l2, wt);
+	for (int k = 0; k < 3; ++k)
+		c[k][0] = n[0] * wt[k], c[k][1] = n[1] * wt[k], c[k][2] = n[2] * wt[k];
+	return 1;
 }
 
 #ifdef VN_HAVE_AVX2

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "vn.h"
+#include "test_util.h"
 #include "fastmath.h" /* internal: the corner-angle atan2 of MWA */
 
 /* ---------------------------------------------------------------- helpers */
@@ -345,34 +346,11 @@ static void names_and_results(void** state)
 
 /* ---------------------------------------------------------------- allocator */
 
-typedef struct counting {
-	int allocations, frees, fail;
-} counting;
-
-static void* count_alloc(void* user, size_t size)
-{
-	counting* c = (counting*)user;
-	if (c->fail)
-		return NULL;
-	c->allocations++;
-	return malloc(size);
-}
-
-static void count_free(void* user, void* ptr)
-{
-	((counting*)user)->frees++;
-	free(ptr);
-}
-
 static void custom_allocator(void** state)
 {
 	(void)state;
-	counting c = {0, 0, 0};
-	vn_options opt;
-	memset(&opt, 0, sizeof(opt));
-	opt.allocator.allocate = count_alloc;
-	opt.allocator.deallocate = count_free;
-	opt.allocator.user = &c;
+	counting c = {0, 0, -1};
+	vn_options opt = counting_options(&c);
 	const vn_positions p = {fan_pos, 5, 0, vn_scalar_float64};
 	double out[15];
 	const vn_vectors o = {out, 0, vn_scalar_float64};
@@ -381,7 +359,7 @@ static void custom_allocator(void** state)
 	assert_int_equal(c.frees, 1);
 	assert_vec(out, 0.70710678118654746, 0, 0.70710678118654746, 1e-15);
 
-	c.fail = 1;
+	c.fail_after = 0;
 	out[0] = 42.0;
 	assert_int_equal(vn_triangle_normals(&o, &p, fan_idx, 6, vn_method_mwe, &opt, NULL), vn_result_out_of_memory);
 	assert_true(out[0] == 42.0);

@@ -5,13 +5,7 @@ set -u
 VNC=$1
 VNB=$2
 SAMPLES=$(cd "$(dirname "$0")/../samples" && pwd)
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-pass=0 fail=0
-ok() { pass=$((pass + 1)); }
-bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
-check() { local what=$1; shift; if "$@"; then ok; else bad "$what"; fi; }
-not() { ! "$@"; }
+. "$(dirname "$0")/lib.sh"
 
 # run CMD...: sets $rc, $out (stdout), $err (stderr)
 run() { "$@" >"$T/stdout" 2>"$T/stderr"; rc=$?; out=$(cat "$T/stdout"); err=$(cat "$T/stderr"); }
@@ -101,5 +95,4 @@ check "vnbench bad --repeat exits 2" [ $rc -eq 2 ]
 run "$VNB" "$SAMPLES/sphere-quads.off" --repeat 1
 check "vnbench polygons" grep -q "polygons" "$T/stdout"
 
-echo "$pass passed, $fail failed"
-[ $fail -eq 0 ]
+finish

@@ -5,10 +5,7 @@
 set -u
 EVAL=$1
 VNC=$2
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-pass=0 fail=0
-check() { local what=$1; shift; if "$@"; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAIL: $what"; fi; }
+. "$(dirname "$0")/lib.sh"
 # csv_field MODEL RES METHOD COLUMN: one number from run 1's CSV
 col() { awk -F, -v m="$1" -v r="$2" -v k="$3" -v c="$4" 'NR == 1 { for (i = 1; i <= NF; i++) h[$i] = i; next }
   $1 == m && $2 == r && $3 == k { print $(h[c]) }' "$T/a.csv"; }
@@ -94,5 +91,4 @@ check "exported HF has 256 vertices and 450 triangles" [ "$(sed -n 2p "$T/off/pe
 "$VNC" -q "$T/off/perlin_hf_low.off" "$T/re.off" --method mwa
 check "exported model converts with vnconvert" [ $? -eq 0 ]
 
-echo "$pass passed, $fail failed"
-[ $fail -eq 0 ]
+finish

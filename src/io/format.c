@@ -6,11 +6,15 @@
 
 #include <string.h>
 
+#include "gltf.h"
 #include "off.h"
 
 static const vn_io_format formats[] = {
 	{"off", ".off", "Geomview Object File Format (reads ASCII and binary, writes ASCII)", vn_io_off_read,
 	 vn_io_off_write},
+	{"gltf", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)", vn_io_gltf_read,
+	 vn_io_gltf_write},
+	{"glb", ".glb", "glTF 2.0 binary (as gltf)", vn_io_gltf_read, vn_io_glb_write},
 };
 
 #define FORMAT_COUNT (sizeof formats / sizeof formats[0])

@@ -6,6 +6,7 @@
  * malformed input, unwritable output), 2 on a usage error. Every failure
  * prints exactly one line on stderr and leaves OUT as it was. */
 #include "common.h"
+#include "gltf.h"
 
 static const char* prog = "vnconvert";
 
@@ -28,6 +29,15 @@ static void usage(FILE* out)
 	        "  -h, --help             this text\n"
 	        "      --version          print the version\n"
 	        "\n"
+	        "glTF to glTF only (.gltf/.glb in and out):\n"
+	        "      --no-weld          compute on the vertices as the file splits them (seams show)\n"
+	        "      --weld-epsilon E   weld vertices whose coordinates all differ by at most E\n"
+	        "                         (default 0: exactly equal positions only)\n"
+	        "      --weld-scope S     primitive (default) or mesh: weld across a mesh's primitives\n"
+	        "      --tangents T       keep (default: left as they are, with a warning) or drop\n"
+	        "                         (TANGENT removed from primitives and morph targets; the\n"
+	        "                         accessor stays)\n"
+	        "\n"
 	        "formats:\n",
 	        tool_cpu_count());
 	for (size_t i = 0; vn_io_format_at(i); ++i) {
@@ -38,7 +48,14 @@ static void usage(FILE* out)
 	        "\n"
 	        "OUT is written atomically: a temporary file beside it is renamed over it once complete.\n"
 	        "A vertex that no face contributes to (isolated, or only degenerate faces) gets the zero\n"
-	        "normal in OFF, and a warning.\n");
+	        "normal in OFF, and a warning.\n"
+	        "\n"
+	        "glTF to glTF keeps the whole document and recomputes only the NORMAL of each\n"
+	        "TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitive, in mesh-local space; a vertex\n"
+	        "no face contributes to keeps its unit input normal, else gets (0, 0, 1). glTF to OFF\n"
+	        "merges every triangle primitive into one mesh, in mesh-local coordinates (node\n"
+	        "transforms are not applied). OFF to glTF writes one mesh with POSITION, NORMAL and\n"
+	        "indices (polygons fan-triangulated).\n");
 }
 
 #define die(status, fmt, arg) tool_die(prog, status, fmt, arg)
@@ -51,6 +68,7 @@ typedef struct args {
 	vn_method method;
 	unsigned threads;
 	int in_place, stats, quiet;
+	vn_gltf_options gltf;
 } args;
 
 static const char* need_value(int argc, char** argv, int* i)
@@ -99,6 +117,24 @@ static args parse(int argc, char** argv)
 			if (!tool_parse_uint(v, 1, 256, &n))
 				die(2, "--threads needs a whole number from 1 to 256, not '%s'", v);
 			a.threads = (unsigned)n;
+		} else if (!strcmp(s, "--no-weld")) {
+			a.gltf.no_weld = 1;
+		} else if (!strcmp(s, "--weld-epsilon")) {
+			const char* v = need_value(argc, argv, &i);
+			char* end;
+			a.gltf.weld_epsilon = strtod(v, &end);
+			if (!*v || *end || !(a.gltf.weld_epsilon >= 0) || a.gltf.weld_epsilon > 1e300)
+				die(2, "--weld-epsilon needs a finite number >= 0, not '%s'", v);
+		} else if (!strcmp(s, "--weld-scope")) {
+			const char* v = need_value(argc, argv, &i);
+			if (strcmp(v, "primitive") && strcmp(v, "mesh"))
+				die(2, "--weld-scope is primitive or mesh, not '%s'", v);
+			a.gltf.weld_mesh = !strcmp(v, "mesh");
+		} else if (!strcmp(s, "--tangents")) {
+			const char* v = need_value(argc, argv, &i);
+			if (strcmp(v, "keep") && strcmp(v, "drop"))
+				die(2, "--tangents is keep or drop, not '%s'", v);
+			a.gltf.drop_tangents = !strcmp(v, "drop");
 		} else if (!strcmp(s, "--in-place")) {
 			a.in_place = 1;
 		} else if (!strcmp(s, "--stats")) {
@@ -130,13 +166,62 @@ static void progress(const args* a, const char* what, const char* path)
 		fprintf(stderr, "%s: %s %s\n", prog, what, path);
 }
 
+static int is_gltf(const vn_io_format* f)
+{
+	return f == vn_io_format_by_name("gltf") || f == vn_io_format_by_name("glb");
+}
+
+/* glTF to glTF: the document path, which keeps everything but the normals. */
+static int convert_gltf(args* a)
+{
+	a->gltf.method = a->method;
+	a->gltf.threads = a->threads;
+	vn_gltf_stats st;
+	vn_io_error err;
+	progress(a, "converting", a->in);
+	const double t0 = tool_now();
+	if (vn_gltf_convert(a->in, a->out, a->out_format == vn_io_format_by_name("glb"), &a->gltf, &st, &err) !=
+	    vn_io_success)
+		die(1, "%s", err.message);
+	const double t1 = tool_now();
+	if (st.zero_normals && !a->quiet)
+		fprintf(stderr,
+		        "%s: warning: %zu of %zu vertices have no normal (isolated, or only degenerate faces); "
+		        "written as the input's unit normal, else (0, 0, 1)\n",
+		        prog, st.zero_normals, st.vertices);
+	if (st.tangent_primitives && !a->quiet && !a->gltf.drop_tangents)
+		fprintf(stderr,
+		        "%s: warning: %zu primitives have TANGENT data, which no longer matches the new normals "
+		        "(--tangents drop removes it)\n",
+		        prog, st.tangent_primitives);
+	if (a->stats) {
+		printf("input:              %s (%s)\n", a->in, a->in_format->name);
+		printf("output:             %s (%s)\n", a->out, a->out_format->name);
+		printf("method:             %s\n", vn_method_name(a->method));
+		printf("primitives:         %zu processed, %zu skipped (%zu points, %zu lines, %zu without POSITION)\n",
+		       st.primitives, st.skipped_points + st.skipped_lines + st.skipped_no_position, st.skipped_points,
+		       st.skipped_lines, st.skipped_no_position);
+		printf("vertices:           %zu\n", st.vertices);
+		printf("triangles:          %zu\n", st.triangles);
+		printf("welded vertices:    %zu\n", st.welded_vertices);
+		printf("zero normals:       %zu\n", st.zero_normals);
+		printf("tangent primitives: %zu (%s)\n", st.tangent_primitives, a->gltf.drop_tangents ? "dropped" : "kept");
+		printf("appended accessors: %zu\n", st.appended_accessors);
+		printf("threads:            %u\n", a->threads);
+		printf("time:               %.3f ms\n", 1e3 * (t1 - t0));
+	}
+	return 0;
+}
+
 int main(int argc, char** argv)
 {
 	tool_check_version(prog);
-	const args a = parse(argc, argv);
+	args a = parse(argc, argv);
 
 	if (!a.in_place && (!strcmp(a.in, a.out) || vn_io_same_file(a.in, a.out)))
 		die(2, "output '%s' is the input; pass --in-place to overwrite it", a.out);
+	if (is_gltf(a.in_format) && is_gltf(a.out_format))
+		return convert_gltf(&a);
 
 	vn_io_error err;
 	vn_io_mesh mesh;
@@ -160,8 +245,8 @@ int main(int argc, char** argv)
 	if (st.zero_normals && !a.quiet)
 		fprintf(stderr,
 		        "%s: warning: %zu of %zu vertices have no normal (isolated, or only degenerate faces); "
-		        "written as the zero vector\n",
-		        prog, st.zero_normals, mesh.vertex_count);
+		        "written as %s\n",
+		        prog, st.zero_normals, mesh.vertex_count, is_gltf(a.out_format) ? "(0, 0, 1)" : "the zero vector");
 
 	progress(&a, "writing", a.out);
 	if (vn_io_write_file(a.out, a.out_format, &mesh, &err) != vn_io_success) {

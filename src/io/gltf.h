@@ -1,0 +1,74 @@
+/*
+ * glTF 2.0 (.gltf and .glb) for vn_io. Two ways in:
+ *
+ *  - As a vn_io format ("gltf", "glb" in the format table): the reader
+ *    merges every triangle primitive (TRIANGLES, TRIANGLE_STRIP,
+ *    TRIANGLE_FAN) of every mesh into one vn_io_mesh, in mesh-local
+ *    coordinates (node transforms are not applied); the writers produce a
+ *    minimal glTF (one mesh, one primitive: POSITION with min/max, NORMAL,
+ *    uint32 indices; polygons fan-triangulated; asset.generator "vn"). A
+ *    .gltf written this way carries its buffer as a data URI.
+ *
+ *  - As a document (vn_gltf_convert): glTF in, glTF out, recomputing the
+ *    NORMAL of every triangle primitive and changing nothing else. The
+ *    original JSON is edited (key order, extras and unknown extensions
+ *    survive) and only NORMAL bytes are rewritten: in place when the NORMAL
+ *    accessor is plain (float32, or normalized byte/short under
+ *    KHR_mesh_quantization, not sparse), otherwise in a new bufferView and
+ *    accessor appended at the end of the arrays. See README.md, "glTF".
+ *
+ * Implemented in C++ (gltf.cpp, on tinygltf and nlohmann json) behind this
+ * C interface.
+ */
+#ifndef VN_IO_GLTF_H
+#define VN_IO_GLTF_H
+
+#include "vn_io.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct vn_gltf_options {
+	vn_method method;
+	unsigned threads;     /* as vn_options.threads */
+	int no_weld;          /* compute on the vertices as split in the file */
+	double weld_epsilon;  /* vn_weld_positions' epsilon; 0: exactly equal positions */
+	int weld_mesh;        /* weld across all triangle primitives of a mesh, not per primitive */
+	int drop_tangents;    /* remove TANGENT from primitives (otherwise left as is) */
+} vn_gltf_options;
+
+typedef struct vn_gltf_stats {
+	size_t primitives;         /* triangle primitives whose normals were recomputed */
+	size_t skipped_points;     /* POINTS primitives, left untouched */
+	size_t skipped_lines;      /* LINES, LINE_LOOP, LINE_STRIP primitives, left untouched */
+	size_t skipped_no_position; /* primitives without POSITION, left untouched */
+	size_t vertices;           /* vertices of the processed primitives */
+	size_t triangles;          /* triangles after strip and fan conversion */
+	size_t welded_vertices;    /* vertices merged into another one by position */
+	size_t zero_normals;       /* vertices no face contributed to: written as the
+	                              input's unit normal, or (0, 0, 1) */
+	size_t tangent_primitives; /* processed primitives with TANGENT */
+	size_t appended_accessors; /* NORMAL accessors added (none before, sparse,
+	                              unusual type, or shared with differing result) */
+} vn_gltf_stats;
+
+/* Reads the glTF or GLB file `in` (told apart by content), recomputes its
+ * normals and writes `out` as GLB when out_glb, else as .gltf with its
+ * buffers in files beside it (OUTSTEM.bin, OUTSTEM_1.bin, ...; data-URI
+ * buffers stay data URIs) and its external images copied next to it when
+ * the folder differs. Every output file is written to a temporary file
+ * first and renamed once all are complete. stats may be NULL. */
+vn_io_result vn_gltf_convert(const char* in, const char* out, int out_glb, const vn_gltf_options* options,
+                             vn_gltf_stats* stats, vn_io_error* error);
+
+/* The format-table entry points described above. */
+vn_io_result vn_io_gltf_read(const char* path, vn_io_mesh* mesh, vn_io_error* error);
+vn_io_result vn_io_gltf_write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error);
+vn_io_result vn_io_glb_write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* VN_IO_GLTF_H */

@@ -1,0 +1,336 @@
+#!/usr/bin/env python3
+"""glTF checks for vn's tests (python3 standard library only).
+
+  gltfcheck.py diff IN OUT [--tangents-dropped]
+      OUT's JSON equals IN's, key order included, except for what recomputing
+      normals may change: NORMAL accessors' min/max, appended bufferViews and
+      accessors (which must be NORMAL data), buffers' byteLength and uri, a
+      primitive's NORMAL index (and TANGENT, when dropped). Every accessor that
+      is not NORMAL reads back the same bytes, and so does every bufferView
+      that no NORMAL accessor uses (images, animations, ...). Every NORMAL
+      element is a unit vector.
+  gltfcheck.py seams FILE same|differ
+      In every triangle primitive, vertices at the same position have the
+      same normal (same), or at least one such pair does not (differ).
+  gltfcheck.py sphere FILE
+      Writes a UV sphere with a seam (split vertices along u = 0/1 with
+      different UVs) as a .gltf with a data-URI buffer.
+  gltfcheck.py shapes FILE
+      Writes the same sphere as five primitives over one POSITION accessor:
+      the top half (NORMAL 1), the bottom half sharing NORMAL 1 (so it needs
+      an accessor of its own), the whole sphere without NORMAL, a
+      TRIANGLE_STRIP band, and POINTS.
+  gltfcheck.py quantized FILE
+      The sphere under KHR_mesh_quantization: POSITION as SHORT (not
+      normalized, byteStride 8), NORMAL as normalized BYTE (byteStride 4).
+Exit status 0 when the check holds, 1 with one line per problem otherwise.
+"""
+import base64
+import json
+import math
+import os
+import struct
+import sys
+import urllib.parse
+
+SIZES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
+FORMATS = {5120: "b", 5121: "B", 5122: "h", 5123: "H", 5125: "I", 5126: "f"}
+COUNTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+
+
+def load(path):
+    """(json text, parsed document, list of buffer bytes)"""
+    with open(path, "rb") as f:
+        data = f.read()
+    bin_chunk = None
+    if data[:4] == b"glTF":
+        length = struct.unpack_from("<I", data, 12)[0]
+        text = data[20:20 + length].decode("utf-8")
+        at = 20 + length
+        if at + 8 <= len(data):
+            n, kind = struct.unpack_from("<II", data, at)
+            if kind == 0x004E4942:
+                bin_chunk = data[at + 8:at + 8 + n]
+    else:
+        text = data.decode("utf-8")
+    doc = json.loads(text)
+    buffers = []
+    for i, b in enumerate(doc.get("buffers", [])):
+        uri = b.get("uri")
+        if uri is None:
+            buffers.append(bin_chunk if i == 0 else b"")
+        elif uri.startswith("data:"):
+            buffers.append(base64.b64decode(uri.split(",", 1)[1]))
+        else:
+            with open(os.path.join(os.path.dirname(path), urllib.parse.unquote(uri)), "rb") as f:
+                buffers.append(f.read())
+    return text, doc, buffers
+
+
+def view_bytes(doc, buffers, v):
+    view = doc["bufferViews"][v]
+    start = view.get("byteOffset", 0)
+    return buffers[view["buffer"]][start:start + view["byteLength"]]
+
+
+def accessor_bytes(doc, buffers, a):
+    """The accessor's element bytes (stride removed) and its sparse parts."""
+    acc = doc["accessors"][a]
+    element = SIZES[acc["componentType"]] * COUNTS[acc["type"]]
+    out = b""
+    if "bufferView" in acc:
+        view = doc["bufferViews"][acc["bufferView"]]
+        data = view_bytes(doc, buffers, acc["bufferView"])
+        stride = view.get("byteStride", element)
+        at = acc.get("byteOffset", 0)
+        out += b"".join(data[at + i * stride:at + i * stride + element] for i in range(acc["count"]))
+    sparse = acc.get("sparse")
+    if sparse:
+        for part in ("indices", "values"):
+            p = sparse[part]
+            size = SIZES[p["componentType"]] if part == "indices" else element
+            at = p.get("byteOffset", 0)
+            out += view_bytes(doc, buffers, p["bufferView"])[at:at + size * sparse["count"]]
+    return out
+
+
+def accessor_values(doc, buffers, a):
+    acc = doc["accessors"][a]
+    n = COUNTS[acc["type"]]
+    raw = accessor_bytes(doc, buffers, a)[:SIZES[acc["componentType"]] * n * acc["count"]]
+    values = list(struct.unpack("<%d%s" % (n * acc["count"], FORMATS[acc["componentType"]]), raw))
+    if acc.get("sparse"):
+        sp = acc["sparse"]
+        isize = SIZES[sp["indices"]["componentType"]]
+        tail = accessor_bytes(doc, buffers, a)[len(raw):]
+        idx = struct.unpack("<%d%s" % (sp["count"], FORMATS[sp["indices"]["componentType"]]), tail[:isize * sp["count"]])
+        vals = struct.unpack("<%d%s" % (n * sp["count"], FORMATS[acc["componentType"]]), tail[isize * sp["count"]:])
+        for k, i in enumerate(idx):
+            values[n * i:n * i + n] = vals[n * k:n * k + n]
+    if acc.get("normalized"):
+        scale = {5120: 127.0, 5121: 255.0, 5122: 32767.0, 5123: 65535.0}[acc["componentType"]]
+        values = [max(v / scale, -1.0) for v in values]
+    return [values[i:i + n] for i in range(0, len(values), n)]
+
+
+def primitives(doc):
+    for m, mesh in enumerate(doc.get("meshes", [])):
+        for p, prim in enumerate(mesh["primitives"]):
+            yield m, p, prim
+
+
+def normal_accessors(doc):
+    return {prim["attributes"]["NORMAL"] for _, _, prim in primitives(doc) if "NORMAL" in prim["attributes"]}
+
+
+def ordered(text):
+    return json.loads(text, object_pairs_hook=lambda pairs: [list(p) for p in pairs])
+
+
+def strip(doc, normals, tangents_dropped):
+    """doc (order-preserving lists) without what may legitimately change."""
+    def get(obj, key):
+        for k, v in obj:
+            if k == key:
+                return v
+        return None
+
+    def drop(obj, *keys):
+        obj[:] = [kv for kv in obj if kv[0] not in keys]
+
+    for k, v in doc:
+        if k == "accessors":
+            for i, acc in enumerate(v):
+                if i in normals:
+                    drop(acc, "min", "max")
+        if k == "buffers":
+            for b in v:
+                drop(b, "byteLength", "uri")
+        if k == "meshes":
+            for mesh in v:
+                for prim in get(mesh, "primitives") or []:
+                    attributes = get(prim, "attributes")
+                    drop(attributes, "NORMAL", *(["TANGENT"] if tangents_dropped else []))
+    return doc
+
+
+def cmd_diff(a, b, tangents_dropped):
+    problems = []
+    text_a, in_doc, in_buf = load(a)
+    text_b, out_doc, out_buf = load(b)
+    in_normals, out_normals = normal_accessors(in_doc), normal_accessors(out_doc)
+    n_acc, n_view = len(in_doc.get("accessors", [])), len(in_doc.get("bufferViews", []))
+    for i in range(n_acc, len(out_doc.get("accessors", []))):
+        if i not in out_normals:
+            problems.append("appended accessor %d is not a NORMAL" % i)
+    oa, ob = ordered(text_a), ordered(text_b)
+    for doc in (oa, ob):
+        for kv in doc:
+            if kv[0] == "accessors":
+                kv[1] = kv[1][:n_acc]
+            if kv[0] == "bufferViews":
+                kv[1] = kv[1][:n_view]
+    if strip(oa, in_normals | out_normals, tangents_dropped) != strip(ob, in_normals | out_normals, tangents_dropped):
+        problems.append("JSON differs beyond the NORMAL data")
+    # A primitive's NORMAL points at its old accessor or an appended one.
+    for (_, _, pi), (_, _, po) in zip(primitives(in_doc), primitives(out_doc)):
+        old, new = pi["attributes"].get("NORMAL"), po["attributes"].get("NORMAL")
+        if "POSITION" in pi["attributes"] and pi.get("mode", 4) >= 4:
+            if new is None or (new != old and new < n_acc):
+                problems.append("a primitive's NORMAL is %r (was %r)" % (new, old))
+    for i in range(n_acc):
+        if i in in_normals or i in out_normals:
+            continue
+        if accessor_bytes(in_doc, in_buf, i) != accessor_bytes(out_doc, out_buf, i):
+            problems.append("accessor %d changed" % i)
+    normal_views = {in_doc["accessors"][i].get("bufferView") for i in in_normals | out_normals if i < n_acc}
+    for v in range(n_view):
+        if v not in normal_views and view_bytes(in_doc, in_buf, v) != view_bytes(out_doc, out_buf, v):
+            problems.append("bufferView %d changed" % v)
+    for i in out_normals:
+        acc = out_doc["accessors"][i]
+        tolerance = 1e-6 if acc["componentType"] == 5126 else 0.02
+        for x, y, z in accessor_values(out_doc, out_buf, i):
+            if abs(math.sqrt(x * x + y * y + z * z) - 1) > tolerance:
+                problems.append("accessor %d has a non-unit normal (%g, %g, %g)" % (i, x, y, z))
+                break
+    for p in problems:
+        print("%s -> %s: %s" % (a, b, p))
+    return 1 if problems else 0
+
+
+def cmd_seams(path, expect):
+    _, doc, buf = load(path)
+    pairs = differ = 0
+    for _, _, prim in primitives(doc):
+        attributes = prim["attributes"]
+        if prim.get("mode", 4) < 4 or "POSITION" not in attributes:
+            continue
+        first = {}
+        positions = accessor_values(doc, buf, attributes["POSITION"])
+        normals = accessor_values(doc, buf, attributes["NORMAL"])
+        for p, n in zip(positions, normals):
+            key = tuple(p)
+            if key in first:
+                pairs += 1
+                differ += first[key] != n
+            else:
+                first[key] = n
+    if pairs == 0:
+        print("%s: no split vertices" % path)
+        return 1
+    ok = differ == 0 if expect == "same" else differ > 0
+    if not ok:
+        print("%s: %d of %d split vertex pairs have different normals (expected %s)" % (path, differ, pairs, expect))
+    return 0 if ok else 1
+
+
+def cmd_sphere(path, rings=8, segments=12, shapes=False):
+    """A UV sphere: (segments + 1) columns so that u = 0 and u = 1 are split
+    copies with different UVs; the poles are split too. Normals are the
+    input's (+Z everywhere, deliberately wrong)."""
+    pos, uv, idx = [], [], []
+    for r in range(rings + 1):
+        theta = math.pi * r / rings
+        for s in range(segments + 1):
+            phi = 2 * math.pi * (s % segments) / segments
+            pos.append((math.sin(theta) * math.cos(phi), math.sin(theta) * math.sin(phi), math.cos(theta)))
+            uv.append((s / segments, r / rings))
+    cols = segments + 1
+    for r in range(rings):
+        for s in range(segments):
+            a, b, c, d = r * cols + s, r * cols + s + 1, (r + 1) * cols + s, (r + 1) * cols + s + 1
+            idx += [a, c, b, b, c, d]
+    n = len(pos)
+    data = b"".join(struct.pack("<3f", *p) for p in pos)
+    data += b"".join(struct.pack("<3f", 0, 0, 1) for _ in pos)
+    data += b"".join(struct.pack("<2f", *t) for t in uv)
+    data += struct.pack("<%dH" % len(idx), *idx)
+    f32 = [struct.unpack("<3f", struct.pack("<3f", *p)) for p in pos]
+    doc = {
+        "asset": {"version": "2.0", "generator": "vn tests"},
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "name": "sphere"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3}]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": n, "type": "VEC3",
+             "min": [min(p[i] for p in f32) for i in range(3)], "max": [max(p[i] for p in f32) for i in range(3)]},
+            {"bufferView": 1, "componentType": 5126, "count": n, "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5126, "count": n, "type": "VEC2"},
+            {"bufferView": 3, "componentType": 5123, "count": len(idx), "type": "SCALAR"}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 12 * n, "target": 34962},
+            {"buffer": 0, "byteOffset": 12 * n, "byteLength": 12 * n, "target": 34962},
+            {"buffer": 0, "byteOffset": 24 * n, "byteLength": 8 * n, "target": 34962},
+            {"buffer": 0, "byteOffset": 32 * n, "byteLength": 2 * len(idx), "target": 34963}],
+        "buffers": [{"byteLength": len(data),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+    }
+    if shapes:
+        half = len(idx) // 2
+        strip = [v for s in range(segments + 1) for v in (3 * cols + s, 4 * cols + s)]
+        data += struct.pack("<%dH" % len(strip), *strip)
+        data += b"\0" * (-len(data) % 4)
+        doc["accessors"] += [
+            {"bufferView": 3, "componentType": 5123, "count": half, "type": "SCALAR"},
+            {"bufferView": 3, "byteOffset": 2 * half, "componentType": 5123, "count": half, "type": "SCALAR"},
+            {"bufferView": 4, "componentType": 5123, "count": len(strip), "type": "SCALAR"}]
+        doc["bufferViews"].append({"buffer": 0, "byteOffset": 32 * n + 2 * len(idx), "byteLength": 2 * len(strip),
+                                   "target": 34963})
+        doc["buffers"] = [{"byteLength": len(data),
+                           "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}]
+        doc["meshes"] = [{"primitives": [
+            {"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 4},
+            {"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 5},
+            {"attributes": {"POSITION": 0, "TEXCOORD_0": 2}, "indices": 3},
+            {"attributes": {"POSITION": 0}, "indices": 6, "mode": 5},
+            {"attributes": {"POSITION": 0}, "mode": 0}]}]
+    with open(path, "w") as f:
+        json.dump(doc, f, indent=1)
+    return 0
+
+
+def cmd_quantized(path):
+    cmd_sphere(path)
+    with open(path) as f:
+        doc = json.load(f)
+    _, _, (data,) = load(path)
+    n = doc["accessors"][0]["count"]
+    pos = [struct.unpack_from("<3f", data, 12 * i) for i in range(n)]
+    q = [tuple(round(c * 1000) for c in p) for p in pos]
+    out = b"".join(struct.pack("<3hxx", *p) for p in q)
+    out += b"".join(struct.pack("<3bx", 0, 0, 127) for _ in range(n))
+    out += data[24 * n:]
+    doc["extensionsUsed"] = doc["extensionsRequired"] = ["KHR_mesh_quantization"]
+    doc["nodes"][0]["scale"] = [0.001, 0.001, 0.001]
+    doc["accessors"][0].update(componentType=5122, min=[min(p[i] for p in q) for i in range(3)],
+                               max=[max(p[i] for p in q) for i in range(3)])
+    doc["accessors"][1].update(componentType=5120, normalized=True)
+    lengths = [8 * n, 4 * n, 8 * n, doc["bufferViews"][3]["byteLength"]]
+    offset = 0
+    for view, length, stride in zip(doc["bufferViews"], lengths, [8, 4, None, None]):
+        view.update(byteOffset=offset, byteLength=length)
+        if stride:
+            view["byteStride"] = stride
+        offset += length
+    doc["buffers"][0] = {"byteLength": len(out),
+                         "uri": "data:application/octet-stream;base64," + base64.b64encode(out).decode()}
+    with open(path, "w") as f:
+        json.dump(doc, f, indent=1)
+    return 0
+
+
+def main(argv):
+    if len(argv) >= 4 and argv[1] == "diff":
+        return cmd_diff(argv[2], argv[3], "--tangents-dropped" in argv[4:])
+    if len(argv) == 4 and argv[1] == "seams" and argv[3] in ("same", "differ"):
+        return cmd_seams(argv[2], argv[3])
+    if len(argv) == 3 and argv[1] == "quantized":
+        return cmd_quantized(argv[2])
+    if len(argv) == 3 and argv[1] in ("sphere", "shapes"):
+        return cmd_sphere(argv[2], shapes=argv[1] == "shapes")
+    print(__doc__, file=sys.stderr)
+    return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
