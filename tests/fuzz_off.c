@@ -42,7 +42,7 @@ static void check_round_trip(const vn_io_mesh* m)
 	vn_io_error error;
 	if (!out)
 		return;
-	vn_io_result written = vn_io_off_write(out, "fuzz.off", m, &error);
+	vn_io_result written = vn_io_off_write(out, "fuzz.off", m, NULL, &error);
 	fclose(out);
 	if (written != vn_io_success)
 		abort();

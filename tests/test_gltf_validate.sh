@@ -22,8 +22,10 @@ while IFS= read -r f; do models+=("$f"); done < <(find "$DATA" \( -name '*.gltf'
 python3 "$HERE/gltf/gltfcheck.py" shapes "$T/shapes.gltf"
 python3 "$HERE/gltf/gltfcheck.py" sphere "$T/seam.gltf"
 python3 "$HERE/gltf/gltfcheck.py" quantized "$T/quantized.gltf"
-models+=("$T/shapes.gltf" "$T/seam.gltf" "$T/quantized.gltf")
-check "found the sample models" [ ${#models[@]} -ge 11 ]
+python3 "$HERE/gltf/gltfcheck.py" morphsphere "$T/morph.gltf"
+python3 "$HERE/gltf/gltfcheck.py" cylinder "$T/cyl.gltf"
+models+=("$T/shapes.gltf" "$T/seam.gltf" "$T/quantized.gltf" "$T/morph.gltf" "$T/cyl.gltf")
+check "found the sample models" [ ${#models[@]} -ge 13 ]
 for f in "${models[@]}"; do
   name=$(basename "${f%.*}")
   outputs=()
@@ -44,6 +46,15 @@ for f in "${models[@]}"; do
   done
   check "$name --tangents drop: no new validator issues" node "$HERE/gltf/validate.mjs" \
     --allow MESH_PRIMITIVE_GENERATED_TANGENT_SPACE "$MODULES" "$f" "${drops[@]}"
+  # --crease-angle splits vertices: new accessors for every attribute, morph
+  # target and the indices (the old ones may be left unused: information only).
+  creases=()
+  for out in "$T/$name/crease.glb" "$T/$name/crease.gltf"; do
+    check "$name -> $(basename "$out") --crease-angle" "$VNC" "$f" "$out" -q --crease-angle 30 \
+      $([ "${out##*.}" = gltf ] && echo --weld-scope mesh)
+    creases+=("$out")
+  done
+  check "$name --crease-angle: no new validator issues" node "$HERE/gltf/validate.mjs" "$MODULES" "$f" "${creases[@]}"
 done
 # OFF -> glTF is valid on its own.
 "$VNC" "$HERE/../samples/sphere-quads.off" "$T/sq.glb" -q && "$VNC" "$HERE/../samples/torus.off" "$T/torus.gltf" -q

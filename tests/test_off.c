@@ -929,7 +929,7 @@ static vn_io_result write_to_folder(const char* name, const vn_io_mesh* m, vn_io
 {
 	char path[256];
 	path_in_folder(path, sizeof path, name);
-	return vn_io_write_file(path, NULL, m, error);
+	return vn_io_write_file(path, NULL, m, NULL, error);
 }
 
 static void test_write_exact_text(void** state)
@@ -1080,15 +1080,16 @@ static void test_writer_reports_stream_errors(void** state)
 	m.positions = positions;
 	m.face_offsets = offsets;
 	vn_io_error error;
-	assert_int_equal(vn_io_off_write(in, "out.off", &m, &error), vn_io_error_write);
+	assert_int_equal(vn_io_off_write(in, "out.off", &m, NULL, &error), vn_io_error_write);
 	assert_string_equal(error.message, "out.off: cannot write: Bad file descriptor");
 	fclose(in);
 }
 
 /* A format whose writer writes a little, then fails like a full disk. */
-static vn_io_result failing_write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error)
+static vn_io_result failing_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings,
+                                  vn_io_error* error)
 {
-	(void)mesh;
+	(void)mesh, (void)settings;
 	fputs("partial output\n", out);
 	return vn_io_fail(error, vn_io_error_write, "%s: disk full", path);
 }
@@ -1125,7 +1126,7 @@ static void test_failed_write_leaves_destination_untouched(void** state)
 
 	vn_io_mesh m = {0};
 	vn_io_error error;
-	assert_int_equal(vn_io_write_file(path, &failing_format, &m, &error), vn_io_error_write);
+	assert_int_equal(vn_io_write_file(path, &failing_format, &m, NULL, &error), vn_io_error_write);
 	char expected[300];
 	snprintf(expected, sizeof expected, "%s: disk full", path);
 	assert_string_equal(error.message, expected);
@@ -1137,7 +1138,7 @@ static void test_failed_write_leaves_destination_untouched(void** state)
 
 	/* Without a previous file, nothing at all is left. */
 	path_in_folder(path, sizeof path, "atomic/new.off");
-	assert_int_equal(vn_io_write_file(path, &failing_format, &m, &error), vn_io_error_write);
+	assert_int_equal(vn_io_write_file(path, &failing_format, &m, NULL, &error), vn_io_error_write);
 	list_folder("atomic", names, sizeof names);
 	assert_string_equal(names, "out.off");
 }
@@ -1157,7 +1158,7 @@ static void test_write_replaces_existing_file(void** state)
 	m.positions = positions;
 	m.face_offsets = offsets;
 	vn_io_error error;
-	assert_int_equal(vn_io_write_file(path, NULL, &m, &error), vn_io_success);
+	assert_int_equal(vn_io_write_file(path, NULL, &m, NULL, &error), vn_io_success);
 	char* text = slurp(path);
 	assert_string_equal(text, "OFF\n1 0 0\n1 2 3\n");
 	free(text);
@@ -1194,7 +1195,7 @@ static void test_write_into_missing_folder(void** state)
 	path_in_folder(path, sizeof path, "no/such/folder/out.off");
 	vn_io_mesh m = {0};
 	vn_io_error error;
-	assert_int_equal(vn_io_write_file(path, NULL, &m, &error), vn_io_error_write);
+	assert_int_equal(vn_io_write_file(path, NULL, &m, NULL, &error), vn_io_error_write);
 	snprintf(expected, sizeof expected, "%s: cannot create a temporary file next to it: No such file or directory",
 	         path);
 	assert_string_equal(error.message, expected);
@@ -1205,8 +1206,8 @@ static void test_write_unknown_extension(void** state)
 	(void)state;
 	vn_io_mesh m = {0};
 	vn_io_error error;
-	assert_int_equal(vn_io_write_file("out.xyz", NULL, &m, &error), vn_io_error_format);
-	assert_string_equal(error.message, "out.xyz: unknown file extension (vn knows .off .gltf .glb)");
+	assert_int_equal(vn_io_write_file("out.xyz", NULL, &m, NULL, &error), vn_io_error_format);
+	assert_string_equal(error.message, "out.xyz: unknown file extension (vn knows .off .gltf .glb .drc)");
 }
 
 /* ------------------------------------------------------------------ files and formats */
@@ -1227,7 +1228,7 @@ static void test_read_unknown_extension(void** state)
 	vn_io_mesh m;
 	vn_io_error error;
 	assert_int_equal(vn_io_read_file("data/off/cube.stl", NULL, &m, &error), vn_io_error_format);
-	assert_string_equal(error.message, "data/off/cube.stl: unknown file extension (vn knows .off .gltf .glb)");
+	assert_string_equal(error.message, "data/off/cube.stl: unknown file extension (vn knows .off .gltf .glb .drc)");
 }
 
 static void test_read_with_explicit_format(void** state)
@@ -1309,7 +1310,8 @@ static void test_format_lookup(void** state)
 	assert_string_equal(off->extensions, ".off");
 	assert_string_equal(vn_io_format_at(1)->name, "gltf");
 	assert_string_equal(vn_io_format_at(2)->name, "glb");
-	assert_null(vn_io_format_at(3));
+	assert_string_equal(vn_io_format_at(3)->name, "drc");
+	assert_null(vn_io_format_at(4));
 	assert_ptr_equal(vn_io_format_for_path("scene.GLB"), vn_io_format_at(2));
 	assert_ptr_equal(vn_io_format_for_path("scene.gltf"), vn_io_format_at(1));
 	assert_ptr_equal(vn_io_format_for_path("dir.d/mesh.OFF"), off);

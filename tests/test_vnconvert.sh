@@ -8,8 +8,6 @@ SAMPLES=$(cd "$(dirname "$0")/../samples" && pwd)
 . "$(dirname "$0")/lib.sh"
 
 # run CMD...: sets $rc, $out (stdout), $err (stderr)
-run() { "$@" >"$T/stdout" 2>"$T/stderr"; rc=$?; out=$(cat "$T/stdout"); err=$(cat "$T/stderr"); }
-one_line_err() { [ "$(wc -l <"$T/stderr")" -eq 1 ] && grep -q "^vnconvert: error: " "$T/stderr"; }
 
 # ---- information
 run "$VNC" --help;          check "--help exits 0 with usage" [ $rc -eq 0 ] && check "--help text" grep -q "usage: vnconvert IN OUT" "$T/stdout"

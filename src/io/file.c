@@ -115,7 +115,7 @@ static mode_t current_umask(void)
 }
 
 vn_io_result vn_io_write_file(const char* path, const vn_io_format* format, const vn_io_mesh* mesh,
-                              vn_io_error* error)
+                              const void* settings, vn_io_error* error)
 {
 	if (!format)
 		format = vn_io_format_for_path(path);
@@ -142,7 +142,7 @@ vn_io_result vn_io_write_file(const char* path, const vn_io_format* format, cons
 		result = vn_io_fail(error, vn_io_error_write, "%s: cannot write: %s", path, strerror(errno));
 		close(fd);
 	} else {
-		result = format->write(out, path, mesh, error);
+		result = format->write(out, path, mesh, settings, error);
 		/* Buffered data reaches the disk only here; a full disk often shows
 		 * up in fflush or fsync rather than in the writer's fprintf calls. */
 		if (result == vn_io_success && (fflush(out) != 0 || ferror(out) || fsync(fileno(out)) != 0))

@@ -6,6 +6,7 @@
 
 #include <string.h>
 
+#include "draco.h"
 #include "gltf.h"
 #include "off.h"
 
@@ -15,6 +16,8 @@ static const vn_io_format formats[] = {
 	{"gltf", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)", vn_io_gltf_read,
 	 vn_io_gltf_write},
 	{"glb", ".glb", "glTF 2.0 binary (as gltf)", vn_io_gltf_read, vn_io_glb_write},
+	{"drc", ".drc", "Draco mesh (triangles; positions, normals, texcoords, colours; quantized)", vn_io_drc_read,
+	 vn_io_drc_write},
 };
 
 #define FORMAT_COUNT (sizeof formats / sizeof formats[0])

@@ -5,7 +5,7 @@
  * GLB BIN chunk, data URIs, external .bin files). Everything else works on
  * the original JSON, kept as an nlohmann::ordered_json so that key order,
  * extras and unknown extensions survive, and on copies of the buffers in
- * which only NORMAL bytes change.
+ * which only NORMAL bytes change (new data, when any, is appended).
  */
 #include "gltf.h"
 
@@ -364,8 +364,21 @@ struct primitive {
 	std::vector<double> positions;  /* 3 per vertex */
 	std::vector<uint32_t> triangles; /* 3 per triangle */
 	std::vector<double> input_normals; /* empty, or 3 per vertex */
-	std::vector<float> normals;     /* result, 3 per vertex */
+	std::vector<float> normals;     /* result, 3 per output vertex */
+	/* Morph targets: per target, the morphed positions P + dP (empty when
+	 * the target has no POSITION), its NORMAL accessor (-1: none) and the
+	 * resulting NORMAL displacement (3 per output vertex; empty when the
+	 * target has neither POSITION nor NORMAL, and is left alone). */
+	std::vector<std::vector<double>> target_positions;
+	std::vector<long long> target_normal;
+	std::vector<std::vector<float>> target_normals;
+	/* Splitting (--crease-angle): output vertex -> input vertex for the
+	 * vertices appended after the input's, and the rewritten triangles.
+	 * Both empty when no vertex is split. */
+	std::vector<uint32_t> split_source;
+	std::vector<uint32_t> split_triangles;
 	size_t vertices() const { return positions.size() / 3; }
+	size_t output_vertices() const { return vertices() + split_source.size(); }
 };
 
 /* Reads the triangle primitives; counts the others. */
@@ -421,6 +434,33 @@ std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 				r.input_normals = read_accessor(d, na);
 			}
 			r.tangent = attributes.contains("TANGENT");
+			if (prim.contains("targets")) {
+				if (!prim["targets"].is_array())
+					fail(vn_io_error_parse, what + ".targets is not an array");
+				for (size_t t = 0; t < prim["targets"].size(); ++t) {
+					const json& target = prim["targets"][t];
+					const std::string tw = str("%s.targets[%zu]", what.c_str(), t);
+					if (!target.is_object())
+						fail(vn_io_error_parse, tw + " is not an object");
+					std::vector<double> morphed;
+					if (target.contains("POSITION")) {
+						accessor ta = get_accessor(d, get_int(target, "POSITION", 0, tw));
+						if (ta.components != 3 || ta.count != pa.count)
+							fail(vn_io_error_parse, tw + ": POSITION is not VEC3 with one element per vertex");
+						morphed = read_accessor(d, ta);
+						for (size_t i = 0; i < morphed.size(); ++i)
+							morphed[i] += r.positions[i];
+					}
+					long long normal = target.contains("NORMAL") ? get_int(target, "NORMAL", 0, tw) : -1;
+					if (normal >= 0) {
+						accessor tn = get_accessor(d, normal);
+						if (tn.components != 3 || tn.count != pa.count)
+							fail(vn_io_error_parse, tw + ": NORMAL is not VEC3 with one element per vertex");
+					}
+					r.target_positions.push_back(std::move(morphed));
+					r.target_normal.push_back(normal);
+				}
+			}
 
 			std::vector<uint32_t> order;
 			if (prim.contains("indices")) {
@@ -459,66 +499,269 @@ void check(vn_result r)
 		fail(r == vn_result_out_of_memory ? vn_io_error_memory : vn_io_error_parse, vn_result_string(r));
 }
 
-/* Normals of a group of primitives computed together (one primitive, or a
- * whole mesh): welded, computed, copied back to every split vertex. */
-void compute_group(std::vector<primitive*>& group, const vn_gltf_options& o, vn_gltf_stats& st)
+/* Without --crease-angle, split copies whose input normals differ by more
+ * than this keep a hard edge between them. Small on purpose: exporters give
+ * the copies along UV seams the same normal, and converting vn's output
+ * again must find its hard edges again (a larger angle would smooth those
+ * whose two sides' normals came out closer than it). See README.md, "glTF". */
+const double default_hard_edge_angle = 0.1 * M_PI / 180;
+
+/* How a group of primitives (one primitive, or a whole mesh) gets its
+ * normals: the same plan serves the base shape and every morph target. */
+struct group_plan {
+	std::vector<primitive*> prims;
+	std::vector<size_t> first;          /* first input vertex of each primitive */
+	std::vector<size_t> extra_first;    /* first split vertex of each primitive, counted from n */
+	size_t n = 0;                       /* input vertices */
+	std::vector<uint32_t> remap;        /* input vertex -> welded representative */
+	std::vector<uint32_t> corner_input; /* input vertex of each corner */
+	std::vector<uint32_t> triangles;    /* corners on welded vertices */
+	std::vector<double> input_normals;  /* 3 per input vertex; 0 0 0 when none */
+	bool corners = false;               /* per-corner normals (sharp edges or a crease angle) */
+	double crease = M_PI;               /* radians; pi: no crease */
+	std::vector<uint8_t> sharp;         /* per corner: edges whose input normals differ */
+	std::vector<uint32_t> corner_output; /* per corner: output vertex, when splitting */
+	std::vector<uint32_t> extra_source; /* output vertex n + k -> input vertex */
+	vn_method method = vn_method_mwa;
+	vn_options options;
+};
+
+/* The plan's normals for input positions q (3 per input vertex): one unit
+ * vector per output vertex (input vertices, then split ones). A vertex no
+ * face contributes to gets its input normal when that is a unit vector,
+ * else +Z; *zeros counts them. */
+std::vector<double> plan_normals(const group_plan& g, const std::vector<double>& q, size_t* zeros)
 {
+	const size_t n = g.n, outputs = n + g.extra_source.size();
+	const vn_positions pos = {q.data(), n, 0, vn_scalar_float64};
+	std::vector<double> out(3 * outputs, 0.0);
+	auto vertex_normals = [&] {
+		std::vector<double> v(3 * n);
+		const vn_vectors vv = {v.data(), 0, vn_scalar_float64};
+		check(vn_triangle_normals(&vv, &pos, g.triangles.data(), g.triangles.size(), g.method, &g.options, nullptr));
+		return v;
+	};
+	if (!g.corners) {
+		std::vector<double> v = vertex_normals();
+		for (size_t i = 0; i < n; ++i)
+			std::copy_n(&v[3 * g.remap[i]], 3, &out[3 * i]);
+	} else {
+		std::vector<double> c(g.triangles.size() * 3);
+		const vn_vectors cv = {c.data(), 0, vn_scalar_float64};
+		check(vn_corner_normals(&cv, &pos, g.triangles.data(), g.triangles.size(), g.method, g.crease,
+		                        g.sharp.empty() ? nullptr : g.sharp.data(), &g.options, nullptr));
+		if (!g.corner_output.empty()) {
+			for (size_t k = 0; k < g.corner_output.size(); ++k)
+				std::copy_n(&c[3 * k], 3, &out[3 * g.corner_output[k]]);
+		} else {
+			/* No splitting: a vertex whose corners disagree (its fans are
+			 * not separated in the file) gets the smooth normal. */
+			std::vector<uint32_t> seen(n, UINT32_MAX);
+			std::vector<uint8_t> conflict(n, 0);
+			for (size_t k = 0; k < g.corner_input.size(); ++k) {
+				const uint32_t i = g.corner_input[k];
+				if (seen[i] == UINT32_MAX)
+					seen[i] = (uint32_t)k, std::copy_n(&c[3 * k], 3, &out[3 * i]);
+				else if (!std::equal(&c[3 * k], &c[3 * k] + 3, &c[3 * seen[i]]))
+					conflict[i] = 1;
+			}
+			if (std::find(conflict.begin(), conflict.end(), 1) != conflict.end()) {
+				std::vector<double> v = vertex_normals();
+				for (size_t i = 0; i < n; ++i)
+					if (conflict[i])
+						std::copy_n(&v[3 * g.remap[i]], 3, &out[3 * i]);
+			}
+		}
+	}
+	for (size_t k = 0; k < outputs; ++k) {
+		double* v = &out[3 * k];
+		if (v[0] != 0 || v[1] != 0 || v[2] != 0)
+			continue;
+		++*zeros;
+		const double* w = &g.input_normals[3 * (k < n ? k : g.extra_source[k - n])];
+		double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+		if (std::isfinite(l) && std::fabs(l - 1) < 1e-3)
+			v[0] = w[0] / l, v[1] = w[1] / l, v[2] = w[2] / l;
+		else
+			v[2] = 1;
+	}
+	return out;
+}
+
+/* Flags the corners whose edge joins split copies with input normals more
+ * than `angle` apart at either end; returns how many. */
+size_t flag_hard_edges(group_plan& g, double angle)
+{
+	const double limit = std::cos(angle);
+	auto differ = [&](uint32_t a, uint32_t b) {
+		const double* x = &g.input_normals[3 * a];
+		const double* y = &g.input_normals[3 * b];
+		double lx = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+		double ly = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+		return a != b && lx > 0 && ly > 0 && (x[0] * y[0] + x[1] * y[1] + x[2] * y[2]) < limit * lx * ly;
+	};
+	auto next = [](size_t k) { return k - k % 3 + (k + 1) % 3; };
+	const size_t corners = g.triangles.size();
+	std::vector<std::pair<uint64_t, uint32_t>> edges(corners);
+	for (size_t k = 0; k < corners; ++k)
+		edges[k] = {(uint64_t)g.triangles[k] << 32 | g.triangles[next(k)], (uint32_t)k};
+	std::sort(edges.begin(), edges.end());
+	g.sharp.assign(corners, 0);
+	size_t flagged = 0;
+	for (size_t k = 0; k < corners; ++k) {
+		if (g.triangles[k] == g.triangles[next(k)])
+			continue; /* a degenerate triangle has no edges */
+		const uint64_t opposite = (uint64_t)g.triangles[next(k)] << 32 | g.triangles[k];
+		auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(opposite, (uint32_t)0));
+		for (; it != edges.end() && it->first == opposite && !g.sharp[k]; ++it) {
+			const size_t j = it->second;
+			g.sharp[k] = differ(g.corner_input[k], g.corner_input[next(j)]) ||
+			             differ(g.corner_input[next(k)], g.corner_input[j]);
+		}
+		flagged += g.sharp[k];
+	}
+	return flagged;
+}
+
+/* Split vertices for per-corner normals c: a corner whose normal differs
+ * from the first one of its input vertex gets a new vertex, shared by the
+ * vertex's corners with the same normal. */
+void split_corners(group_plan& g, const std::vector<double>& c)
+{
+	const size_t corners = g.corner_input.size();
+	std::vector<uint32_t> owner(g.n, UINT32_MAX);
+	g.extra_first.assign(1, 0);
+	std::map<uint32_t, std::vector<uint32_t>> extras; /* input vertex -> its split vertices' first corner */
+	g.corner_output.assign(corners, 0);
+	size_t p = 0;
+	for (size_t k = 0; k < corners; ++k) {
+		const uint32_t i = g.corner_input[k];
+		while (p + 1 < g.prims.size() && i >= g.first[p + 1])
+			g.extra_first.push_back(g.extra_source.size()), ++p;
+		if (owner[i] == UINT32_MAX || std::equal(&c[3 * k], &c[3 * k] + 3, &c[3 * owner[i]])) {
+			if (owner[i] == UINT32_MAX)
+				owner[i] = (uint32_t)k;
+			g.corner_output[k] = i;
+			continue;
+		}
+		std::vector<uint32_t>& mine = extras[i];
+		size_t e = 0;
+		while (e < mine.size() && !std::equal(&c[3 * k], &c[3 * k] + 3, &c[3 * mine[e]]))
+			++e;
+		if (e == mine.size()) {
+			mine.push_back((uint32_t)k);
+			g.extra_source.push_back(i);
+			g.corner_output[k] = (uint32_t)(g.n + g.extra_source.size() - 1);
+		} else {
+			g.corner_output[k] = g.corner_output[mine[e]];
+		}
+	}
+	while (g.extra_first.size() < g.prims.size())
+		g.extra_first.push_back(g.extra_source.size());
+}
+
+/* Normals of a group of primitives computed together (one primitive, or a
+ * whole mesh): welded, computed (per corner where edges are hard), copied
+ * back to every split vertex; then every morph target's NORMAL
+ * displacement, by the same computation on the morphed positions. */
+void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_gltf_stats& st)
+{
+	group_plan g;
+	g.prims = prims;
+	g.method = o.method;
+	memset(&g.options, 0, sizeof g.options);
+	g.options.threads = o.threads;
 	std::vector<double> positions;
-	std::vector<uint32_t> triangles;
-	for (primitive* p : group) {
-		const uint32_t base = (uint32_t)(positions.size() / 3);
+	for (primitive* p : prims) {
+		g.first.push_back(positions.size() / 3);
 		if (positions.size() / 3 + p->vertices() > UINT32_MAX)
 			fail(vn_io_error_unsupported, "a mesh has more than 2^32 vertices");
 		positions.insert(positions.end(), p->positions.begin(), p->positions.end());
+		if (p->input_normals.empty())
+			g.input_normals.resize(positions.size(), 0.0);
+		else
+			g.input_normals.insert(g.input_normals.end(), p->input_normals.begin(), p->input_normals.end());
 		for (uint32_t v : p->triangles)
-			triangles.push_back(base + v);
+			g.corner_input.push_back((uint32_t)(g.first.back() + v));
 	}
-	const size_t n = positions.size() / 3;
-	vn_options options;
-	memset(&options, 0, sizeof options);
-	options.threads = o.threads;
-	const vn_positions pos = {positions.data(), n, 0, vn_scalar_float64};
-	std::vector<uint32_t> remap(n);
-	for (size_t i = 0; i < n; ++i)
-		remap[i] = (uint32_t)i;
+	g.n = positions.size() / 3;
+	const vn_positions pos = {positions.data(), g.n, 0, vn_scalar_float64};
+	g.remap.resize(g.n);
+	for (size_t i = 0; i < g.n; ++i)
+		g.remap[i] = (uint32_t)i;
 	if (!o.no_weld) {
-		check(vn_weld_positions(remap.data(), &pos, o.weld_epsilon, &options));
-		for (size_t i = 0; i < n; ++i)
-			st.welded_vertices += remap[i] != i;
-		for (uint32_t& v : triangles)
-			v = remap[v];
+		check(vn_weld_positions(g.remap.data(), &pos, o.weld_epsilon, &g.options));
+		for (size_t i = 0; i < g.n; ++i)
+			st.welded_vertices += g.remap[i] != i;
 	}
-	std::vector<double> normals(3 * n);
-	const vn_vectors out = {normals.data(), 0, vn_scalar_float64};
-	vn_stats s;
-	check(vn_triangle_normals(&out, &pos, triangles.data(), triangles.size(), o.method, &options, &s));
+	g.triangles.resize(g.corner_input.size());
+	for (size_t k = 0; k < g.triangles.size(); ++k)
+		g.triangles[k] = g.remap[g.corner_input[k]];
+	if (!o.no_weld && !flag_hard_edges(g, o.crease ? o.crease_angle : default_hard_edge_angle))
+		g.sharp.clear();
+	g.corners = o.crease || !g.sharp.empty();
+	if (o.crease) {
+		g.crease = o.crease_angle;
+		std::vector<double> c(g.triangles.size() * 3);
+		const vn_vectors cv = {c.data(), 0, vn_scalar_float64};
+		check(vn_corner_normals(&cv, &pos, g.triangles.data(), g.triangles.size(), g.method, g.crease,
+		                        g.sharp.empty() ? nullptr : g.sharp.data(), &g.options, nullptr));
+		split_corners(g, c);
+	}
+	size_t zeros = 0;
+	const std::vector<double> base = plan_normals(g, positions, &zeros);
+	st.zero_normals += zeros;
 
-	size_t at = 0;
-	for (primitive* p : group) {
-		p->normals.resize(3 * p->vertices());
-		for (size_t i = 0; i < p->vertices(); ++i) {
-			const double* v = &normals[3 * remap[at + i]];
-			double x = v[0], y = v[1], z = v[2];
-			if (x == 0 && y == 0 && z == 0) {
-				/* No face contributed: the input's unit normal, else +Z. */
-				++st.zero_normals;
-				z = 1;
-				if (!p->input_normals.empty()) {
-					const double* w = &p->input_normals[3 * i];
-					double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-					if (std::isfinite(l) && std::fabs(l - 1) < 1e-3)
-						x = w[0] / l, y = w[1] / l, z = w[2] / l;
-				}
-			}
-			p->normals[3 * i] = (float)x;
-			p->normals[3 * i + 1] = (float)y;
-			p->normals[3 * i + 2] = (float)z;
+	/* Each primitive's output vertices: its input ones, then its split ones. */
+	auto gather = [&](const std::vector<double>& all, size_t p, std::vector<float>& out, const std::vector<double>* minus) {
+		const primitive& pr = *prims[p];
+		out.resize(3 * pr.output_vertices());
+		for (size_t i = 0; i < out.size(); ++i) {
+			const size_t k = i < 3 * pr.vertices() ? 3 * g.first[p] + i : 3 * (g.n + g.extra_first[p]) + i - 3 * pr.vertices();
+			out[i] = (float)(minus ? all[k] - (*minus)[k] : all[k]);
 		}
-		at += p->vertices();
-		st.vertices += p->vertices();
-		st.triangles += p->triangles.size() / 3;
+	};
+	size_t corner_first = 0;
+	for (size_t p = 0; p < prims.size(); ++p) {
+		primitive& pr = *prims[p];
+		const size_t end = g.extra_source.empty() ? 0 : p + 1 < prims.size() ? g.extra_first[p + 1] : g.extra_source.size();
+		if (end > (g.extra_source.empty() ? 0 : g.extra_first[p])) {
+			for (size_t e = g.extra_first[p]; e < end; ++e)
+				pr.split_source.push_back((uint32_t)(g.extra_source[e] - g.first[p]));
+			for (size_t k = 0; k < pr.triangles.size(); ++k) {
+				const uint32_t v = g.corner_output[corner_first + k];
+				pr.split_triangles.push_back(v < g.n ? (uint32_t)(v - g.first[p])
+				                                     : (uint32_t)(pr.vertices() + v - g.n - g.extra_first[p]));
+			}
+		}
+		gather(base, p, pr.normals, nullptr);
+		corner_first += pr.triangles.size();
+		st.vertices += pr.vertices();
+		st.triangles += pr.triangles.size() / 3;
 		++st.primitives;
-		st.tangent_primitives += p->tangent;
+		st.tangent_primitives += pr.tangent;
+	}
+
+	size_t targets = 0;
+	for (primitive* p : prims)
+		targets = std::max(targets, p->target_positions.size());
+	for (size_t t = 0; t < targets; ++t) {
+		std::vector<double> morphed;
+		for (primitive* p : prims) {
+			const bool moves = t < p->target_positions.size() && !p->target_positions[t].empty();
+			const std::vector<double>& q = moves ? p->target_positions[t] : p->positions;
+			morphed.insert(morphed.end(), q.begin(), q.end());
+		}
+		size_t ignored = 0;
+		const std::vector<double> normals = plan_normals(g, morphed, &ignored);
+		for (size_t p = 0; p < prims.size(); ++p) {
+			primitive& pr = *prims[p];
+			if (t >= pr.target_positions.size())
+				continue;
+			pr.target_normals.emplace_back();
+			if (!pr.target_positions[t].empty() || pr.target_normal[t] >= 0)
+				gather(normals, p, pr.target_normals.back(), &base);
+		}
 	}
 }
 
@@ -527,8 +770,9 @@ json& mesh_primitive(document& d, const primitive& p)
 	return d.j["meshes"][p.mesh]["primitives"][p.index];
 }
 
-/* Appends a float32 VEC3 accessor holding p's normals and points p at it. */
-void append_normals(document& d, const primitive& p, vn_gltf_stats& st)
+/* Appends data as a new bufferView at the end of the last buffer (in a
+ * GLB, the BIN chunk) and returns its index. stride: 0 for none. */
+size_t append_view(document& d, const bytes& data, size_t stride, int target)
 {
 	if (d.buffers.empty()) {
 		d.j["buffers"] = json::array({json{{"byteLength", 0}}});
@@ -541,34 +785,38 @@ void append_normals(document& d, const primitive& p, vn_gltf_stats& st)
 	bytes& buffer = d.buffers[b];
 	buffer.resize((buffer.size() + 3) / 4 * 4, 0);
 	const size_t offset = buffer.size();
-	const size_t length = p.normals.size() * sizeof(float);
-	buffer.resize(offset + length);
-	memcpy(buffer.data() + offset, p.normals.data(), length);
+	buffer.insert(buffer.end(), data.begin(), data.end());
 	d.j["buffers"][b]["byteLength"] = buffer.size();
 	if (!d.j.contains("bufferViews"))
 		d.j["bufferViews"] = json::array();
-	if (!d.j.contains("accessors"))
-		d.j["accessors"] = json::array();
-	d.j["bufferViews"].push_back(json{{"buffer", b}, {"byteOffset", offset}, {"byteLength", length}, {"target", 34962}});
-	d.j["accessors"].push_back(json{{"bufferView", d.j["bufferViews"].size() - 1},
-	                                {"componentType", 5126},
-	                                {"count", p.vertices()},
-	                                {"type", "VEC3"}});
-	mesh_primitive(d, p)["attributes"]["NORMAL"] = d.j["accessors"].size() - 1;
-	++st.appended_accessors;
+	json view = {{"buffer", b}, {"byteOffset", offset}, {"byteLength", data.size()}};
+	if (stride)
+		view["byteStride"] = stride;
+	view["target"] = target;
+	d.j["bufferViews"].push_back(view);
+	return d.j["bufferViews"].size() - 1;
 }
 
-/* Writes p's normals over accessor a (float32, or normalized byte/short),
- * and its min/max when it has them. */
-void overwrite_normals(document& d, long long index, const accessor& a, const primitive& p)
+/* Appends accessor a and returns its index. */
+long long append_accessor(document& d, json a)
+{
+	if (!d.j.contains("accessors"))
+		d.j["accessors"] = json::array();
+	d.j["accessors"].push_back(std::move(a));
+	return (long long)d.j["accessors"].size() - 1;
+}
+
+/* Writes values (3 per element) over accessor a (float32, or normalized
+ * byte/short), and its min/max when it has them. */
+void overwrite_vec3(document& d, long long index, const accessor& a, const std::vector<float>& values)
 {
 	std::vector<double> lo(3, INFINITY), hi(3, -INFINITY);
-	for (size_t i = 0; i < p.vertices(); ++i) {
+	for (size_t i = 0; i < values.size() / 3; ++i) {
 		unsigned char* e = d.buffers[(size_t)a.data.buffer].data() + a.data.offset + i * a.data.stride;
 		for (size_t c = 0; c < 3; ++c) {
-			double v = p.normals[3 * i + c], stored;
+			double v = values[3 * i + c], stored;
 			if (a.component == 5126) {
-				float f = p.normals[3 * i + c];
+				float f = values[3 * i + c];
 				memcpy(e + 4 * c, &f, 4);
 				stored = f;
 			} else if (a.component == 5120) {
@@ -591,28 +839,111 @@ void overwrite_normals(document& d, long long index, const accessor& a, const pr
 		j["max"] = hi;
 }
 
+/* Where values (NORMAL data, 3 per vertex) go: over accessor `index` when it
+ * is plain (float32, or normalized byte/short holding every value; not
+ * sparse; as many elements) and not already written with other values;
+ * otherwise into a new float32 accessor. Returns the accessor. */
+long long put_vec3(document& d, long long index, const std::vector<float>& values,
+                   std::map<long long, const std::vector<float>*>& written, vn_gltf_stats& st)
+{
+	if (index >= 0) {
+		accessor a = get_accessor(d, index);
+		const bool fits = a.component == 5126 ||
+		                  (a.normalized && (a.component == 5120 || a.component == 5122) &&
+		                   std::all_of(values.begin(), values.end(), [](float v) { return std::fabs(v) <= 1; }));
+		if (a.data.buffer >= 0 && a.sparse_count == 0 && fits && (size_t)a.count * 3 == values.size()) {
+			auto it = written.find(index);
+			if (it == written.end()) {
+				overwrite_vec3(d, index, a, values);
+				written[index] = &values;
+				return index;
+			}
+			if (*it->second == values)
+				return index; /* shared, and the same result */
+		}
+	}
+	bytes data(values.size() * sizeof(float));
+	memcpy(data.data(), values.data(), data.size());
+	++st.appended_accessors;
+	return append_accessor(d, json{{"bufferView", append_view(d, data, 0, 34962)},
+	                               {"componentType", 5126},
+	                               {"count", values.size() / 3},
+	                               {"type", "VEC3"}});
+}
+
+/* A copy of accessor `index` with p's split vertices appended (copies of
+ * their input vertices), in a new bufferView; returns the new accessor. */
+long long split_accessor(document& d, long long index, const primitive& p)
+{
+	const accessor a = get_accessor(d, index);
+	const size_t stride = (a.element + 3) / 4 * 4;
+	bytes data(stride * p.output_vertices(), 0);
+	auto element = [&](const span& s, size_t i) {
+		return d.buffers[(size_t)s.buffer].data() + s.offset + i * s.stride;
+	};
+	if (a.data.buffer >= 0)
+		for (size_t i = 0; i < p.vertices(); ++i)
+			memcpy(&data[i * stride], element(a.data, i), a.element);
+	for (size_t k = 0; k < (size_t)a.sparse_count; ++k) {
+		double i = read_component(element(a.sparse_indices, k), a.sparse_index_component, false);
+		if (i >= (double)p.vertices())
+			fail(vn_io_error_parse, str("a sparse index (%.0f) is out of range (count %lld)", i, a.count));
+		memcpy(&data[(size_t)i * stride], element(a.sparse_values, k), a.element);
+	}
+	for (size_t e = 0; e < p.split_source.size(); ++e)
+		memcpy(&data[(p.vertices() + e) * stride], &data[p.split_source[e] * stride], a.element);
+	json j = d.j["accessors"][(size_t)index];
+	j.erase("sparse");
+	j.erase("byteOffset");
+	j["bufferView"] = append_view(d, data, stride == a.element ? 0 : stride, 34962);
+	j["count"] = p.output_vertices();
+	return append_accessor(d, j);
+}
+
+/* Points a split primitive's every attribute (and its morph targets') at
+ * copies with the split vertices, and its indices at the new triangles. */
+void write_split(document& d, const primitive& p)
+{
+	json& prim = mesh_primitive(d, p);
+	std::map<long long, long long> copies;
+	auto copy_all = [&](json& attributes) {
+		for (auto& kv : attributes.items()) {
+			if (kv.key() == "NORMAL")
+				continue;
+			const long long old = get_int(attributes, kv.key().c_str(), 0, "attributes");
+			if (!copies.count(old))
+				copies[old] = split_accessor(d, old, p);
+			kv.value() = copies[old];
+		}
+	};
+	copy_all(prim["attributes"]);
+	if (prim.contains("targets"))
+		for (json& target : prim["targets"])
+			copy_all(target);
+	bytes data(p.split_triangles.size() * 4);
+	memcpy(data.data(), p.split_triangles.data(), data.size());
+	prim["indices"] = append_accessor(d, json{{"bufferView", append_view(d, data, 0, 34963)},
+	                                          {"componentType", 5125},
+	                                          {"count", p.split_triangles.size()},
+	                                          {"type", "SCALAR"}});
+	if (prim.contains("mode"))
+		prim["mode"] = 4; /* strips and fans become triangle lists */
+}
+
+/* Writes every primitive's normals and morph targets' NORMAL displacements
+ * (and, for split primitives, copies of all their vertex data). */
 void write_normals(document& d, std::vector<primitive>& prims, vn_gltf_stats& st)
 {
-	std::map<long long, const primitive*> written;
+	std::map<long long, const std::vector<float>*> written;
 	for (primitive& p : prims) {
-		bool in_place = false;
-		accessor a;
-		if (p.normal >= 0) {
-			a = get_accessor(d, p.normal);
-			in_place = a.data.buffer >= 0 && a.sparse_count == 0 &&
-			           (a.component == 5126 || (a.normalized && (a.component == 5120 || a.component == 5122)));
-		}
-		if (in_place) {
-			auto it = written.find(p.normal);
-			if (it == written.end()) {
-				overwrite_normals(d, p.normal, a, p);
-				written[p.normal] = &p;
-				continue;
-			}
-			if (it->second->normals == p.normals)
-				continue; /* shared, and the same result */
-		}
-		append_normals(d, p, st);
+		const bool split = !p.split_source.empty();
+		if (split)
+			write_split(d, p);
+		json& prim = mesh_primitive(d, p);
+		prim["attributes"]["NORMAL"] = put_vec3(d, split ? -1 : p.normal, p.normals, written, st);
+		for (size_t t = 0; t < p.target_normals.size(); ++t)
+			if (!p.target_normals[t].empty())
+				prim["targets"][t]["NORMAL"] = put_vec3(d, split ? -1 : p.target_normal[t], p.target_normals[t], written, st);
 	}
 }
 
@@ -971,7 +1302,6 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 				compute_group(group, *options, st);
 			}
 		}
-		write_normals(d, prims, st);
 		if (options->drop_tangents)
 			for (const primitive& p : prims)
 				if (p.tangent) {
@@ -983,6 +1313,7 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 							if (target.is_object())
 								target.erase("TANGENT");
 				}
+		write_normals(d, prims, st);
 		save(d, out, out_glb != 0);
 	});
 	if (stats)
@@ -999,12 +1330,14 @@ extern "C" vn_io_result vn_io_gltf_read(const char* path, vn_io_mesh* mesh, vn_i
 	return r;
 }
 
-extern "C" vn_io_result vn_io_gltf_write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error)
+extern "C" vn_io_result vn_io_gltf_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error)
 {
+	(void)settings; /* a glTF written from a mesh has none */
 	return write_stream(out, path, mesh, false, error);
 }
 
-extern "C" vn_io_result vn_io_glb_write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error)
+extern "C" vn_io_result vn_io_glb_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error)
 {
+	(void)settings;
 	return write_stream(out, path, mesh, true, error);
 }

@@ -10,7 +10,8 @@
  *    .gltf written this way carries its buffer as a data URI.
  *
  *  - As a document (vn_gltf_convert): glTF in, glTF out, recomputing the
- *    NORMAL of every triangle primitive and changing nothing else. The
+ *    NORMAL of every triangle primitive and of its morph targets, and
+ *    changing nothing else (unless crease splitting adds vertices). The
  *    original JSON is edited (key order, extras and unknown extensions
  *    survive) and only NORMAL bytes are rewritten: in place when the NORMAL
  *    accessor is plain (float32, or normalized byte/short under
@@ -36,6 +37,14 @@ typedef struct vn_gltf_options {
 	double weld_epsilon;  /* vn_weld_positions' epsilon; 0: exactly equal positions */
 	int weld_mesh;        /* weld across all triangle primitives of a mesh, not per primitive */
 	int drop_tangents;    /* remove TANGENT from primitives (otherwise left as is) */
+	/* Per-corner normals within smooth fans (vn_corner_normals): edges
+	 * whose faces meet at more than crease_angle (radians) are hard, and
+	 * vertices whose corners get different normals are split. Without it,
+	 * hard edges already in the file (split copies whose input normals
+	 * differ by more than 0.1 degree) are kept, and nothing is split; with
+	 * it, copies whose input normals differ by more than crease_angle. */
+	int crease;
+	double crease_angle;
 } vn_gltf_options;
 
 typedef struct vn_gltf_stats {
@@ -64,8 +73,8 @@ vn_io_result vn_gltf_convert(const char* in, const char* out, int out_glb, const
 
 /* The format-table entry points described above. */
 vn_io_result vn_io_gltf_read(const char* path, vn_io_mesh* mesh, vn_io_error* error);
-vn_io_result vn_io_gltf_write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error);
-vn_io_result vn_io_glb_write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error);
+vn_io_result vn_io_gltf_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error);
+vn_io_result vn_io_glb_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error);
 
 #ifdef __cplusplus
 }

@@ -861,8 +861,9 @@ static int any_alpha(const float* colours, size_t count)
 	return 0;
 }
 
-vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error)
+vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error)
 {
+	(void)settings; /* OFF has none */
 	c_locale locale;
 	if (!c_locale_enter(&locale))
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);

@@ -9,7 +9,7 @@
 
 /* The vn_io_format read and write entries for OFF. */
 vn_io_result vn_io_off_read(const char* path, vn_io_mesh* mesh, vn_io_error* error);
-vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error);
+vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error);
 
 /* Parses size bytes of OFF (ASCII or binary; data need not be NUL-terminated)
  * into *mesh, which is zeroed first and again on failure. `name` is the file

@@ -77,9 +77,12 @@ typedef struct vn_io_format {
 	const char* description;
 	/* Reads `path` into *mesh (zeroed on entry). */
 	vn_io_result (*read)(const char* path, vn_io_mesh* mesh, vn_io_error* error);
-	/* Writes mesh to the open stream; `path` is only for messages. The caller
+	/* Writes mesh to the open stream; `path` is only for messages. settings
+	 * are the format's own write settings (NULL: its defaults; the drc
+	 * format takes a vn_drc_options*, the others none). The caller
 	 * (vn_io_write_file) takes care of atomicity. */
-	vn_io_result (*write)(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error);
+	vn_io_result (*write)(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings,
+	                      vn_io_error* error);
 } vn_io_format;
 
 /* The format whose extension `path` ends with (case-insensitive), or NULL. */
@@ -94,9 +97,10 @@ vn_io_result vn_io_read_file(const char* path, const vn_io_format* format, vn_io
 
 /* Writes mesh to path atomically: a temporary file in the same folder is
  * written, flushed, synced and renamed over path; on any failure the
- * temporary file is removed and path is untouched. */
+ * temporary file is removed and path is untouched. format NULL: the one
+ * path's extension names; settings go to its writer (NULL: defaults). */
 vn_io_result vn_io_write_file(const char* path, const vn_io_format* format, const vn_io_mesh* mesh,
-                              vn_io_error* error);
+                              const void* settings, vn_io_error* error);
 
 /* Reads a whole file into a NUL-terminated buffer the caller frees. */
 vn_io_result vn_io_read_all(const char* path, char** data, size_t* size, vn_io_error* error);

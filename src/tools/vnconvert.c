@@ -6,6 +6,7 @@
  * malformed input, unwritable output), 2 on a usage error. Every failure
  * prints exactly one line on stderr and leaves OUT as it was. */
 #include "common.h"
+#include "draco.h"
 #include "gltf.h"
 
 static const char* prog = "vnconvert";
@@ -37,6 +38,15 @@ static void usage(FILE* out)
 	        "      --tangents T       keep (default: left as they are, with a warning) or drop\n"
 	        "                         (TANGENT removed from primitives and morph targets; the\n"
 	        "                         accessor stays)\n"
+	        "      --crease-angle DEG hard edges where faces meet at more than DEG degrees (0 to 180):\n"
+	        "                         per-corner normals, vertices split where they differ\n"
+	        "\n"
+	        "Draco output (.drc); default: a .drc input's bits, else the value in brackets:\n"
+	        "      --draco-qp BITS    position quantization, 1 to 30 bits [14]\n"
+	        "      --draco-qn BITS    normals, 2 to 30 [10] (--stats reports the angle this costs)\n"
+	        "      --draco-qt BITS    texture coordinates, 1 to 30 [12]\n"
+	        "      --draco-qc BITS    float colours, 1 to 30 [8] (byte colours stay lossless)\n"
+	        "      --draco-cl LEVEL   compression level, 0 to 10 [7] (draco_encoder's -cl)\n"
 	        "\n"
 	        "formats:\n",
 	        tool_cpu_count());
@@ -69,6 +79,9 @@ typedef struct args {
 	unsigned threads;
 	int in_place, stats, quiet;
 	vn_gltf_options gltf;
+	/* Draco flags as given, -1 when not: a .drc input's own bits or the
+	 * defaults fill the rest once the input is read. */
+	vn_drc_options drc;
 } args;
 
 static const char* need_value(int argc, char** argv, int* i)
@@ -92,6 +105,8 @@ static args parse(int argc, char** argv)
 	memset(&a, 0, sizeof(a));
 	a.method = vn_method_mwa;
 	a.threads = tool_cpu_count();
+	a.drc = (vn_drc_options){-1, -1, -1, -1, -1};
+	int drc_given = 0;
 	for (int i = 1; i < argc; ++i) {
 		const char* s = argv[i];
 		if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
@@ -135,6 +150,29 @@ static args parse(int argc, char** argv)
 			if (strcmp(v, "keep") && strcmp(v, "drop"))
 				die(2, "--tangents is keep or drop, not '%s'", v);
 			a.gltf.drop_tangents = !strcmp(v, "drop");
+		} else if (!strcmp(s, "--crease-angle")) {
+			const char* v = need_value(argc, argv, &i);
+			char* end;
+			const double degrees = strtod(v, &end);
+			if (!*v || *end || !(degrees >= 0 && degrees <= 180))
+				die(2, "--crease-angle needs a number of degrees from 0 to 180, not '%s'", v);
+			a.gltf.crease = 1;
+			a.gltf.crease_angle = degrees * 3.14159265358979323846 / 180;
+		} else if (!strcmp(s, "--draco-qp") || !strcmp(s, "--draco-qn") || !strcmp(s, "--draco-qt") ||
+		           !strcmp(s, "--draco-qc") || !strcmp(s, "--draco-cl")) {
+			const int level = !strcmp(s, "--draco-cl"), normal = !strcmp(s, "--draco-qn");
+			const char* v = need_value(argc, argv, &i);
+			unsigned long n;
+			/* Draco's octahedral normal coding needs 2 bits at least. */
+			if (!tool_parse_uint(v, level ? 0 : normal ? 2 : 1, level ? 10 : VN_DRC_MAX_BITS, &n))
+				die(2, level    ? "--draco-cl needs a whole number from 0 to 10, not '%s'"
+				       : normal ? "--draco-qn needs a whole number of bits from 2 to 30, not '%s'"
+				                : "Draco quantization needs a whole number of bits from 1 to 30, not '%s'",
+				    v);
+			int* field[] = {&a.drc.position_bits, &a.drc.normal_bits, &a.drc.texcoord_bits, &a.drc.color_bits,
+			                &a.drc.compression_level};
+			*field[strchr("pntcl", s[9]) - "pntcl"] = (int)n;
+			drc_given = 1;
 		} else if (!strcmp(s, "--in-place")) {
 			a.in_place = 1;
 		} else if (!strcmp(s, "--stats")) {
@@ -157,6 +195,8 @@ static args parse(int argc, char** argv)
 		die(2, "cannot tell the format of '%s' from its extension; use --input-format", a.in);
 	if (!a.out_format && !(a.out_format = vn_io_format_for_path(a.out)))
 		die(2, "cannot tell the format of '%s' from its extension; use --format", a.out);
+	if (drc_given && a.out_format != vn_io_format_by_name("drc"))
+		die(2, "the --draco-* options are for .drc output, not '%s'", a.out);
 	return a;
 }
 
@@ -229,8 +269,21 @@ int main(int argc, char** argv)
 
 	progress(&a, "reading", a.in);
 	const double t0 = tool_now();
-	if (vn_io_read_file(a.in, a.in_format, &mesh, &err) != vn_io_success)
+	const int drc_out = a.out_format == vn_io_format_by_name("drc");
+	vn_drc_options drc;
+	vn_drc_default_options(&drc);
+	const vn_io_result read = a.in_format == vn_io_format_by_name("drc")
+	                              ? vn_drc_read_file(a.in, &mesh, &drc, &err)
+	                              : vn_io_read_file(a.in, a.in_format, &mesh, &err);
+	if (read != vn_io_success)
 		die(1, "%s", err.message);
+	int* given[] = {&a.drc.position_bits, &a.drc.normal_bits, &a.drc.texcoord_bits, &a.drc.color_bits,
+	                &a.drc.compression_level};
+	int* used[] = {&drc.position_bits, &drc.normal_bits, &drc.texcoord_bits, &drc.color_bits,
+	               &drc.compression_level};
+	for (size_t i = 0; i < sizeof given / sizeof given[0]; ++i)
+		if (*given[i] >= 0)
+			*used[i] = *given[i];
 
 	const double t1 = tool_now();
 	vn_stats st;
@@ -249,7 +302,8 @@ int main(int argc, char** argv)
 		        prog, st.zero_normals, mesh.vertex_count, is_gltf(a.out_format) ? "(0, 0, 1)" : "the zero vector");
 
 	progress(&a, "writing", a.out);
-	if (vn_io_write_file(a.out, a.out_format, &mesh, &err) != vn_io_success) {
+	if (vn_io_write_file(a.out, a.out_format, &mesh, drc_out ? &drc : NULL, &err) !=
+	    vn_io_success) {
 		fprintf(stderr, "%s: error: %s\n", prog, err.message);
 		vn_io_mesh_free(&mesh);
 		return 1;
@@ -270,6 +324,18 @@ int main(int argc, char** argv)
 		printf("time read:          %.3f ms\n", 1e3 * (t1 - t0));
 		printf("time normals:       %.3f ms\n", 1e3 * (t2 - t1));
 		printf("time write:         %.3f ms\n", 1e3 * (t3 - t2));
+		vn_drc_normal_error q;
+		if (drc_out && vn_drc_normal_error_of(&mesh, &drc, a.out, &q, &err) != vn_io_success) {
+			fprintf(stderr, "%s: error: %s\n", prog, err.message);
+			vn_io_mesh_free(&mesh);
+			return 1;
+		}
+		if (drc_out) {
+			printf("draco settings:     qp=%d qn=%d qt=%d qc=%d cl=%d\n", drc.position_bits, drc.normal_bits,
+			       drc.texcoord_bits, drc.color_bits, drc.compression_level);
+			printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu normals)\n",
+			       q.median_degrees, q.max_degrees, drc.normal_bits, q.compared);
+		}
 	}
 	vn_io_mesh_free(&mesh);
 	return 0;

@@ -439,7 +439,7 @@ static void export_off(const vn_model_mesh* mesh, const char* dir, const char* n
 	m.face_offsets = offsets;
 	m.indices = mesh->indices;
 	vn_io_error err;
-	if (vn_io_write_file(path, vn_io_format_by_name("off"), &m, &err) != vn_io_success)
+	if (vn_io_write_file(path, vn_io_format_by_name("off"), &m, NULL, &err) != vn_io_success)
 		die(1, "%s", err.message);
 	free(offsets);
 }

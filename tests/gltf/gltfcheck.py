@@ -5,7 +5,8 @@
       OUT's JSON equals IN's, key order included, except for what recomputing
       normals may change: NORMAL accessors' min/max, appended bufferViews and
       accessors (which must be NORMAL data), buffers' byteLength and uri, a
-      primitive's NORMAL index (and TANGENT, when dropped). Every accessor that
+      primitive's and its morph targets' NORMAL index (and TANGENT, when
+      dropped). Every accessor that
       is not NORMAL reads back the same bytes, and so does every bufferView
       that no NORMAL accessor uses (images, animations, ...). Every NORMAL
       element is a unit vector.
@@ -97,12 +98,13 @@ def accessor_bytes(doc, buffers, a):
 def accessor_values(doc, buffers, a):
     acc = doc["accessors"][a]
     n = COUNTS[acc["type"]]
-    raw = accessor_bytes(doc, buffers, a)[:SIZES[acc["componentType"]] * n * acc["count"]]
+    size = SIZES[acc["componentType"]] * n * acc["count"]
+    data = accessor_bytes(doc, buffers, a)
+    raw, tail = (data[:size], data[size:]) if "bufferView" in acc else (bytes(size), data)
     values = list(struct.unpack("<%d%s" % (n * acc["count"], FORMATS[acc["componentType"]]), raw))
     if acc.get("sparse"):
         sp = acc["sparse"]
         isize = SIZES[sp["indices"]["componentType"]]
-        tail = accessor_bytes(doc, buffers, a)[len(raw):]
         idx = struct.unpack("<%d%s" % (sp["count"], FORMATS[sp["indices"]["componentType"]]), tail[:isize * sp["count"]])
         vals = struct.unpack("<%d%s" % (n * sp["count"], FORMATS[acc["componentType"]]), tail[isize * sp["count"]:])
         for k, i in enumerate(idx):
@@ -119,7 +121,10 @@ def primitives(doc):
             yield m, p, prim
 
 
-def normal_accessors(doc):
+def normal_accessors(doc, targets=False):
+    """NORMAL accessors of the primitives (targets: of their morph targets)."""
+    if targets:
+        return {t["NORMAL"] for _, _, prim in primitives(doc) for t in prim.get("targets", []) if "NORMAL" in t}
     return {prim["attributes"]["NORMAL"] for _, _, prim in primitives(doc) if "NORMAL" in prim["attributes"]}
 
 
@@ -149,8 +154,8 @@ def strip(doc, normals, tangents_dropped):
         if k == "meshes":
             for mesh in v:
                 for prim in get(mesh, "primitives") or []:
-                    attributes = get(prim, "attributes")
-                    drop(attributes, "NORMAL", *(["TANGENT"] if tangents_dropped else []))
+                    for attributes in [get(prim, "attributes")] + (get(prim, "targets") or []):
+                        drop(attributes, "NORMAL", *(["TANGENT"] if tangents_dropped else []))
     return doc
 
 
@@ -158,7 +163,8 @@ def cmd_diff(a, b, tangents_dropped):
     problems = []
     text_a, in_doc, in_buf = load(a)
     text_b, out_doc, out_buf = load(b)
-    in_normals, out_normals = normal_accessors(in_doc), normal_accessors(out_doc)
+    in_normals = normal_accessors(in_doc) | normal_accessors(in_doc, True)
+    out_normals = normal_accessors(out_doc) | normal_accessors(out_doc, True)
     n_acc, n_view = len(in_doc.get("accessors", [])), len(in_doc.get("bufferViews", []))
     for i in range(n_acc, len(out_doc.get("accessors", []))):
         if i not in out_normals:
@@ -187,7 +193,7 @@ def cmd_diff(a, b, tangents_dropped):
     for v in range(n_view):
         if v not in normal_views and view_bytes(in_doc, in_buf, v) != view_bytes(out_doc, out_buf, v):
             problems.append("bufferView %d changed" % v)
-    for i in out_normals:
+    for i in normal_accessors(out_doc):
         acc = out_doc["accessors"][i]
         tolerance = 1e-6 if acc["componentType"] == 5126 else 0.02
         for x, y, z in accessor_values(out_doc, out_buf, i):
@@ -319,6 +325,244 @@ def cmd_quantized(path):
     return 0
 
 
+def triangles(doc, buf, prim):
+    """The corners of a TRIANGLES primitive, 3 per triangle."""
+    if "indices" in prim:
+        return [i for (i,) in accessor_values(doc, buf, prim["indices"])]
+    return list(range(doc["accessors"][prim["attributes"]["POSITION"]]["count"]))
+
+
+def sub(a, b):
+    return [x - y for x, y in zip(a, b)]
+
+
+def unit(v):
+    length = math.sqrt(sum(x * x for x in v))
+    return [x / length for x in v]
+
+
+def face_normal(p):
+    """The triangle's unit normal, None when it is degenerate."""
+    a, b = sub(p[1], p[0]), sub(p[2], p[0])
+    n = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    return unit(n) if any(n) else None
+
+
+def close(a, b, tolerance):
+    return all(abs(x - y) <= tolerance for x, y in zip(a, b))
+
+
+def vnconvert_normals(vnconvert, method, positions, corners):
+    """Normals vnconvert computes for an OFF mesh (no welding on that path)."""
+    import subprocess
+    import tempfile
+    with tempfile.TemporaryDirectory() as folder:
+        src, dst = os.path.join(folder, "in.off"), os.path.join(folder, "out.off")
+        with open(src, "w") as f:
+            f.write("OFF\n%d %d 0\n" % (len(positions), len(corners) // 3))
+            f.writelines("%.17g %.17g %.17g\n" % tuple(p) for p in positions)
+            f.writelines("3 %d %d %d\n" % tuple(corners[i:i + 3]) for i in range(0, len(corners), 3))
+        subprocess.run([vnconvert, src, dst, "-m", method, "-q"], check=True)
+        rows = [l.split() for l in open(dst) if l.strip()]
+        return [list(map(float, r[3:6])) for r in rows[2:2 + len(positions)]]
+
+
+def cmd_morph(path, vnconvert, method, weld):
+    """Base normals and base + every target's NORMAL displacement against
+    vnconvert on an OFF of the (morphed) positions: welded by equal base
+    position (weld), or as split in the file (split: right when every split
+    is a hard edge, as in a cube with one vertex per face corner)."""
+    _, doc, buf = load(path)
+    problems, checked = [], 0
+    for m, p, prim in primitives(doc):
+        if prim.get("mode", 4) != 4 or not prim.get("targets"):
+            continue
+        base = accessor_values(doc, buf, prim["attributes"]["POSITION"])
+        normals = accessor_values(doc, buf, prim["attributes"]["NORMAL"])
+        corners = triangles(doc, buf, prim)
+        rep = list(range(len(base)))
+        if weld:
+            first = {}
+            rep = [first.setdefault(tuple(q), i) for i, q in enumerate(base)]
+        shapes = [("base", base, [[0.0] * 3] * len(base))]
+        for t, target in enumerate(prim["targets"]):
+            if "POSITION" in target:
+                moved = [[a + b for a, b in zip(q, d)] for q, d in zip(base, accessor_values(doc, buf, target["POSITION"]))]
+                if "NORMAL" not in target:
+                    problems.append("meshes[%d].primitives[%d].targets[%d] has no NORMAL" % (m, p, t))
+                    continue
+                shapes.append(("target %d" % t, moved, accessor_values(doc, buf, target["NORMAL"])))
+        for name, shape, delta in shapes:
+            expected = vnconvert_normals(vnconvert, method, [shape[i] for i in rep], [rep[c] for c in corners])
+            used = set(corners)
+            for i in used:
+                got = [a + b for a, b in zip(normals[i], delta[i])]
+                if not close(got, expected[rep[i]], 1e-5):
+                    problems.append("meshes[%d].primitives[%d] %s vertex %d: %s, expected %s" %
+                                    (m, p, name, i, got, expected[rep[i]]))
+                    break
+            checked += name != "base"
+    if not checked:
+        problems.append("no morph target checked")
+    for q in problems:
+        print("%s: %s" % (path, q))
+    return 1 if problems else 0
+
+
+def cmd_flat(path):
+    """Every corner's normal is its triangle's face normal (to 1e-6), in
+    every TRIANGLES primitive (degenerate triangles aside)."""
+    _, doc, buf = load(path)
+    for m, p, prim in primitives(doc):
+        if prim.get("mode", 4) != 4:
+            continue
+        positions = accessor_values(doc, buf, prim["attributes"]["POSITION"])
+        normals = accessor_values(doc, buf, prim["attributes"]["NORMAL"])
+        corners = triangles(doc, buf, prim)
+        for k in range(0, len(corners), 3):
+            n = face_normal([positions[i] for i in corners[k:k + 3]])
+            if n is None:
+                continue
+            for i in corners[k:k + 3]:
+                if not close(normals[i], n, 1e-6):
+                    print("%s: meshes[%d].primitives[%d] vertex %d has %s, its face %s" % (path, m, p, i, normals[i], n))
+                    return 1
+    return 0
+
+
+def cmd_crease(a, b, splits, vnconvert, method):
+    """b is the cylinder a with --crease-angle between 30 and 90 degrees: the
+    primitive has `splits` more vertices; every corner carries its input
+    corner's POSITION, TEXCOORD_0, COLOR_0 and target POSITION; cap corners
+    have normal +-Z, side corners vnconvert's normal of the side alone (an
+    OFF of its triangles), in the base shape and the morphed one (base +
+    NORMAL displacement)."""
+    _, din, bin_ = load(a)
+    _, dout, bout = load(b)
+    pi, po = din["meshes"][0]["primitives"][0], dout["meshes"][0]["primitives"][0]
+    problems = []
+    count = lambda d, prim: d["accessors"][prim["attributes"]["POSITION"]]["count"]
+    if count(dout, po) != count(din, pi) + splits:
+        problems.append("%d vertices, expected %d + %d" % (count(dout, po), count(din, pi), splits))
+    cin, cout = triangles(din, bin_, pi), triangles(dout, bout, po)
+    values = lambda d, buf, prim: [accessor_values(d, buf, prim["attributes"][k]) for k in ("POSITION", "TEXCOORD_0", "COLOR_0")] + \
+        [accessor_values(d, buf, prim["targets"][0]["POSITION"])]
+    vin, vout = values(din, bin_, pi), values(dout, bout, po)
+    if len(cin) != len(cout) or any(x[i] != y[j] for i, j in zip(cin, cout) for x, y in zip(vin, vout)):
+        problems.append("corners do not carry their input vertex's data")
+    normals = accessor_values(dout, bout, po["attributes"]["NORMAL"])
+    delta = accessor_values(dout, bout, po["targets"][0]["NORMAL"])
+    morphed = [[p + d for p, d in zip(q, e)] for q, e in zip(vin[0], vin[3])]
+    side = [c for k in range(0, len(cin), 3) if abs(face_normal([vin[0][i] for i in cin[k:k + 3]])[2]) < 0.99
+            for c in cin[k:k + 3]]
+    for shape, n, points in (("base", normals, vin[0]),
+                             ("morphed", [[x + y for x, y in zip(u, d)] for u, d in zip(normals, delta)], morphed)):
+        smooth = vnconvert_normals(vnconvert, method, points, side)
+        for k in range(0, len(cout), 3):
+            f = face_normal([points[i] for i in cin[k:k + 3]])
+            for i, j in zip(cin[k:k + 3], cout[k:k + 3]):
+                expected = [0, 0, round(f[2])] if abs(f[2]) > 0.99 else smooth[i]
+                if not close(n[j], expected, 1e-5):
+                    problems.append("%s vertex %d: %s, expected %s" % (shape, j, n[j], expected))
+    for q in problems[:5]:
+        print("%s: %s" % (b, q))
+    return 1 if problems else 0
+
+
+def write_gltf(path, doc, data):
+    doc["buffers"] = [{"byteLength": len(data),
+                       "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}]
+    with open(path, "w") as f:
+        json.dump(doc, f, indent=1)
+    return 0
+
+
+def cmd_morphsphere(path):
+    """The seam sphere with one morph target that stretches its upper half
+    (z > 0) by 1.5 along z: POSITION as a sparse accessor without
+    bufferView, no NORMAL (so the output must add one)."""
+    cmd_sphere(path)
+    with open(path) as f:
+        doc = json.load(f)
+    _, _, (data,) = load(path)
+    positions = [struct.unpack_from("<3f", data, 12 * i) for i in range(doc["accessors"][0]["count"])]
+    moved = [i for i, p in enumerate(positions) if p[2] > 1e-6]
+    values = [(0.0, 0.0, 0.5 * positions[i][2]) for i in moved]
+    data += b"\0" * (-len(data) % 4)
+    at = len(data)
+    data += struct.pack("<%dH" % len(moved), *moved) + b"\0" * (-2 * len(moved) % 4)
+    data += b"".join(struct.pack("<3f", *v) for v in values)
+    f32 = [struct.unpack("<3f", struct.pack("<3f", *v)) for v in values]
+    doc["bufferViews"] += [{"buffer": 0, "byteOffset": at, "byteLength": 2 * len(moved)},
+                           {"buffer": 0, "byteOffset": len(data) - 12 * len(values), "byteLength": 12 * len(values)}]
+    doc["accessors"].append({"componentType": 5126, "count": len(positions), "type": "VEC3",
+                             "min": [0.0, 0.0, 0.0], "max": [0.0, 0.0, max(v[2] for v in f32)],
+                             "sparse": {"count": len(moved),
+                                        "indices": {"bufferView": 4, "componentType": 5123},
+                                        "values": {"bufferView": 5}}})
+    doc["meshes"][0]["primitives"][0]["targets"] = [{"POSITION": len(doc["accessors"]) - 1}]
+    doc["meshes"][0]["weights"] = [0.0]
+    return write_gltf(path, doc, data)
+
+
+def cmd_cylinder(path, segments=12):
+    """A closed cylinder (radius 1, height 1, `segments` sides) with one
+    vertex per position: rings 0.. and segments.., cap centres 2 * segments
+    and 2 * segments + 1. TEXCOORD_0 (float), COLOR_0 (normalized ubyte VEC3,
+    byteStride 4), NORMAL +Z everywhere, and one morph target raising the
+    top by 0.5."""
+    pos, uv, color = [], [], []
+    for z in (0.0, 1.0):
+        for s in range(segments):
+            phi = 2 * math.pi * s / segments
+            pos.append((math.cos(phi), math.sin(phi), z))
+            uv.append((s / segments, z))
+            color.append((s * 20 % 256, int(z * 255), 7))
+    pos += [(0.0, 0.0, 0.0), (0.0, 0.0, 1.0)]
+    uv += [(0.5, 0.0), (0.5, 1.0)]
+    color += [(1, 2, 3), (4, 5, 6)]
+    idx = []
+    for s in range(segments):
+        a, b = s, (s + 1) % segments
+        c, d = a + segments, b + segments
+        idx += [a, b, d, a, d, c, 2 * segments, b, a, 2 * segments + 1, c, d]
+    n = len(pos)
+    up = [(0.0, 0.0, 0.5 if p[2] > 0.5 else 0.0) for p in pos]
+    data = b"".join(struct.pack("<3f", *p) for p in pos)
+    data += b"".join(struct.pack("<3f", 0, 0, 1) for _ in pos)
+    data += b"".join(struct.pack("<2f", *t) for t in uv)
+    data += b"".join(struct.pack("<3Bx", *c) for c in color)
+    data += b"".join(struct.pack("<3f", *u) for u in up)
+    data += struct.pack("<%dH" % len(idx), *idx)
+    views = [(12 * n, None), (12 * n, None), (8 * n, None), (4 * n, 4), (12 * n, None), (2 * len(idx), None)]
+    doc = {
+        "asset": {"version": "2.0", "generator": "vn tests"},
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "name": "cylinder"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2, "COLOR_0": 3},
+                                    "indices": 5, "targets": [{"POSITION": 4}]}], "weights": [0.0]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": n, "type": "VEC3",
+             "min": [-1.0, -1.0, 0.0], "max": [1.0, 1.0, 1.0]},
+            {"bufferView": 1, "componentType": 5126, "count": n, "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5126, "count": n, "type": "VEC2"},
+            {"bufferView": 3, "componentType": 5121, "normalized": True, "count": n, "type": "VEC3"},
+            {"bufferView": 4, "componentType": 5126, "count": n, "type": "VEC3",
+             "min": [0.0, 0.0, 0.0], "max": [0.0, 0.0, 0.5]},
+            {"bufferView": 5, "componentType": 5123, "count": len(idx), "type": "SCALAR"}],
+        "bufferViews": [],
+    }
+    doc["accessors"][0]["min"] = [min(struct.unpack("<3f", struct.pack("<3f", *p))[i] for p in pos) for i in range(3)]
+    doc["accessors"][0]["max"] = [max(struct.unpack("<3f", struct.pack("<3f", *p))[i] for p in pos) for i in range(3)]
+    offset = 0
+    for k, (length, stride) in enumerate(views):
+        view = {"buffer": 0, "byteOffset": offset, "byteLength": length, "target": 34963 if k == 5 else 34962}
+        if stride:
+            view["byteStride"] = stride
+        doc["bufferViews"].append(view)
+        offset += length
+    return write_gltf(path, doc, data)
+
+
 def main(argv):
     if len(argv) >= 4 and argv[1] == "diff":
         return cmd_diff(argv[2], argv[3], "--tangents-dropped" in argv[4:])
@@ -326,6 +570,12 @@ def main(argv):
         return cmd_seams(argv[2], argv[3])
     if len(argv) == 3 and argv[1] == "quantized":
         return cmd_quantized(argv[2])
+    if len(argv) == 7 and argv[1] == "crease":
+        return cmd_crease(argv[2], argv[3], int(argv[4]), argv[5], argv[6])
+    if len(argv) == 6 and argv[1] == "morph" and argv[5] in ("weld", "split"):
+        return cmd_morph(argv[2], argv[3], argv[4], argv[5] == "weld")
+    if len(argv) == 3 and argv[1] in ("flat", "morphsphere", "cylinder"):
+        return {"flat": cmd_flat, "morphsphere": cmd_morphsphere, "cylinder": cmd_cylinder}[argv[1]](argv[2])
     if len(argv) == 3 and argv[1] in ("sphere", "shapes"):
         return cmd_sphere(argv[2], shapes=argv[1] == "shapes")
     print(__doc__, file=sys.stderr)
