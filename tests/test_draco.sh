@@ -2,18 +2,23 @@
 # Draco (.drc) in vnconvert: every sample and method decodes with Debian's
 # draco_decoder and with the npm draco3d decoder to the input's points and
 # triangles within a quantization step; OFF round trips; quantization flags;
-# the normal quantization statistics; corrupt streams.
-#   test_draco.sh PATH/TO/vnconvert NODE_MODULES DRACO_SAMPLE_DIR
+# the normal quantization statistics; corrupt streams. KHR_draco_mesh_compression
+# in glTF: re-encoded primitives decode to the input's points and triangles;
+# --draco off and on; a primitive without NORMAL; refusals.
+#   test_draco.sh PATH/TO/vnconvert NODE_MODULES DRACO_SAMPLE_DIR GLTF_SAMPLE_DIR
 # NODE_MODULES holds draco3d (build-node/node_modules, from .ci/setup);
-# DRACO_SAMPLE_DIR the .drc files (../shared/data/draco from the repository).
+# DRACO_SAMPLE_DIR the .drc files (../shared/data/draco from the repository),
+# GLTF_SAMPLE_DIR the glTF ones (../shared/data/gltf).
 set -u
 VNC=$1
 NODE_MODULES=$2
 DATA=$3
+GLTF=$4
 HERE=$(cd "$(dirname "$0")" && pwd)
 SAMPLES=$HERE/../samples
 . "$(dirname "$0")/lib.sh"
 COMPARE="python3 $HERE/draco/compare.py"
+GLTFCHECK="python3 $HERE/gltf/gltfcheck.py"
 # decode IN.drc OUT_STEM: OUT_STEM.obj (draco_decoder) and OUT_STEM.json (draco3d).
 decode() {
   draco_decoder -i "$1" -o "$2.obj" >/dev/null &&
@@ -112,5 +117,129 @@ for bad in truncated header text flipped12 flipped100 flipped1000 points; do
 done
 check "a point cloud is unsupported" grep -q "point cloud" "$T/stderr"
 check "no temporary files left" [ "$(ls -A "$T/errors")" = keep.off ]
+
+# glTF with KHR_draco_mesh_compression, every method (default --draco keep):
+# the output's Draco data decode, with both decoders, to the input's points
+# and triangles exactly (same bits, positions unchanged), with unit normals.
+for f in "$GLTF/Box_Draco.glb" "$GLTF/BoxMetaDraco/BoxMetaDraco.gltf"; do
+  name=$(basename "${f%.*}")
+  check "$name: has Draco data" $GLTFCHECK drc "$f" "$T/g-$name"
+  check "$name: decodes" decode "$T/g-${name}_0.drc" "$T/g-$name"
+  for m in $("$VNC" --list-methods | cut -d' ' -f1); do
+    for ext in glb gltf; do
+      dst=$T/g-$name-$m-out.$ext
+      run "$VNC" "$f" "$dst" -m "$m" -q
+      check "$name -> $ext ($m) exits 0" [ $rc -eq 0 ]
+      check "$name -> $ext ($m): Draco data" $GLTFCHECK drc "$dst" "$T/g-$name-$m"
+      check "$name -> $ext ($m): decoders read it" decode "$T/g-$name-${m}_0.drc" "$T/g-$name-$m"
+      for x in obj json; do
+        check "$name -> $ext ($m): same points and triangles ($x)" \
+          $COMPARE "$T/g-$name.$x" "$T/g-$name-$m.$x" 30
+        check "$name -> $ext ($m): unit normals ($x)" $COMPARE --normals "$T/g-$name-$m.$x"
+      done
+    done
+  done
+  run "$VNC" "$f" "$T/g-$name-off.glb" -q --draco off
+  check "$name --draco off exits 0" [ $rc -eq 0 ]
+  check "$name --draco off: no Draco left" $GLTFCHECK nodraco "$T/g-$name-off.glb"
+  check "$name --draco off: flat box faces" $GLTFCHECK flat "$T/g-$name-off.glb"
+done
+# Converting the output again finds the Box's hard edges again.
+run "$VNC" "$GLTF/Box_Draco.glb" "$T/g-box.glb" -q && run "$VNC" "$T/g-box.glb" "$T/g-box-off.glb" -q --draco off
+check "Box_Draco keeps its hard edges" $GLTFCHECK flat "$T/g-box-off.glb"
+
+# --draco on, --stats (the normal quantization error of the new normals),
+# --draco-qn overriding an input's normal bits, --draco off after on.
+run "$VNC" "$GLTF/Duck.glb" "$T/duck-on.glb" --draco on --stats
+check "--draco on exits 0" [ $rc -eq 0 ]
+check "--draco on: counted" grep -q "^draco primitives: *1$" "$T/stdout"
+check "--draco on: qn=10 stats line" \
+  grep -q "^draco normal quantization error: median 0\.[0-9]* deg, max 0\.[0-9]* deg (qn=10, 2399 normals)$" "$T/stdout"
+check "--draco on: Draco data" $GLTFCHECK drc "$T/duck-on.glb" "$T/duck-on"
+check "--draco on: decoders read it" decode "$T/duck-on_0.drc" "$T/duck-on"
+run "$VNC" "$GLTF/Duck.glb" "$T/duck.off" -q
+check "--draco on: the Duck's points and triangles within 14 bits" $COMPARE "$T/duck.off" "$T/duck-on.json" 14
+check "--draco on: unit normals" $COMPARE --normals "$T/duck-on.json"
+run "$VNC" "$T/duck-on.glb" "$T/duck-qn.glb" --draco-qn 6 --stats
+check "--draco-qn overrides the input's normal bits" grep -q "^draco normal quantization error: .*(qn=6, 2399 normals)$" "$T/stdout"
+run "$VNC" "$T/duck-on.glb" "$T/duck-off.glb" -q --draco off
+check "--draco off after on: no Draco left" $GLTFCHECK nodraco "$T/duck-off.glb"
+run "$VNC" "$T/duck-off.glb" "$T/duck-back.off" -q
+check "--draco off: the decoded points and triangles" $COMPARE "$T/duck-on.json" "$T/duck-back.off" 24
+
+# A Draco primitive without NORMAL gets one: a new unique id and a
+# bufferView-less accessor; both decoders read unit normals.
+grep -E '^(v|f) ' "$T/in-cube_att.obj" | sed 's#/[0-9/]*##g' >"$T/cube-plain.obj"
+draco_encoder -i "$T/cube-plain.obj" -o "$T/cube-plain.drc" >/dev/null
+node "$HERE/draco/decode.mjs" "$NODE_MODULES" "$T/cube-plain.drc" >"$T/cube-plain.json"
+python3 - "$T/cube-plain.drc" "$T/cube-plain.json" "$T/cube-plain.glb" <<'EOF'
+import json, struct, sys
+drc, decoded, out = sys.argv[1:]
+data = open(drc, "rb").read()
+d = json.load(open(decoded))
+doc = {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_draco_mesh_compression"],
+       "extensionsRequired": ["KHR_draco_mesh_compression"], "scene": 0, "scenes": [{"nodes": [0]}],
+       "nodes": [{"mesh": 0}],
+       "meshes": [{"primitives": [{"attributes": {"POSITION": 1}, "indices": 0, "extensions": {
+           "KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0}}}}]}],
+       "accessors": [{"componentType": 5123, "count": 3 * d["triangles"], "type": "SCALAR"},
+                     {"componentType": 5126, "count": d["points"], "type": "VEC3",
+                      "min": [min(d["positions"][k::3]) for k in range(3)],
+                      "max": [max(d["positions"][k::3]) for k in range(3)]}],
+       "bufferViews": [{"buffer": 0, "byteLength": len(data)}], "buffers": [{"byteLength": len(data)}]}
+text = json.dumps(doc).encode()
+text += b" " * (-len(text) % 4)
+binary = data + b"\0" * (-len(data) % 4)
+open(out, "wb").write(struct.pack("<III", 0x46546C67, 2, 28 + len(text) + len(binary)) +
+                      struct.pack("<II", len(text), 0x4E4F534A) + text +
+                      struct.pack("<II", len(binary), 0x004E4942) + binary)
+EOF
+run "$VNC" "$T/cube-plain.glb" "$T/cube-normal.glb" --stats
+check "no NORMAL: exits 0" [ $rc -eq 0 ]
+check "no NORMAL: an accessor added" grep -q "^appended accessors: *1$" "$T/stdout"
+check "no NORMAL: default qn=10" grep -q "^draco normal quantization error: .*(qn=10, " "$T/stdout"
+check "no NORMAL: structure" $GLTFCHECK diff "$T/cube-plain.glb" "$T/cube-normal.glb"
+check "no NORMAL: Draco data" $GLTFCHECK drc "$T/cube-normal.glb" "$T/cube-normal"
+check "no NORMAL: decoders read it" decode "$T/cube-normal_0.drc" "$T/cube-normal"
+for x in obj json; do
+  check "no NORMAL: unit normals ($x)" $COMPARE --normals "$T/cube-normal.$x"
+done
+check "no NORMAL: same points and triangles" $COMPARE "$T/cube-plain.json" "$T/cube-normal.json" 30
+
+# --crease-angle that would split a Draco primitive's vertices is refused
+# (exit 1, one line, no output); --draco off splits them.
+run "$VNC" "$T/duck-on.glb" "$T/duck-crease.glb" --crease-angle 30
+check "--crease-angle on a Draco primitive exits 1" [ $rc -eq 1 ]
+check "--crease-angle on Draco: one line naming the cause" grep -q "Draco-compressed primitive.*--draco off" "$T/stderr"
+check "--crease-angle on Draco: no output" [ ! -e "$T/duck-crease.glb" ]
+run "$VNC" "$T/duck-on.glb" "$T/duck-crease.glb" -q --crease-angle 30 --draco off
+check "--crease-angle with --draco off exits 0" [ $rc -eq 0 ]
+run "$VNC" "$GLTF/Box.glb" "$T/x.off" --draco off
+check "--draco with OFF output exits 2" [ $rc -eq 2 ]
+run "$VNC" "$GLTF/Box.glb" "$T/x.glb" --draco maybe
+check "--draco maybe exits 2" [ $rc -eq 2 ]
+
+# A corrupt Draco stream inside a GLB (and a .gltf), a missing Draco
+# attribute: exit 1, one line naming the file, no output.
+python3 - "$GLTF/Box_Draco.glb" "$T/cube-plain.glb" "$T" <<'EOF'
+import json, struct, sys
+box, plain, t = sys.argv[1:]
+d = bytearray(open(box, "rb").read())
+length = struct.unpack_from("<I", d, 12)[0]
+start = 20 + length + 8  # the BIN chunk's data: the Draco bufferView at offset 0
+for k in range(start + 20, start + 60):
+    d[k] ^= 0x5A
+open(t + "/draco-flipped.glb", "wb").write(d)
+d = bytearray(open(box, "rb").read())
+open(t + "/draco-truncated.glb", "wb").write(d[:start + 60])
+d = bytearray(open(plain, "rb").read())
+text = d[20:20 + struct.unpack_from("<I", d, 12)[0]].replace(b'"POSITION": 0}', b'"POSITION": 7}')
+open(t + "/draco-missing.glb", "wb").write(bytes(d[:20]) + text + bytes(d[20 + len(text):]))
+EOF
+mkdir -p "$T/gerrors"
+for bad in draco-flipped.glb draco-truncated.glb draco-missing.glb; do
+  check_rejected "$VNC" "$T/$bad" "$T/gerrors/none.glb" "$T/gerrors/keep.glb"
+done
+check "no temporary files left (glTF)" [ "$(ls -A "$T/gerrors")" = keep.glb ]
 
 finish

@@ -1,7 +1,7 @@
 /*
  * Draco (.drc) for vn_io: see draco.h. Everything goes through the plain
  * vn_drc_geometry structs, so the vn_io format and the API that glTF's
- * KHR_draco_mesh_compression will use are the same code.
+ * KHR_draco_mesh_compression (gltf.cpp) uses are the same code.
  */
 #include "draco.h"
 

@@ -5,7 +5,8 @@
  * GLB BIN chunk, data URIs, external .bin files). Everything else works on
  * the original JSON, kept as an nlohmann::ordered_json so that key order,
  * extras and unknown extensions survive, and on copies of the buffers in
- * which only NORMAL bytes change (new data, when any, is appended).
+ * which only NORMAL bytes change (new data, when any, is appended; Draco
+ * data are decoded and encoded again with draco.h).
  */
 #include "gltf.h"
 
@@ -20,6 +21,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <tiny_gltf.h>
@@ -258,8 +260,22 @@ double read_component(const unsigned char* p, long long type, bool normalized)
 	case 5121: { uint8_t v; memcpy(&v, p, 1); return normalized ? v / 255.0 : v; }
 	case 5122: { int16_t v; memcpy(&v, p, 2); return normalized ? std::max(v / 32767.0, -1.0) : v; }
 	case 5123: { uint16_t v; memcpy(&v, p, 2); return normalized ? v / 65535.0 : v; }
+	case 5124: { int32_t v; memcpy(&v, p, 4); return v; } /* Draco's, never a glTF accessor's */
 	case 5125: { uint32_t v; memcpy(&v, p, 4); return v; }
 	default: { float v; memcpy(&v, p, 4); return v; }
+	}
+}
+
+/* v (not normalized: integers are rounded) as a component of type. */
+void write_component(unsigned char* p, long long type, double v)
+{
+	switch (type) {
+	case 5120: { int8_t q = (int8_t)std::lround(v); memcpy(p, &q, 1); break; }
+	case 5121: { uint8_t q = (uint8_t)std::lround(v); memcpy(p, &q, 1); break; }
+	case 5122: { int16_t q = (int16_t)std::lround(v); memcpy(p, &q, 2); break; }
+	case 5123: { uint16_t q = (uint16_t)std::lround(v); memcpy(p, &q, 2); break; }
+	case 5125: { uint32_t q = (uint32_t)std::llround(v); memcpy(p, &q, 4); break; }
+	default: { float f = (float)v; memcpy(p, &f, 4); break; }
 	}
 }
 
@@ -287,6 +303,39 @@ std::vector<double> read_accessor(const document& d, const accessor& a)
 	return out;
 }
 
+const json* draco_extension(const json& prim);
+
+/* The file as tinygltf gets it: tinygltf insists on a bufferView for every
+ * primitive's indices accessor, which Draco-compressed primitives lack, so
+ * their "indices" are left out (vn reads them itself). json_length: the
+ * GLB's JSON chunk length. */
+std::string for_tinygltf(const std::string& file, const json& j, bool glb, size_t json_length)
+{
+	json copy = j;
+	bool changed = false;
+	auto meshes = copy.find("meshes");
+	if (meshes != copy.end() && meshes->is_array())
+		for (json& mesh : *meshes)
+			if (mesh.is_object() && mesh.contains("primitives") && mesh["primitives"].is_array())
+				for (json& prim : mesh["primitives"])
+					if (prim.is_object() && draco_extension(prim) && prim.contains("indices"))
+						changed = prim.erase("indices") != 0;
+	if (!changed)
+		return file;
+	std::string text = copy.dump();
+	if (!glb)
+		return text;
+	text.resize((text.size() + 3) / 4 * 4, ' ');
+	const std::string rest = file.substr(20 + json_length);
+	bytes head;
+	put32(head, glb_magic);
+	put32(head, 2);
+	put32(head, (uint32_t)(20 + text.size() + rest.size()));
+	put32(head, (uint32_t)text.size());
+	put32(head, chunk_json);
+	return std::string(head.begin(), head.end()) + text + rest;
+}
+
 document load(const std::string& path)
 {
 	char* raw;
@@ -301,6 +350,7 @@ document load(const std::string& path)
 	d.folder = folder_of(path);
 	const unsigned char* u = (const unsigned char*)file.data();
 	std::string text = file;
+	size_t json_length = 0;
 	d.glb = size >= 4 && le32(u) == glb_magic;
 	if (d.glb) {
 		if (size < 20)
@@ -316,6 +366,7 @@ document load(const std::string& path)
 		if (length > size - 20)
 			fail(vn_io_error_parse, str("malformed GLB: the JSON chunk length %u exceeds the file", length));
 		text = file.substr(20, length);
+		json_length = length;
 		size_t at = 20 + (size_t)length;
 		if (at < size) {
 			if (size - at < 8)
@@ -337,8 +388,10 @@ document load(const std::string& path)
 	loader.SetImageLoader(skip_image, nullptr);
 	tinygltf::Model model;
 	std::string err, warn;
-	bool ok = d.glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, u, (unsigned)size, d.folder)
-	                : loader.LoadASCIIFromString(&model, &err, &warn, file.data(), (unsigned)size, d.folder);
+	const std::string given = for_tinygltf(file, d.j, d.glb, json_length);
+	bool ok = d.glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, (const unsigned char*)given.data(),
+	                                              (unsigned)given.size(), d.folder)
+	                : loader.LoadASCIIFromString(&model, &err, &warn, given.data(), (unsigned)given.size(), d.folder);
 	if (!ok)
 		fail(vn_io_error_parse, first_line(err.empty() ? "tinygltf cannot load the file" : err));
 	for (auto& b : model.buffers)
@@ -353,6 +406,164 @@ document load(const std::string& path)
 			                            d.buffers[i].size(), declared));
 	}
 	return d;
+}
+
+/* ------------------------------------------------------------------ Draco */
+
+const char* const draco_name = "KHR_draco_mesh_compression";
+
+/* A primitive's KHR_draco_mesh_compression object, or null. */
+const json* draco_extension(const json& prim)
+{
+	auto e = prim.find("extensions");
+	if (e == prim.end() || !e->is_object())
+		return nullptr;
+	auto k = e->find(draco_name);
+	return k == e->end() ? nullptr : &*k;
+}
+
+/* A Draco-compressed primitive decoded: its geometry and, per glTF
+ * attribute name, the Draco attribute the extension maps it to. */
+struct draco_mesh {
+	vn_drc_geometry g{};
+	std::map<std::string, const vn_drc_attribute*> by_name;
+	draco_mesh() = default;
+	draco_mesh(const draco_mesh&) = delete;
+	draco_mesh& operator=(const draco_mesh&) = delete;
+	~draco_mesh() { vn_drc_geometry_free(&g); }
+};
+
+size_t append_view(document& d, const bytes& data, size_t stride, int target);
+
+/* Decodes primitive prim's Draco data (ext: its extension object) and
+ * checks it against the primitive: every attribute compressed, accessors
+ * with the decoded counts and sizes, TRIANGLES with indices, no targets. */
+std::shared_ptr<draco_mesh> decode_draco(const document& d, const json& prim, const json& ext, const std::string& what)
+{
+	const std::string ew = what + ".extensions." + draco_name;
+	if (!ext.is_object() || !ext.contains("attributes") || !ext["attributes"].is_object())
+		fail(vn_io_error_parse, ew + " is malformed");
+	if (get_int(prim, "mode", 4, what) != 4 || !prim.contains("indices") || prim.contains("targets"))
+		fail(vn_io_error_unsupported,
+		     what + " is Draco-compressed and not indexed TRIANGLES without morph targets, which vn does not read");
+	const long long view = get_int(ext, "bufferView", -1, ew);
+	const size_t length = (size_t)get_int(element(d.j, "bufferViews", view, ew), "byteLength", 0, str("bufferViews[%lld]", view));
+	const span s = view_span(d, view, 0, length, 1, ew);
+	auto m = std::make_shared<draco_mesh>();
+	vn_io_error e;
+	const vn_io_result r = vn_drc_decode(d.buffers[(size_t)s.buffer].data() + s.offset, length, what.c_str(), &m->g, &e);
+	if (r != vn_io_success)
+		fail(r, e.message);
+	const json& attributes = prim["attributes"];
+	for (auto& kv : ext["attributes"].items()) {
+		const long long id = get_int(ext["attributes"], kv.key().c_str(), 0, ew + ".attributes");
+		for (size_t i = 0; i < m->g.attribute_count; ++i)
+			if (m->g.attributes[i].unique_id == id)
+				m->by_name[kv.key()] = &m->g.attributes[i];
+		if (!m->by_name.count(kv.key()))
+			fail(vn_io_error_parse, str("%s.attributes.%s is Draco attribute %lld, which the data does not have",
+			                            ew.c_str(), kv.key().c_str(), id));
+		if (!attributes.contains(kv.key()))
+			fail(vn_io_error_parse, str("%s.attributes has no %s", what.c_str(), kv.key().c_str()));
+	}
+	for (auto& kv : attributes.items()) {
+		if (!m->by_name.count(kv.key()))
+			fail(vn_io_error_unsupported, str("%s: %s is not in the Draco data, which vn does not handle", what.c_str(),
+			                                  kv.key().c_str()));
+		const accessor a = get_accessor(d, get_int(attributes, kv.key().c_str(), 0, what + ".attributes"));
+		if ((size_t)a.count != m->g.point_count || (int)a.components != m->by_name[kv.key()]->components)
+			fail(vn_io_error_parse, str("%s: the %s accessor's count or type does not match the Draco data (%zu points)",
+			                            what.c_str(), kv.key().c_str(), m->g.point_count));
+	}
+	if ((size_t)get_accessor(d, get_int(prim, "indices", 0, what)).count != 3 * m->g.triangle_count)
+		fail(vn_io_error_parse, str("%s: the indices accessor's count does not match the Draco data (%zu triangles)",
+		                            what.c_str(), m->g.triangle_count));
+	for (const char* name : {"POSITION", "NORMAL"}) {
+		auto it = m->by_name.find(name);
+		if (it != m->by_name.end() && (it->second->component_type != 5126 || it->second->components != 3))
+			fail(vn_io_error_unsupported, str("%s: the Draco %s is not 3 floats", what.c_str(), name));
+	}
+	return m;
+}
+
+/* A Draco attribute's values in a new bufferView, in the component type of
+ * accessor `index`, which is pointed at it (its min/max recomputed). */
+void store_decoded(document& d, long long index, const vn_drc_attribute& a, size_t points, int target)
+{
+	const accessor info = get_accessor(d, index);
+	const size_t csize = component_size(info.component), stride = target == 34962 ? (info.element + 3) / 4 * 4 : info.element;
+	const size_t dsize = (size_t)component_size(a.component_type == 5124 ? 5125 : a.component_type);
+	bytes data(stride * points, 0);
+	std::vector<double> lo(info.components, INFINITY), hi(info.components, -INFINITY);
+	for (size_t i = 0; i < points; ++i)
+		for (size_t c = 0; c < info.components; ++c) {
+			const double v = read_component((const unsigned char*)a.data + dsize * (i * info.components + c), a.component_type, false);
+			write_component(&data[i * stride + c * csize], info.component, v);
+			const double stored = read_component(&data[i * stride + c * csize], info.component, false);
+			lo[c] = std::min(lo[c], stored);
+			hi[c] = std::max(hi[c], stored);
+		}
+	json& j = d.j["accessors"][(size_t)index];
+	j.erase("byteOffset");
+	j.erase("sparse");
+	j["bufferView"] = append_view(d, data, stride == info.element ? 0 : stride, target);
+	for (auto bound : {std::make_pair("min", &lo), std::make_pair("max", &hi)})
+		if (j.contains(bound.first)) {
+			j[bound.first] = json::array();
+			for (double v : *bound.second)
+				j[bound.first].push_back(info.component == 5126 ? json(v) : json((long long)v));
+		}
+}
+
+/* --draco off: every Draco-compressed primitive's decoded data go into new
+ * bufferViews under its accessors, the extension is removed, and so is
+ * KHR_draco_mesh_compression from extensionsUsed and extensionsRequired.
+ * The primitives are then read as any other. */
+void decompress_draco(document& d)
+{
+	auto meshes = d.j.find("meshes");
+	if (meshes == d.j.end() || !meshes->is_array())
+		return; /* reported by triangle_primitives */
+	std::map<long long, int> done;
+	for (size_t m = 0; m < meshes->size(); ++m) {
+		json& mesh = (*meshes)[m];
+		if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array())
+			continue;
+		for (size_t p = 0; p < mesh["primitives"].size(); ++p) {
+			json& prim = mesh["primitives"][p];
+			const json* ext = prim.is_object() && prim.contains("attributes") && prim["attributes"].is_object()
+			                      ? draco_extension(prim) : nullptr;
+			if (!ext)
+				continue;
+			const std::string what = str("meshes[%zu].primitives[%zu]", m, p);
+			const std::shared_ptr<draco_mesh> dm = decode_draco(d, prim, *ext, what);
+			std::vector<long long> accessors = {get_int(prim, "indices", 0, what)};
+			for (const auto& kv : dm->by_name)
+				accessors.push_back(get_int(prim["attributes"], kv.first.c_str(), 0, what));
+			for (long long a : accessors)
+				if (done[a]++)
+					fail(vn_io_error_unsupported,
+					     str("accessors[%lld] is used by more than one Draco-compressed primitive, which vn does not decompress", a));
+			for (const auto& kv : dm->by_name)
+				store_decoded(d, get_int(prim["attributes"], kv.first.c_str(), 0, what), *kv.second, dm->g.point_count, 34962);
+			json& indices = d.j["accessors"][(size_t)accessors[0]];
+			if (dm->g.point_count > (get_int(indices, "componentType", 0, what) == 5121 ? 256u : 65536u))
+				indices["componentType"] = 5125;
+			const vn_drc_attribute corners = {0, 0, 5125, 1, 0, 0, dm->g.indices};
+			store_decoded(d, accessors[0], corners, 3 * dm->g.triangle_count, 34963);
+			prim["extensions"].erase(draco_name);
+			if (prim["extensions"].empty())
+				prim.erase("extensions");
+		}
+	}
+	for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
+		auto it = d.j.find(list);
+		if (it == d.j.end() || !it->is_array())
+			continue;
+		it->erase(std::remove(it->begin(), it->end(), json(draco_name)), it->end());
+		if (it->empty())
+			d.j.erase(list);
+	}
 }
 
 /* ------------------------------------------------------------------ normals */
@@ -377,6 +588,9 @@ struct primitive {
 	 * Both empty when no vertex is split. */
 	std::vector<uint32_t> split_source;
 	std::vector<uint32_t> split_triangles;
+	/* Draco-compressed (null: not): positions, triangles and input normals
+	 * above come from it. */
+	std::shared_ptr<const draco_mesh> draco;
 	size_t vertices() const { return positions.size() / 3; }
 	size_t output_vertices() const { return vertices() + split_source.size(); }
 };
@@ -399,10 +613,6 @@ std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 			const std::string what = str("meshes[%zu].primitives[%zu]", m, p);
 			if (!prim.is_object() || !prim.contains("attributes") || !prim["attributes"].is_object())
 				fail(vn_io_error_parse, what + " has no attributes object");
-			if (prim.contains("extensions") && prim["extensions"].is_object() &&
-			    prim["extensions"].contains("KHR_draco_mesh_compression"))
-				fail(vn_io_error_unsupported, what + " is Draco-compressed (KHR_draco_mesh_compression), "
-				                                     "which vn does not read yet");
 			long long mode = get_int(prim, "mode", 4, what);
 			if (mode > 6)
 				fail(vn_io_error_parse, what + " has an invalid mode");
@@ -421,6 +631,22 @@ std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 			r.mesh = m;
 			r.index = p;
 			r.position = get_int(attributes, "POSITION", 0, what + ".attributes");
+			if (const json* ext = draco_extension(prim)) {
+				r.draco = decode_draco(d, prim, *ext, what);
+				const vn_drc_geometry& g = r.draco->g;
+				const float* q = (const float*)r.draco->by_name.at("POSITION")->data;
+				r.positions.assign(q, q + 3 * g.point_count);
+				r.triangles.assign(g.indices, g.indices + 3 * g.triangle_count);
+				auto normal = r.draco->by_name.find("NORMAL");
+				if (normal != r.draco->by_name.end()) {
+					r.normal = get_int(attributes, "NORMAL", 0, what + ".attributes");
+					q = (const float*)normal->second->data;
+					r.input_normals.assign(q, q + 3 * g.point_count);
+				}
+				r.tangent = attributes.contains("TANGENT");
+				out.push_back(std::move(r));
+				continue;
+			}
 			accessor pa = get_accessor(d, r.position);
 			if (pa.components != 3 || pa.count > (long long)UINT32_MAX)
 				fail(vn_io_error_parse, what + ": POSITION is not VEC3");
@@ -602,15 +828,24 @@ size_t flag_hard_edges(group_plan& g, double angle)
 	};
 	auto next = [](size_t k) { return k - k % 3 + (k + 1) % 3; };
 	const size_t corners = g.triangles.size();
-	std::vector<std::pair<uint64_t, uint32_t>> edges(corners);
+	/* Only an edge with an end where welding merged copies can join copies
+	 * with different input normals: the others need no search (on a file
+	 * without split vertices, that is every edge). */
+	std::vector<uint8_t> merged(g.n, 0);
+	for (size_t i = 0; i < g.n; ++i)
+		if (g.remap[i] != i)
+			merged[g.remap[i]] = 1;
+	auto candidate = [&](size_t k) { return merged[g.triangles[k]] || merged[g.triangles[next(k)]]; };
+	std::vector<std::pair<uint64_t, uint32_t>> edges;
 	for (size_t k = 0; k < corners; ++k)
-		edges[k] = {(uint64_t)g.triangles[k] << 32 | g.triangles[next(k)], (uint32_t)k};
+		if (candidate(k))
+			edges.push_back({(uint64_t)g.triangles[k] << 32 | g.triangles[next(k)], (uint32_t)k});
 	std::sort(edges.begin(), edges.end());
 	g.sharp.assign(corners, 0);
 	size_t flagged = 0;
 	for (size_t k = 0; k < corners; ++k) {
-		if (g.triangles[k] == g.triangles[next(k)])
-			continue; /* a degenerate triangle has no edges */
+		if (!candidate(k) || g.triangles[k] == g.triangles[next(k)])
+			continue; /* no merged end, or a degenerate triangle (no edges) */
 		const uint64_t opposite = (uint64_t)g.triangles[next(k)] << 32 | g.triangles[k];
 		auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(opposite, (uint32_t)0));
 		for (; it != edges.end() && it->first == opposite && !g.sharp[k]; ++it) {
@@ -771,7 +1006,7 @@ json& mesh_primitive(document& d, const primitive& p)
 }
 
 /* Appends data as a new bufferView at the end of the last buffer (in a
- * GLB, the BIN chunk) and returns its index. stride: 0 for none. */
+ * GLB, the BIN chunk) and returns its index. stride, target: 0 for none. */
 size_t append_view(document& d, const bytes& data, size_t stride, int target)
 {
 	if (d.buffers.empty()) {
@@ -792,7 +1027,8 @@ size_t append_view(document& d, const bytes& data, size_t stride, int target)
 	json view = {{"buffer", b}, {"byteOffset", offset}, {"byteLength", data.size()}};
 	if (stride)
 		view["byteStride"] = stride;
-	view["target"] = target;
+	if (target)
+		view["target"] = target;
 	d.j["bufferViews"].push_back(view);
 	return d.j["bufferViews"].size() - 1;
 }
@@ -930,12 +1166,204 @@ void write_split(document& d, const primitive& p)
 		prim["mode"] = 4; /* strips and fans become triangle lists */
 }
 
+/* Draco primitives written, per normal quantization bits: their positions,
+ * new normals and triangles, for the --stats quantization error. */
+struct quantized_normals {
+	std::vector<double> positions, normals;
+	std::vector<uint32_t> indices;
+};
+
+/* The Draco bits and level given in o, vn_drc_default_options' for the others. */
+vn_drc_options draco_bits(const vn_gltf_options& o)
+{
+	vn_drc_options bits;
+	vn_drc_default_options(&bits);
+	const vn_drc_options& given = o.draco_options;
+	for (auto f : {std::make_pair(&bits.position_bits, given.position_bits), std::make_pair(&bits.normal_bits, given.normal_bits),
+	               std::make_pair(&bits.texcoord_bits, given.texcoord_bits), std::make_pair(&bits.color_bits, given.color_bits),
+	               std::make_pair(&bits.compression_level, given.compression_level)})
+		if (f.second >= 0)
+			*f.first = f.second;
+	return bits;
+}
+
+/* g Draco-encoded at `level` into a new bufferView; returns its index. */
+size_t append_draco(document& d, const vn_drc_geometry& g, int level, const std::string& what)
+{
+	void* data;
+	size_t size;
+	vn_io_error e;
+	const vn_io_result r = vn_drc_encode(&g, level, what.c_str(), &data, &size, &e);
+	if (r != vn_io_success)
+		fail(r, e.message);
+	const bytes encoded((unsigned char*)data, (unsigned char*)data + size);
+	free(data);
+	return append_view(d, encoded, 0, 0);
+}
+
+/* Adds p's output vertices (positions, new normals) and triangles. */
+void record_normals(quantized_normals& q, const primitive& p)
+{
+	const size_t first = q.positions.size() / 3;
+	for (uint32_t v : p.split_source.empty() ? p.triangles : p.split_triangles)
+		q.indices.push_back((uint32_t)(first + v));
+	q.positions.insert(q.positions.end(), p.positions.begin(), p.positions.end());
+	for (uint32_t v : p.split_source)
+		q.positions.insert(q.positions.end(), &p.positions[3 * v], &p.positions[3 * v] + 3);
+	q.normals.insert(q.normals.end(), p.normals.begin(), p.normals.end());
+}
+
+/* Encodes Draco primitive p again with its new normals: the same attributes
+ * (but a dropped TANGENT), unique ids and bits (normals: --draco-qn when given; a NORMAL the data
+ * lacked gets the next unique id and a bufferView-less accessor), in a new
+ * bufferView the extension points at. */
+void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_gltf_stats& st,
+                 std::map<int, quantized_normals>& quantized)
+{
+	const std::string what = str("meshes[%zu].primitives[%zu]", p.mesh, p.index);
+	if (!p.split_source.empty())
+		fail(vn_io_error_unsupported,
+		     str("%s: --crease-angle would split %zu vertices of this Draco-compressed primitive, which vn does not "
+		         "do inside Draco data (--draco off writes it uncompressed)", what.c_str(), p.split_source.size()));
+	json& prim = mesh_primitive(d, p);
+	json& ext = prim["extensions"][draco_name];
+	const vn_drc_geometry& in = p.draco->g;
+	std::vector<vn_drc_attribute> attributes;
+	for (size_t i = 0; i < in.attribute_count; ++i)
+		if (!o.drop_tangents || !p.draco->by_name.count("TANGENT") || p.draco->by_name.at("TANGENT") != &in.attributes[i])
+			attributes.push_back(in.attributes[i]);
+	std::vector<float> normals(p.normals);
+	auto normal = std::find_if(attributes.begin(), attributes.end(), [&](const vn_drc_attribute& a) {
+		return p.draco->by_name.count("NORMAL") && a.unique_id == p.draco->by_name.at("NORMAL")->unique_id;
+	});
+	if (normal == attributes.end()) {
+		vn_drc_attribute a = {0, vn_drc_normal, vn_drc_float32, 3, 0, 0, nullptr};
+		for (const vn_drc_attribute& b : attributes)
+			a.unique_id = std::max(a.unique_id, b.unique_id + 1);
+		a.quantization_bits = -1; /* set below */
+		ext["attributes"]["NORMAL"] = a.unique_id;
+		prim["attributes"]["NORMAL"] = append_accessor(d, json{{"componentType", 5126}, {"count", in.point_count}, {"type", "VEC3"}});
+		++st.appended_accessors;
+		attributes.push_back(a);
+		normal = attributes.end() - 1;
+	}
+	normal->data = normals.data();
+	const vn_drc_options bits = draco_bits(o);
+	if (o.draco_options.normal_bits >= 0 || normal->quantization_bits < 0)
+		normal->quantization_bits = bits.normal_bits;
+	vn_drc_geometry g = in;
+	g.attributes = attributes.data();
+	g.attribute_count = attributes.size();
+	ext["bufferView"] = append_draco(d, g, bits.compression_level, what);
+	++st.draco_primitives;
+	record_normals(quantized[normal->quantization_bits], p);
+}
+
+/* --draco on: p (not Draco-compressed on input, normals written, split
+ * when it had to be) gets its attributes and triangles Draco-encoded with
+ * o's bits (semantics by name: POSITION, NORMAL, TEXCOORD_n, COLOR_n, the
+ * rest generic and lossless), new bufferView-less accessors and indices,
+ * and the extension. The old accessors stay (unused). A primitive with
+ * morph targets is left uncompressed: Draco renumbers the vertices that
+ * the targets' accessors follow. */
+void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_gltf_stats& st,
+                    std::map<int, quantized_normals>& quantized)
+{
+	json& prim = mesh_primitive(d, p);
+	if (prim.contains("targets"))
+		return;
+	const std::string what = str("meshes[%zu].primitives[%zu]", p.mesh, p.index);
+	const vn_drc_options bits = draco_bits(o);
+	const size_t n = p.output_vertices();
+	std::vector<bytes> storage;
+	std::vector<vn_drc_attribute> attributes;
+	json ext_attributes = json::object();
+	for (auto& kv : prim["attributes"].items()) {
+		const std::string& name = kv.key();
+		const long long index = get_int(prim["attributes"], name.c_str(), 0, what + ".attributes");
+		accessor a = get_accessor(d, index);
+		if (a.components > 4 || (size_t)a.count != n)
+			fail(vn_io_error_unsupported, str("%s: %s cannot be Draco-compressed (more than 4 components, or not one per vertex)",
+			                                  what.c_str(), name.c_str()));
+		a.normalized = false; /* the stored integers, which Draco keeps with the flag */
+		const std::vector<double> values = read_accessor(d, a);
+		const size_t csize = component_size(a.component);
+		storage.emplace_back(values.size() * csize);
+		for (size_t i = 0; i < values.size(); ++i)
+			write_component(&storage.back()[i * csize], a.component, values[i]);
+		const bool texcoord = name.rfind("TEXCOORD_", 0) == 0, color = name.rfind("COLOR_", 0) == 0;
+		vn_drc_attribute da = {(uint32_t)attributes.size(),
+		                       name == "POSITION" ? vn_drc_position : name == "NORMAL" ? vn_drc_normal
+		                       : texcoord ? vn_drc_texcoord : color ? vn_drc_color : vn_drc_generic,
+		                       (int)a.component, (int)a.components, get_accessor(d, index).normalized, 0, nullptr};
+		da.quantization_bits = da.semantic == vn_drc_position ? bits.position_bits : da.semantic == vn_drc_normal ? bits.normal_bits
+		                       : texcoord ? bits.texcoord_bits : color ? bits.color_bits : 0;
+		attributes.push_back(da);
+		ext_attributes[name] = da.unique_id;
+		json copy = d.j["accessors"][(size_t)index];
+		copy.erase("bufferView");
+		copy.erase("byteOffset");
+		copy.erase("sparse");
+		kv.value() = append_accessor(d, copy);
+	}
+	for (size_t i = 0; i < attributes.size(); ++i)
+		attributes[i].data = storage[i].data();
+	const std::vector<uint32_t>& triangles = p.split_source.empty() ? p.triangles : p.split_triangles;
+	vn_drc_geometry g = {n, triangles.size() / 3, const_cast<uint32_t*>(triangles.data()), attributes.size(), attributes.data()};
+	const size_t view = append_draco(d, g, bits.compression_level, what);
+	prim["indices"] = append_accessor(d, json{{"componentType", n <= 256 ? 5121 : n <= 65536 ? 5123 : 5125},
+	                                          {"count", triangles.size()},
+	                                          {"type", "SCALAR"}});
+	if (prim.contains("mode"))
+		prim["mode"] = 4;
+	if (!prim.contains("extensions"))
+		prim["extensions"] = json::object();
+	prim["extensions"][draco_name] = json{{"bufferView", view}, {"attributes", ext_attributes}};
+	for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
+		json& names = d.j[list];
+		if (std::find(names.begin(), names.end(), json(draco_name)) == names.end())
+			names.push_back(draco_name);
+	}
+	++st.draco_primitives;
+	record_normals(quantized[bits.normal_bits], p);
+}
+
+/* --stats: the angle normal quantization adds, per normal bits. */
+void normal_errors(const std::map<int, quantized_normals>& quantized, const vn_gltf_options& o, vn_gltf_stats& st)
+{
+	for (const auto& kv : quantized) {
+		const quantized_normals& q = kv.second;
+		std::vector<uint32_t> offsets(q.indices.size() / 3 + 1);
+		for (size_t f = 0; f < offsets.size(); ++f)
+			offsets[f] = (uint32_t)(3 * f);
+		vn_io_mesh mesh;
+		memset(&mesh, 0, sizeof mesh);
+		mesh.vertex_count = q.positions.size() / 3;
+		mesh.positions = const_cast<double*>(q.positions.data());
+		mesh.normals = const_cast<double*>(q.normals.data());
+		mesh.face_count = q.indices.size() / 3;
+		mesh.face_offsets = offsets.data();
+		mesh.indices = const_cast<uint32_t*>(q.indices.data());
+		vn_drc_options options = draco_bits(o);
+		options.normal_bits = kv.first;
+		vn_io_error e;
+		const vn_io_result r = vn_drc_normal_error_of(&mesh, &options, "Draco normals", &st.draco_normal_error[kv.first], &e);
+		if (r != vn_io_success)
+			fail(r, e.message);
+	}
+}
+
 /* Writes every primitive's normals and morph targets' NORMAL displacements
  * (and, for split primitives, copies of all their vertex data). */
-void write_normals(document& d, std::vector<primitive>& prims, vn_gltf_stats& st)
+void write_normals(document& d, std::vector<primitive>& prims, const vn_gltf_options& o, vn_gltf_stats& st)
 {
 	std::map<long long, const std::vector<float>*> written;
+	std::map<int, quantized_normals> quantized;
 	for (primitive& p : prims) {
+		if (p.draco) {
+			write_draco(d, p, o, st, quantized);
+			continue;
+		}
 		const bool split = !p.split_source.empty();
 		if (split)
 			write_split(d, p);
@@ -944,7 +1372,11 @@ void write_normals(document& d, std::vector<primitive>& prims, vn_gltf_stats& st
 		for (size_t t = 0; t < p.target_normals.size(); ++t)
 			if (!p.target_normals[t].empty())
 				prim["targets"][t]["NORMAL"] = put_vec3(d, split ? -1 : p.target_normal[t], p.target_normals[t], written, st);
+		if (o.draco == vn_gltf_draco_on)
+			compress_draco(d, p, o, st, quantized);
 	}
+	if (o.draco_normal_error)
+		normal_errors(quantized, o, st);
 }
 
 /* ------------------------------------------------------------------ writing */
@@ -1287,6 +1719,8 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 	memset(&st, 0, sizeof st);
 	vn_io_result r = guarded(in, error, [&] {
 		document d = load(in);
+		if (options->draco == vn_gltf_draco_off)
+			decompress_draco(d);
 		std::vector<primitive> prims = triangle_primitives(d, &st);
 		if (options->weld_mesh && !options->no_weld) {
 			for (size_t i = 0; i < prims.size();) {
@@ -1308,12 +1742,14 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 					/* Morph targets may not displace an attribute the base lacks. */
 					json& prim = mesh_primitive(d, p);
 					prim["attributes"].erase("TANGENT");
+					if (p.draco)
+						prim["extensions"][draco_name]["attributes"].erase("TANGENT");
 					if (prim.contains("targets") && prim["targets"].is_array())
 						for (json& target : prim["targets"])
 							if (target.is_object())
 								target.erase("TANGENT");
 				}
-		write_normals(d, prims, st);
+		write_normals(d, prims, *options, st);
 		save(d, out, out_glb != 0);
 	});
 	if (stats)

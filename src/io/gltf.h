@@ -16,7 +16,10 @@
  *    survive) and only NORMAL bytes are rewritten: in place when the NORMAL
  *    accessor is plain (float32, or normalized byte/short under
  *    KHR_mesh_quantization, not sparse), otherwise in a new bufferView and
- *    accessor appended at the end of the arrays. See README.md, "glTF".
+ *    accessor appended at the end of the arrays. Draco-compressed
+ *    primitives (KHR_draco_mesh_compression) are decoded with draco.h and
+ *    encoded again, written uncompressed, or (with every other triangle
+ *    primitive) compressed: vn_gltf_options.draco. See README.md, "glTF".
  *
  * Implemented in C++ (gltf.cpp, on tinygltf and nlohmann json) behind this
  * C interface.
@@ -24,11 +27,14 @@
 #ifndef VN_IO_GLTF_H
 #define VN_IO_GLTF_H
 
+#include "draco.h"
 #include "vn_io.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+typedef enum vn_gltf_draco { vn_gltf_draco_keep, vn_gltf_draco_off, vn_gltf_draco_on } vn_gltf_draco;
 
 typedef struct vn_gltf_options {
 	vn_method method;
@@ -45,6 +51,16 @@ typedef struct vn_gltf_options {
 	 * it, copies whose input normals differ by more than crease_angle. */
 	int crease;
 	double crease_angle;
+	/* KHR_draco_mesh_compression on output: keep (a compressed primitive
+	 * is re-encoded with its own attributes, unique ids and bits), off
+	 * (every primitive written uncompressed) or on (every triangle
+	 * primitive compressed). */
+	vn_gltf_draco draco;
+	/* Draco bits and level; -1 fields: not given. keep uses the input's
+	 * bits except normal_bits, and compression_level (the stream does not
+	 * record it); on uses all, else vn_drc_default_options'. */
+	vn_drc_options draco_options;
+	int draco_normal_error; /* fill vn_gltf_stats.draco_normal_error (an extra encoding) */
 } vn_gltf_options;
 
 typedef struct vn_gltf_stats {
@@ -60,6 +76,10 @@ typedef struct vn_gltf_stats {
 	size_t tangent_primitives; /* processed primitives with TANGENT */
 	size_t appended_accessors; /* NORMAL accessors added (none before, sparse,
 	                              unusual type, or shared with differing result) */
+	size_t draco_primitives;   /* primitives written Draco-compressed */
+	/* The angle normal quantization adds to the new normals of those, per
+	 * normal bits (index: bits; compared 0 when no primitive has them). */
+	vn_drc_normal_error draco_normal_error[VN_DRC_MAX_BITS + 1];
 } vn_gltf_stats;
 
 /* Reads the glTF or GLB file `in` (told apart by content), recomputes its

@@ -40,8 +40,14 @@ static void usage(FILE* out)
 	        "                         accessor stays)\n"
 	        "      --crease-angle DEG hard edges where faces meet at more than DEG degrees (0 to 180):\n"
 	        "                         per-corner normals, vertices split where they differ\n"
+	        "      --draco D          KHR_draco_mesh_compression: keep (default: compressed primitives\n"
+	        "                         are re-encoded with their own attributes and bits), off\n"
+	        "                         (written uncompressed) or on (every triangle primitive\n"
+	        "                         without morph targets compressed, with the bits below)\n"
 	        "\n"
-	        "Draco output (.drc); default: a .drc input's bits, else the value in brackets:\n"
+	        "Draco output (.drc, and glTF primitives that --draco on compresses; a compressed glTF\n"
+	        "primitive keeps its own bits but for --draco-qn); default: a .drc input's bits, else\n"
+	        "the value in brackets:\n"
 	        "      --draco-qp BITS    position quantization, 1 to 30 bits [14]\n"
 	        "      --draco-qn BITS    normals, 2 to 30 [10] (--stats reports the angle this costs)\n"
 	        "      --draco-qt BITS    texture coordinates, 1 to 30 [12]\n"
@@ -99,6 +105,11 @@ static const vn_io_format* need_format(const char* name)
 	return f;
 }
 
+static int is_gltf(const vn_io_format* f)
+{
+	return f == vn_io_format_by_name("gltf") || f == vn_io_format_by_name("glb");
+}
+
 static args parse(int argc, char** argv)
 {
 	args a;
@@ -106,7 +117,7 @@ static args parse(int argc, char** argv)
 	a.method = vn_method_mwa;
 	a.threads = tool_cpu_count();
 	a.drc = (vn_drc_options){-1, -1, -1, -1, -1};
-	int drc_given = 0;
+	int drc_given = 0, gltf_given = 0;
 	for (int i = 1; i < argc; ++i) {
 		const char* s = argv[i];
 		if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
@@ -158,6 +169,12 @@ static args parse(int argc, char** argv)
 				die(2, "--crease-angle needs a number of degrees from 0 to 180, not '%s'", v);
 			a.gltf.crease = 1;
 			a.gltf.crease_angle = degrees * 3.14159265358979323846 / 180;
+		} else if (!strcmp(s, "--draco")) {
+			const char* v = need_value(argc, argv, &i);
+			if (strcmp(v, "keep") && strcmp(v, "off") && strcmp(v, "on"))
+				die(2, "--draco is keep, off or on, not '%s'", v);
+			a.gltf.draco = !strcmp(v, "off") ? vn_gltf_draco_off : !strcmp(v, "on") ? vn_gltf_draco_on : vn_gltf_draco_keep;
+			gltf_given = 1;
 		} else if (!strcmp(s, "--draco-qp") || !strcmp(s, "--draco-qn") || !strcmp(s, "--draco-qt") ||
 		           !strcmp(s, "--draco-qc") || !strcmp(s, "--draco-cl")) {
 			const int level = !strcmp(s, "--draco-cl"), normal = !strcmp(s, "--draco-qn");
@@ -195,8 +212,10 @@ static args parse(int argc, char** argv)
 		die(2, "cannot tell the format of '%s' from its extension; use --input-format", a.in);
 	if (!a.out_format && !(a.out_format = vn_io_format_for_path(a.out)))
 		die(2, "cannot tell the format of '%s' from its extension; use --format", a.out);
-	if (drc_given && a.out_format != vn_io_format_by_name("drc"))
-		die(2, "the --draco-* options are for .drc output, not '%s'", a.out);
+	if (drc_given && a.out_format != vn_io_format_by_name("drc") && !(is_gltf(a.in_format) && is_gltf(a.out_format)))
+		die(2, "the --draco-* options are for .drc or glTF to glTF output, not '%s'", a.out);
+	if (gltf_given && !(is_gltf(a.in_format) && is_gltf(a.out_format)))
+		die(2, "--draco is for glTF to glTF, not '%s'", a.out);
 	return a;
 }
 
@@ -206,16 +225,13 @@ static void progress(const args* a, const char* what, const char* path)
 		fprintf(stderr, "%s: %s %s\n", prog, what, path);
 }
 
-static int is_gltf(const vn_io_format* f)
-{
-	return f == vn_io_format_by_name("gltf") || f == vn_io_format_by_name("glb");
-}
-
 /* glTF to glTF: the document path, which keeps everything but the normals. */
 static int convert_gltf(args* a)
 {
 	a->gltf.method = a->method;
 	a->gltf.threads = a->threads;
+	a->gltf.draco_options = a->drc;
+	a->gltf.draco_normal_error = a->stats;
 	vn_gltf_stats st;
 	vn_io_error err;
 	progress(a, "converting", a->in);
@@ -247,6 +263,12 @@ static int convert_gltf(args* a)
 		printf("zero normals:       %zu\n", st.zero_normals);
 		printf("tangent primitives: %zu (%s)\n", st.tangent_primitives, a->gltf.drop_tangents ? "dropped" : "kept");
 		printf("appended accessors: %zu\n", st.appended_accessors);
+		printf("draco primitives:   %zu\n", st.draco_primitives);
+		for (int bits = 0; bits <= VN_DRC_MAX_BITS; ++bits)
+			if (st.draco_normal_error[bits].compared)
+				printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu normals)\n",
+				       st.draco_normal_error[bits].median_degrees, st.draco_normal_error[bits].max_degrees, bits,
+				       st.draco_normal_error[bits].compared);
 		printf("threads:            %u\n", a->threads);
 		printf("time:               %.3f ms\n", 1e3 * (t1 - t0));
 	}

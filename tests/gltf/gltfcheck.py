@@ -6,10 +6,16 @@
       normals may change: NORMAL accessors' min/max, appended bufferViews and
       accessors (which must be NORMAL data), buffers' byteLength and uri, a
       primitive's and its morph targets' NORMAL index (and TANGENT, when
-      dropped). Every accessor that
+      dropped), and in a KHR_draco_mesh_compression primitive its Draco
+      bufferView and its NORMAL unique id. Every accessor that
       is not NORMAL reads back the same bytes, and so does every bufferView
       that no NORMAL accessor uses (images, animations, ...). Every NORMAL
-      element is a unit vector.
+      element with data outside Draco is a unit vector.
+  gltfcheck.py drc FILE STEM
+      Writes the Draco data of each KHR_draco_mesh_compression primitive as
+      STEM_0.drc, STEM_1.drc, ...; exit 1 when there is none.
+  gltfcheck.py nodraco FILE
+      FILE does not mention KHR_draco_mesh_compression.
   gltfcheck.py seams FILE same|differ
       In every triangle primitive, vertices at the same position have the
       same normal (same), or at least one such pair does not (differ).
@@ -156,6 +162,10 @@ def strip(doc, normals, tangents_dropped):
                 for prim in get(mesh, "primitives") or []:
                     for attributes in [get(prim, "attributes")] + (get(prim, "targets") or []):
                         drop(attributes, "NORMAL", *(["TANGENT"] if tangents_dropped else []))
+                    draco = get(get(prim, "extensions") or [], "KHR_draco_mesh_compression")
+                    if draco is not None:
+                        drop(draco, "bufferView")
+                        drop(get(draco, "attributes") or [], "NORMAL")
     return doc
 
 
@@ -195,6 +205,8 @@ def cmd_diff(a, b, tangents_dropped):
             problems.append("bufferView %d changed" % v)
     for i in normal_accessors(out_doc):
         acc = out_doc["accessors"][i]
+        if "bufferView" not in acc and "sparse" not in acc:
+            continue  # in Draco data
         tolerance = 1e-6 if acc["componentType"] == 5126 else 0.02
         for x, y, z in accessor_values(out_doc, out_buf, i):
             if abs(math.sqrt(x * x + y * y + z * z) - 1) > tolerance:
@@ -563,7 +575,33 @@ def cmd_cylinder(path, segments=12):
     return write_gltf(path, doc, data)
 
 
+def cmd_drc(path, stem):
+    _, doc, buf = load(path)
+    k = 0
+    for _, _, prim in primitives(doc):
+        draco = prim.get("extensions", {}).get("KHR_draco_mesh_compression")
+        if draco:
+            with open("%s_%d.drc" % (stem, k), "wb") as f:
+                f.write(view_bytes(doc, buf, draco["bufferView"]))
+            k += 1
+    if not k:
+        print("%s: no Draco-compressed primitive" % path)
+    return 0 if k else 1
+
+
+def cmd_nodraco(path):
+    text = load(path)[0]
+    if "KHR_draco_mesh_compression" in text:
+        print("%s still mentions KHR_draco_mesh_compression" % path)
+        return 1
+    return 0
+
+
 def main(argv):
+    if len(argv) == 4 and argv[1] == "drc":
+        return cmd_drc(argv[2], argv[3])
+    if len(argv) == 3 and argv[1] == "nodraco":
+        return cmd_nodraco(argv[2])
     if len(argv) >= 4 and argv[1] == "diff":
         return cmd_diff(argv[2], argv[3], "--tangents-dropped" in argv[4:])
     if len(argv) == 4 and argv[1] == "seams" and argv[3] in ("same", "differ"):
