@@ -116,6 +116,10 @@ for bad in truncated header text flipped12 flipped100 flipped1000 points; do
   check_rejected "$VNC" "$T/$bad.drc" "$T/errors/none.drc" "$T/errors/keep.off"
 done
 check "a point cloud is unsupported" grep -q "point cloud" "$T/stderr"
+# A 163-byte stream declaring 387M faces (found by fuzzing: libdraco would
+# allocate 4.6 GB before noticing) is refused before decoding.
+check_rejected "$VNC" "$HERE/data/draco/hostile-counts.drc" "$T/errors/none.drc" "$T/errors/keep.off"
+check "hostile counts: says why" grep -q "declares 387389207 faces .* in 163 bytes" "$T/stderr"
 check "no temporary files left" [ "$(ls -A "$T/errors")" = keep.off ]
 
 # glTF with KHR_draco_mesh_compression, every method (default --draco keep):

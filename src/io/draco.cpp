@@ -8,6 +8,10 @@
 #include <draco/attributes/attribute_octahedron_transform.h>
 #include <draco/attributes/attribute_quantization_transform.h>
 #include <draco/compression/decode.h>
+#include <draco/compression/point_cloud/point_cloud_decoder.h>
+#include <draco/core/varint_decoding.h>
+#include <draco/metadata/geometry_metadata.h>
+#include <draco/metadata/metadata_decoder.h>
 #include <draco/compression/expert_encode.h>
 #include <draco/mesh/mesh.h>
 
@@ -17,6 +21,7 @@
 #include <cstring>
 #include <memory>
 #include <new>
+#include <string>
 #include <vector>
 
 namespace {
@@ -87,8 +92,55 @@ std::vector<std::pair<uint32_t, int>> quantization_bits(const void* data, size_t
 	return bits;
 }
 
+/* libdraco sizes its connectivity tables from the counts a stream declares,
+ * before it reads the data that would contradict them: a 163-byte stream
+ * found by fuzzing made it allocate 4.6 GB. So the counts are read first, as
+ * libdraco's mesh decoders read them for each bitstream version (fixed
+ * 32-bit before 2.2, varints from 2.2; edgebreaker's vertex count varint
+ * from 2.0), and a stream declaring more faces or points than max_per_byte
+ * per byte of itself is refused: edgebreaker's best ratios on real meshes are
+ * a few triangles per byte. Returns why a stream is refused, or an empty
+ * string (also when the counts cannot be read: the decoder then says why). */
+constexpr uint64_t max_per_byte = 4096;
+
+std::string implausible(const void* data, size_t size)
+{
+	draco::DecoderBuffer b;
+	b.Init(static_cast<const char*>(data), size);
+	draco::DracoHeader h;
+	if (!draco::PointCloudDecoder::DecodeHeader(&b, &h).ok())
+		return "";
+	const unsigned version = unsigned(h.version_major) << 8 | h.version_minor;
+	if (h.flags & METADATA_FLAG_MASK) {
+		draco::GeometryMetadata metadata;
+		draco::MetadataDecoder reader;
+		if (!reader.DecodeGeometryMetadata(&b, &metadata))
+			return "";
+	}
+	auto count = [&](unsigned varint_from, uint32_t* out) {
+		return version < varint_from ? b.Decode(out) : draco::DecodeVarint(out, &b);
+	};
+	uint32_t faces = 0, points = 0, new_vertices = 0;
+	uint8_t traversal;
+	if (h.encoder_method == draco::MESH_SEQUENTIAL_ENCODING) {
+		if (!count(0x0202, &faces) || !count(0x0202, &points))
+			return "";
+	} else if (h.encoder_method == draco::MESH_EDGEBREAKER_ENCODING) {
+		if (!b.Decode(&traversal) || (version < 0x0202 && !b.Decode(&new_vertices)) || !count(0x0200, &points) ||
+		    !count(0x0202, &faces))
+			return "";
+	}
+	if (faces > max_per_byte * size || points > max_per_byte * size)
+		return "the stream declares " + std::to_string(faces) + " faces and " + std::to_string(points) +
+		       " points in " + std::to_string(size) + " bytes: corrupt or hostile";
+	return "";
+}
+
 vn_io_result decode(const void* data, size_t size, const char* name, vn_drc_geometry* g, vn_io_error* error)
 {
+	const std::string refused = implausible(data, size);
+	if (!refused.empty())
+		return vn_io_fail(error, vn_io_error_parse, "%s: %s", name, refused.c_str());
 	draco::DecoderBuffer buffer;
 	buffer.Init(static_cast<const char*>(data), size);
 	auto kind = draco::Decoder::GetEncodedGeometryType(&buffer);
