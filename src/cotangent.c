@@ -80,72 +80,6 @@ int vn_cotangent_triangle(vn_method method, const double p0[3], const double p1[
 	return 1;
 }
 
-#ifdef VN_HAVE_AVX2
-/* triangles() four at a time, operation for operation (see simd.h). */
-VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, vn_range range, vn_range_stats* st)
-{
-	const uint32_t last = w->vertex_count - 1;
-	const size_t groups = w->face_count / 4;
-	const __m256d neg = _mm256_set1_pd(-0.0);
-	size_t degenerate = 0;
-	vn_work rest = *w;
-
-	for (size_t g = 0; g < groups; ++g) {
-		const uint32_t* idx = w->indices + 12 * g;
-		const int kind = vn_group_kind(idx, last, range);
-		if (kind == VN_GROUP_SKIP)
-			continue;
-		if (kind == VN_GROUP_SCALAR) {
-			rest.indices = idx;
-			rest.face_count = 4;
-			triangles(&rest, type, range, st);
-			if (st->bad_index)
-				return;
-			continue;
-		}
-		vn_group p;
-		vn_load_group(w, type, idx, &p);
-		const __m256d e01x = _mm256_sub_pd(p.x[1], p.x[0]), e01y = _mm256_sub_pd(p.y[1], p.y[0]),
-		              e01z = _mm256_sub_pd(p.z[1], p.z[0]);
-		const __m256d e12x = _mm256_sub_pd(p.x[2], p.x[1]), e12y = _mm256_sub_pd(p.y[2], p.y[1]),
-		              e12z = _mm256_sub_pd(p.z[2], p.z[1]);
-		const __m256d e20x = _mm256_sub_pd(p.x[0], p.x[2]), e20y = _mm256_sub_pd(p.y[0], p.y[2]),
-		              e20z = _mm256_sub_pd(p.z[0], p.z[2]);
-		__m256d nx, ny, nz;
-		vn_cross4(e20x, e20y, e20z, e01x, e01y, e01z, &nx, &ny, &nz);
-		const __m256d l2 = vn_dot4(nx, ny, nz, nx, ny, nz);
-		const int usable = vn_usable4(l2);
-		degenerate += vn_group_degenerate(idx, usable, range);
-		if (!usable)
-			continue;
-		const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(l2));
-		nx = _mm256_mul_pd(nx, inv), ny = _mm256_mul_pd(ny, inv), nz = _mm256_mul_pd(nz, inv);
-		__m256d cx[3], cy[3], cz[3];
-		vn_cross4(_mm256_xor_pd(neg, e12x), _mm256_xor_pd(neg, e12y), _mm256_xor_pd(neg, e12z), nx, ny, nz, &cx[0],
-		          &cy[0], &cz[0]);
-		vn_cross4(_mm256_xor_pd(neg, e20x), _mm256_xor_pd(neg, e20y), _mm256_xor_pd(neg, e20z), nx, ny, nz, &cx[1],
-		          &cy[1], &cz[1]);
-		vn_cross4(_mm256_xor_pd(neg, e01x), _mm256_xor_pd(neg, e01y), _mm256_xor_pd(neg, e01z), nx, ny, nz, &cx[2],
-		          &cy[2], &cz[2]);
-		vn_scatter_group(w->acc, idx, usable, range, cx, cy, cz);
-	}
-	st->degenerate_faces += degenerate;
-	rest.indices = w->indices + 12 * groups;
-	rest.face_count = w->face_count - 4 * groups;
-	triangles(&rest, type, range, st);
-}
-
-static VN_AVX2 void triangles_f_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
-{
-	VN_DISPATCH_RANGE(w, lo, hi, triangles_avx2(w, vn_scalar_float32, range, st));
-}
-
-static VN_AVX2 void triangles_d_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
-{
-	VN_DISPATCH_RANGE(w, lo, hi, triangles_avx2(w, vn_scalar_float64, range, st));
-}
-#endif
-
 static void triangles_f(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
 	VN_DISPATCH_RANGE(w, lo, hi, triangles(w, vn_scalar_float32, range, st));
@@ -155,6 +89,37 @@ static void triangles_d(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_sta
 {
 	VN_DISPATCH_RANGE(w, lo, hi, triangles(w, vn_scalar_float64, range, st));
 }
+
+#ifdef VN_HAVE_AVX2
+/* triangles()' corner vectors on four lanes, operation for operation (see
+ * simd.h): the unit normal, then (p_next - p_prev) x N_f at each corner. */
+VN_AVX2_INLINE void cotangent_group(vn_method method, const __m256d e[3][3], const __m256d n[3], __m256d l2,
+                                    __m256d cx[3], __m256d cy[3], __m256d cz[3])
+{
+	(void)method;
+	const __m256d neg = _mm256_set1_pd(-0.0);
+	const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(l2));
+	const __m256d ux = _mm256_mul_pd(n[0], inv), uy = _mm256_mul_pd(n[1], inv), uz = _mm256_mul_pd(n[2], inv);
+	/* p_next - p_prev at corner 0 is -e12, at 1 -e20, at 2 -e01. */
+	for (int k = 0; k < 3; ++k) {
+		const __m256d* d = e[k == 0 ? 1 : k == 1 ? 2 : 0];
+		vn_cross4(_mm256_xor_pd(neg, d[0]), _mm256_xor_pd(neg, d[1]), _mm256_xor_pd(neg, d[2]), ux, uy, uz, &cx[k],
+		          &cy[k], &cz[k]);
+	}
+}
+
+static VN_AVX2 void triangles_f_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	VN_DISPATCH_RANGE(w, lo, hi,
+	                  vn_triangles_avx2(w, vn_scalar_float32, vn_method_mewcsa, range, st, cotangent_group, triangles_f));
+}
+
+static VN_AVX2 void triangles_d_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	VN_DISPATCH_RANGE(w, lo, hi,
+	                  vn_triangles_avx2(w, vn_scalar_float64, vn_method_mewcsa, range, st, cotangent_group, triangles_d));
+}
+#endif
 
 void vn_accumulate_cotangent_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {

@@ -156,6 +156,63 @@ VN_INLINE size_t vn_group_degenerate(const uint32_t* idx, int usable, vn_range r
 	return n;
 }
 
+/* A family's arithmetic for one group: the corner vectors (cx, cy, cz)[k]
+ * from the edges e[0] = e01, e[1] = e12, e[2] = e20 (x, y, z lanes each),
+ * the unnormalized normal n = e20 x e01 and l2 = n . n. */
+typedef void (*vn_group_fn)(vn_method method, const __m256d e[3][3], const __m256d n[3], __m256d l2, __m256d cx[3],
+                            __m256d cy[3], __m256d cz[3]);
+
+/* The triangle loop both families share, four triangles per step: group
+ * classification, loads, edges and normal, degenerate count, scatter.
+ * Groups that touch the last vertex, and the tail, go to `scalar`, the
+ * family's scalar kernel for the same position type and method. */
+VN_AVX2_INLINE void vn_triangles_avx2(const vn_work* w, vn_scalar type, vn_method method, vn_range range,
+                                      vn_range_stats* st, vn_group_fn group, vn_accumulate_fn scalar)
+{
+	const uint32_t last = w->vertex_count - 1;
+	const uint32_t lo = range.full ? 0 : range.lo, hi = range.full ? w->vertex_count : range.lo + range.span;
+	const size_t groups = w->face_count / 4;
+	size_t degenerate = 0;
+	vn_work rest = *w;
+
+	for (size_t g = 0; g < groups; ++g) {
+		const uint32_t* idx = w->indices + 12 * g;
+		const int kind = vn_group_kind(idx, last, range);
+		if (kind == VN_GROUP_SKIP)
+			continue;
+		if (kind == VN_GROUP_SCALAR) {
+			rest.indices = idx;
+			rest.face_count = 4;
+			scalar(&rest, lo, hi, st);
+			if (st->bad_index)
+				return;
+			continue;
+		}
+		vn_group p;
+		vn_load_group(w, type, idx, &p);
+		__m256d e[3][3], n[3];
+		for (int k = 0; k < 3; ++k) { /* e[k] runs from corner k to the next */
+			const int j = k == 2 ? 0 : k + 1;
+			e[k][0] = _mm256_sub_pd(p.x[j], p.x[k]);
+			e[k][1] = _mm256_sub_pd(p.y[j], p.y[k]);
+			e[k][2] = _mm256_sub_pd(p.z[j], p.z[k]);
+		}
+		vn_cross4(e[2][0], e[2][1], e[2][2], e[0][0], e[0][1], e[0][2], &n[0], &n[1], &n[2]);
+		const __m256d l2 = vn_dot4(n[0], n[1], n[2], n[0], n[1], n[2]);
+		const int usable = vn_usable4(l2);
+		degenerate += vn_group_degenerate(idx, usable, range);
+		if (!usable)
+			continue;
+		__m256d cx[3], cy[3], cz[3];
+		group(method, (const __m256d(*)[3])e, n, l2, cx, cy, cz);
+		vn_scatter_group(w->acc, idx, usable, range, cx, cy, cz);
+	}
+	st->degenerate_faces += degenerate;
+	rest.indices = w->indices + 12 * groups;
+	rest.face_count = w->face_count - 4 * groups;
+	scalar(&rest, lo, hi, st);
+}
+
 
 static inline int vn_cpu_has_avx2(void)
 {

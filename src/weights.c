@@ -115,98 +115,60 @@ int vn_weighted_triangle(vn_method method, const double p0[3], const double p1[3
 }
 
 #ifdef VN_HAVE_AVX2
-/* The same arithmetic as triangles(), four triangles per step (see simd.h);
- * groups that touch the last vertex and the tail take the scalar loop. */
-VN_AVX2_INLINE void triangles_avx2(const vn_work* w, vn_scalar type, vn_method method, vn_range range,
-                                   vn_range_stats* st)
+/* triangles()' weights on four lanes, operation for operation (see simd.h). */
+VN_AVX2_INLINE void weighted_group(vn_method method, const __m256d e[3][3], const __m256d n[3], __m256d l2,
+                                   __m256d cx[3], __m256d cy[3], __m256d cz[3])
 {
-	const uint32_t last = w->vertex_count - 1;
-	const size_t groups = w->face_count / 4;
-	size_t degenerate = 0;
-	vn_work rest = *w;
-
-	for (size_t g = 0; g < groups; ++g) {
-		const uint32_t* idx = w->indices + 12 * g;
-		const int kind = vn_group_kind(idx, last, range);
-		if (kind == VN_GROUP_SKIP)
-			continue;
-		if (kind == VN_GROUP_SCALAR) {
-			rest.indices = idx;
-			rest.face_count = 4;
-			triangles(&rest, type, method, range, st);
-			if (st->bad_index)
-				return;
-			continue;
-		}
-		vn_group p;
-		vn_load_group(w, type, idx, &p);
-		const __m256d e01x = _mm256_sub_pd(p.x[1], p.x[0]), e01y = _mm256_sub_pd(p.y[1], p.y[0]),
-		              e01z = _mm256_sub_pd(p.z[1], p.z[0]);
-		const __m256d e12x = _mm256_sub_pd(p.x[2], p.x[1]), e12y = _mm256_sub_pd(p.y[2], p.y[1]),
-		              e12z = _mm256_sub_pd(p.z[2], p.z[1]);
-		const __m256d e20x = _mm256_sub_pd(p.x[0], p.x[2]), e20y = _mm256_sub_pd(p.y[0], p.y[2]),
-		              e20z = _mm256_sub_pd(p.z[0], p.z[2]);
-		__m256d nx, ny, nz;
-		vn_cross4(e20x, e20y, e20z, e01x, e01y, e01z, &nx, &ny, &nz);
-		const __m256d l2 = vn_dot4(nx, ny, nz, nx, ny, nz);
-		const int usable = vn_usable4(l2);
-		degenerate += vn_group_degenerate(idx, usable, range);
-		if (!usable)
-			continue;
-
-		const __m256d one = _mm256_set1_pd(1.0);
-		__m256d wt[3];
-		switch (method) {
-		case vn_method_mwe:
-			wt[0] = wt[1] = wt[2] = _mm256_div_pd(one, _mm256_sqrt_pd(l2));
-			break;
-		case vn_method_mwa: {
-			const __m256d l = _mm256_sqrt_pd(l2), inv = _mm256_div_pd(one, l);
-			const __m256d neg = _mm256_set1_pd(-0.0);
-			const __m256d a0 = vn_atan2_nonneg4(l, _mm256_xor_pd(neg, vn_dot4(e20x, e20y, e20z, e01x, e01y, e01z)));
-			const __m256d a1 = vn_atan2_nonneg4(l, _mm256_xor_pd(neg, vn_dot4(e01x, e01y, e01z, e12x, e12y, e12z)));
-			wt[0] = _mm256_mul_pd(a0, inv);
-			wt[1] = _mm256_mul_pd(a1, inv);
-			wt[2] = _mm256_mul_pd(_mm256_sub_pd(_mm256_sub_pd(_mm256_set1_pd(VN_PI), a0), a1), inv);
-			break;
-		}
-		case vn_method_mwselr: {
-			const __m256d sa = vn_dot4(e01x, e01y, e01z, e01x, e01y, e01z);
-			const __m256d sb = vn_dot4(e12x, e12y, e12z, e12x, e12y, e12z);
-			const __m256d sc = vn_dot4(e20x, e20y, e20z, e20x, e20y, e20z);
-			const __m256d inv = _mm256_div_pd(one, _mm256_mul_pd(_mm256_mul_pd(sa, sb), sc));
-			wt[0] = _mm256_mul_pd(sb, inv), wt[1] = _mm256_mul_pd(sc, inv), wt[2] = _mm256_mul_pd(sa, inv);
-			break;
-		}
-		case vn_method_mwaat:
-			wt[0] = wt[1] = wt[2] = one;
-			break;
-		default: { /* MWELR, MWRELR: a, b, c are edge lengths or their square roots */
-			__m256d a = _mm256_sqrt_pd(vn_dot4(e01x, e01y, e01z, e01x, e01y, e01z));
-			__m256d b = _mm256_sqrt_pd(vn_dot4(e12x, e12y, e12z, e12x, e12y, e12z));
-			__m256d c = _mm256_sqrt_pd(vn_dot4(e20x, e20y, e20z, e20x, e20y, e20z));
-			if (method == vn_method_mwrelr)
-				a = _mm256_sqrt_pd(a), b = _mm256_sqrt_pd(b), c = _mm256_sqrt_pd(c);
-			const __m256d inv =
-			    _mm256_div_pd(one, _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(a, b), c), _mm256_sqrt_pd(l2)));
-			wt[0] = _mm256_mul_pd(b, inv), wt[1] = _mm256_mul_pd(c, inv), wt[2] = _mm256_mul_pd(a, inv);
-			break;
-		}
-		}
-		__m256d cx[3], cy[3], cz[3];
-		for (int k = 0; k < 3; ++k)
-			cx[k] = _mm256_mul_pd(nx, wt[k]), cy[k] = _mm256_mul_pd(ny, wt[k]), cz[k] = _mm256_mul_pd(nz, wt[k]);
-		vn_scatter_group(w->acc, idx, usable, range, cx, cy, cz);
+	const __m256d *e01 = e[0], *e12 = e[1], *e20 = e[2];
+	const __m256d one = _mm256_set1_pd(1.0);
+	__m256d wt[3];
+	switch (method) {
+	case vn_method_mwe:
+		wt[0] = wt[1] = wt[2] = _mm256_div_pd(one, _mm256_sqrt_pd(l2));
+		break;
+	case vn_method_mwa: {
+		const __m256d l = _mm256_sqrt_pd(l2), inv = _mm256_div_pd(one, l);
+		const __m256d neg = _mm256_set1_pd(-0.0);
+		const __m256d a0 =
+		    vn_atan2_nonneg4(l, _mm256_xor_pd(neg, vn_dot4(e20[0], e20[1], e20[2], e01[0], e01[1], e01[2])));
+		const __m256d a1 =
+		    vn_atan2_nonneg4(l, _mm256_xor_pd(neg, vn_dot4(e01[0], e01[1], e01[2], e12[0], e12[1], e12[2])));
+		wt[0] = _mm256_mul_pd(a0, inv);
+		wt[1] = _mm256_mul_pd(a1, inv);
+		wt[2] = _mm256_mul_pd(_mm256_sub_pd(_mm256_sub_pd(_mm256_set1_pd(VN_PI), a0), a1), inv);
+		break;
 	}
-	st->degenerate_faces += degenerate;
-	rest.indices = w->indices + 12 * groups;
-	rest.face_count = w->face_count - 4 * groups;
-	triangles(&rest, type, method, range, st);
+	case vn_method_mwselr: {
+		const __m256d sa = vn_dot4(e01[0], e01[1], e01[2], e01[0], e01[1], e01[2]);
+		const __m256d sb = vn_dot4(e12[0], e12[1], e12[2], e12[0], e12[1], e12[2]);
+		const __m256d sc = vn_dot4(e20[0], e20[1], e20[2], e20[0], e20[1], e20[2]);
+		const __m256d inv = _mm256_div_pd(one, _mm256_mul_pd(_mm256_mul_pd(sa, sb), sc));
+		wt[0] = _mm256_mul_pd(sb, inv), wt[1] = _mm256_mul_pd(sc, inv), wt[2] = _mm256_mul_pd(sa, inv);
+		break;
+	}
+	case vn_method_mwaat:
+		wt[0] = wt[1] = wt[2] = one;
+		break;
+	default: { /* MWELR, MWRELR: a, b, c are edge lengths or their square roots */
+		__m256d a = _mm256_sqrt_pd(vn_dot4(e01[0], e01[1], e01[2], e01[0], e01[1], e01[2]));
+		__m256d b = _mm256_sqrt_pd(vn_dot4(e12[0], e12[1], e12[2], e12[0], e12[1], e12[2]));
+		__m256d c = _mm256_sqrt_pd(vn_dot4(e20[0], e20[1], e20[2], e20[0], e20[1], e20[2]));
+		if (method == vn_method_mwrelr)
+			a = _mm256_sqrt_pd(a), b = _mm256_sqrt_pd(b), c = _mm256_sqrt_pd(c);
+		const __m256d inv =
+		    _mm256_div_pd(one, _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(a, b), c), _mm256_sqrt_pd(l2)));
+		wt[0] = _mm256_mul_pd(b, inv), wt[1] = _mm256_mul_pd(c, inv), wt[2] = _mm256_mul_pd(a, inv);
+		break;
+	}
+	}
+	for (int k = 0; k < 3; ++k)
+		cx[k] = _mm256_mul_pd(n[0], wt[k]), cy[k] = _mm256_mul_pd(n[1], wt[k]), cz[k] = _mm256_mul_pd(n[2], wt[k]);
 }
+
 #define VN_TRIANGLES_FAST(name, type, method)                                                              \
 	static VN_AVX2 void name##_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)        \
 	{                                                                                                      \
-		VN_DISPATCH_RANGE(w, lo, hi, triangles_avx2(w, type, method, range, st));                          \
+		VN_DISPATCH_RANGE(w, lo, hi, vn_triangles_avx2(w, type, method, range, st, weighted_group, name)); \
 	}
 #else
 #define VN_TRIANGLES_FAST(name, type, method)
