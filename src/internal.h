@@ -10,8 +10,10 @@
 
 #if defined(__GNUC__) || defined(__clang__)
 #  define VN_INLINE static inline __attribute__((always_inline))
+#  define VN_PREFETCH(p) __builtin_prefetch(p)
 #else
 #  define VN_INLINE static inline
+#  define VN_PREFETCH(p) ((void)(p))
 #endif
 
 /* One normal computation, shared read-only by every worker. */

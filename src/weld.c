@@ -2,6 +2,11 @@
  * the graph joining two vertices when every coordinate differs by at most
  * epsilon (Chebyshev distance), so chains weld too.
  *
+ * epsilon 0 (vnconvert's default) has no chains, equality being transitive:
+ * a hash table of positions finds the groups in O(n) expected time, and as
+ * vertices enter it in index order, a position finds its lowest vertex.
+ * Other epsilons take the grids below.
+ *
  * Two grids. Fine cells have the side s, the largest power of two <= epsilon:
  * a coordinate's fine cell floor(x / s) is exact (dividing by a power of two
  * is), so two points of one fine cell differ by less than s <= epsilon in
@@ -18,10 +23,11 @@
  * Exact axes: when |x| / s >= 2^54, or x is infinite, the doubles next to x
  * are more than epsilon from it (their spacing there is >= 2s), so x matches
  * x alone; such an axis is keyed by x's bits and has no neighbours along it.
- * epsilon 0 makes every axis exact. NaN positions take no part.
+ * NaN positions take no part.
  *
- * Work memory: 64 bytes a vertex from the options' allocator (the workspace
- * is not used); remap itself holds the union-find. */
+ * Work memory from the options' allocator (the workspace is not used):
+ * for epsilon 0, 16 bytes a vertex (up to 32: the table's size is a power
+ * of two); for the grids, 64, and remap itself holds the union-find. */
 #include <stdlib.h>
 
 #include "internal.h"
@@ -86,11 +92,11 @@ static weld_point* sort_points(weld_point* pts, weld_point* tmp, size_t n)
 	return pts;
 }
 
-/* Keys axis `axis` of q by coordinate x; shift = -log2(s), grid = epsilon > 0. */
-static void set_key(weld_point* q, int axis, double x, int shift, int grid)
+/* Keys axis `axis` of q by coordinate x; shift = -log2(s). */
+static void set_key(weld_point* q, int axis, double x, int shift)
 {
 	const double t = ldexp(x, shift); /* x / s, exact unless it under- or overflows */
-	if (grid && fabs(t) < 0x1p54) {
+	if (fabs(t) < 0x1p54) {
 		const int64_t f = (int64_t)floor(t);
 		q->key[axis] = (f - (f & 1)) / 2; /* floor(f / 2), also for f < 0 */
 		q->fine |= (uint8_t)((f & 1) << axis);
@@ -208,6 +214,87 @@ static void join_neighbours(const welder* wd)
 	}
 }
 
+/* Mixes the three coordinates' bits. A coordinate's information sits in its
+ * high bits (floats widened to double end in 29 zero bits) and a multiply
+ * only carries bits upwards: each xorshift first brings the high half down,
+ * and the last one mixes the high bits into the low ones indexing the table. */
+static uint64_t hash_position(const double p[3])
+{
+	uint64_t h = 0;
+	for (int a = 0; a < 3; ++a) {
+		const double x = p[a] + 0.0; /* -0 + 0 = +0: equal coordinates, equal bits */
+		uint64_t b;
+		memcpy(&b, &x, sizeof(b));
+		h ^= b;
+		h ^= h >> 32;
+		h *= 0x9e3779b97f4a7c15u;
+	}
+	return h ^ h >> 32;
+}
+
+/* Finds vertex v (hash h) in the table, or enters it. */
+static void weld_one(uint64_t* table, size_t mask, uint64_t h, uint32_t v, const vn_work* reader, uint32_t* remap)
+{
+	remap[v] = v;
+	double p[3];
+	vn_load(reader, reader->type, v, p);
+	if (isnan(p[0]) || isnan(p[1]) || isnan(p[2]))
+		return;
+	const uint64_t tag = h >> 32 << 32;
+	for (size_t s = h & mask;; s = (s + 1) & mask) {
+		const uint64_t e = table[s];
+		if ((uint32_t)e == UINT32_MAX) {
+			table[s] = tag | v;
+			return;
+		}
+		if ((e >> 32 << 32) != tag)
+			continue;
+		double q[3];
+		vn_load(reader, reader->type, (uint32_t)e, q);
+		if (p[0] == q[0] && p[1] == q[1] && p[2] == q[2]) {
+			remap[v] = (uint32_t)e;
+			return;
+		}
+	}
+}
+
+/* epsilon 0: vertex ids in an open-addressing table at most half full,
+ * probed linearly. A vertex finds the first vertex of its position, or
+ * enters the table as that first. A slot holds the id and the hash's high
+ * half, so that only equal hashes load the other vertex's position; slots
+ * are prefetched `ahead` vertices early. Both matter because the table and
+ * the positions are far larger than the caches on big meshes (500k
+ * vertices: 52 -> 20 ns a vertex, docs/PERFORMANCE.md). */
+static vn_result weld_exact(uint32_t* remap, const vn_work* reader, size_t n, vn_allocator heap)
+{
+	enum { ahead = 16 };
+	if (n > SIZE_MAX / (4 * sizeof(uint64_t))) /* the table has fewer than 4n slots */
+		return vn_result_out_of_memory;
+	size_t slots = 2;
+	while (slots < 2 * n)
+		slots *= 2;
+	uint64_t* table = (uint64_t*)heap.allocate(heap.user, slots * sizeof(uint64_t));
+	if (!table)
+		return vn_result_out_of_memory;
+	memset(table, 0xff, slots * sizeof(uint64_t)); /* empty: id UINT32_MAX, above every id */
+	const size_t mask = slots - 1;
+	uint64_t hashes[ahead];
+	/* Vertex v is welded `ahead` iterations after its hash is computed and
+	 * its slot prefetched (hashes[v % ahead] is then free for v + ahead). */
+	for (size_t i = 0; i < n + ahead; ++i) {
+		if (i >= ahead)
+			weld_one(table, mask, hashes[(i - ahead) % ahead], (uint32_t)(i - ahead), reader, remap);
+		if (i < n) {
+			double p[3];
+			vn_load(reader, reader->type, (uint32_t)i, p);
+			hashes[i % ahead] = hash_position(p);
+			VN_PREFETCH(&table[hashes[i % ahead] & mask]);
+		}
+	}
+	heap.deallocate(heap.user, table);
+	return vn_result_success;
+}
+
 vn_result vn_weld_positions(uint32_t* remap, const vn_positions* positions, double epsilon, const vn_options* options)
 {
 	const size_t stride = vn_positions_stride(positions);
@@ -217,9 +304,13 @@ vn_result vn_weld_positions(uint32_t* remap, const vn_positions* positions, doub
 	const size_t n = positions->count;
 	if (!n)
 		return vn_result_success;
+	const vn_allocator heap = vn_heap(options ? &options->allocator : NULL);
+	if (epsilon == 0.0) {
+		const vn_work reader = vn_position_reader(positions, stride);
+		return weld_exact(remap, &reader, n, heap);
+	}
 	if (n > SIZE_MAX / (2 * sizeof(weld_point)))
 		return vn_result_out_of_memory;
-	const vn_allocator heap = vn_heap(options ? &options->allocator : NULL);
 	weld_point* block = (weld_point*)heap.allocate(heap.user, 2 * n * sizeof(weld_point));
 	if (!block)
 		return vn_result_out_of_memory;
@@ -227,7 +318,7 @@ vn_result vn_weld_positions(uint32_t* remap, const vn_positions* positions, doub
 	welder wd = {block, 0, remap, vn_position_reader(positions, stride), epsilon};
 	int exponent;
 	frexp(epsilon, &exponent); /* epsilon = m 2^exponent, m in [0.5, 1): s = 2^(exponent - 1) */
-	const int shift = 1 - exponent, grid = epsilon > 0.0;
+	const int shift = 1 - exponent;
 	for (uint32_t i = 0; i < (uint32_t)n; ++i) {
 		remap[i] = i;
 		double p[3];
@@ -238,7 +329,7 @@ vn_result vn_weld_positions(uint32_t* remap, const vn_positions* positions, doub
 		q->id = i;
 		q->exact = q->fine = 0;
 		for (int a = 0; a < 3; ++a)
-			set_key(q, a, p[a], shift, grid);
+			set_key(q, a, p[a], shift);
 	}
 	wd.pts = sort_points(block, block + n, wd.count);
 	join_neighbours(&wd);

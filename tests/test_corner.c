@@ -342,6 +342,90 @@ static void weld_matches_brute_force(void** state)
 	free(pos);
 }
 
+/* epsilon 0 (a hash table) against the brute force on points drawn from 12
+ * values, signed zeros, infinities and NaNs of both signs among them, as
+ * float32 in a 4-float stride and float64 in a 5-double stride whose padding
+ * differs from vertex to vertex. The first six points are set by hand. */
+static void weld_exact_matches_brute_force(void** state)
+{
+	(void)state;
+	enum { N = 3000 };
+	const float values[] = {0.0f, -0.0f, INFINITY, -INFINITY, NAN, -NAN, 1, -1, 0.1f, 1e-40f, FLT_MAX, 3};
+	const float first[6][3] = {{-0.0f, INFINITY, 1}, {0, INFINITY, 1}, {NAN, 0, 0},
+	                           {NAN, 0, 0},          {0, -INFINITY, 1}, {-0.0f, INFINITY, 1}};
+	float* f = (float*)malloc(sizeof(float) * 4 * N);
+	double* d = (double*)malloc(sizeof(double) * 5 * N);
+	double* pos = (double*)malloc(sizeof(double) * 3 * N);
+	uint32_t* got = (uint32_t*)malloc(sizeof(uint32_t) * N);
+	uint32_t* want = (uint32_t*)malloc(sizeof(uint32_t) * N);
+	uint32_t seed = 88675123u;
+	for (size_t i = 0; i < N; ++i) {
+		for (int a = 0; a < 3; ++a) {
+			const float v = i < 6 ? first[i][a] : values[next_random(&seed) % 12];
+			f[4 * i + a] = v, d[5 * i + a] = v, pos[3 * i + a] = v;
+		}
+		f[4 * i + 3] = (float)i, d[5 * i + 3] = d[5 * i + 4] = (double)i;
+	}
+	weld_brute_force(pos, N, 0.0, want);
+	const uint32_t head[] = {0, 0, 2, 3, 4, 0};
+	assert_remap(want, head, 6);
+	const vn_positions pf = {f, N, 4 * sizeof(float), vn_scalar_float32};
+	const vn_positions pd = {d, N, 5 * sizeof(double), vn_scalar_float64};
+	assert_int_equal(vn_weld_positions(got, &pf, 0.0, NULL), vn_result_success);
+	assert_remap(got, want, N);
+	assert_true(distinct_groups(got, N) < N - 500); /* many welds... */
+	assert_true(distinct_groups(got, N) > 1000);    /* ...and many NaN singletons */
+	memset(got, 0, sizeof(uint32_t) * N);
+	assert_int_equal(vn_weld_positions(got, &pd, 0.0, NULL), vn_result_success);
+	assert_remap(got, want, N);
+	free(want);
+	free(got);
+	free(pos);
+	free(d);
+	free(f);
+}
+
+/* A crowded table: 4096 distinct points fill half its slots, each point 0
+ * but along one axis, so that a probe often meets a point equal to it in
+ * two coordinates of three. None welds. */
+static void weld_exact_crowded(void** state)
+{
+	(void)state;
+	enum { N = 4096 };
+	double* pos = (double*)calloc(3 * N, sizeof(double));
+	uint32_t* remap = (uint32_t*)malloc(sizeof(uint32_t) * N);
+	for (size_t i = 0; i < N; ++i)
+		pos[3 * i + i % 3] = (double)(i / 3 + 1);
+	assert_int_equal(weld(pos, N, 0.0, remap), vn_result_success);
+	assert_int_equal(distinct_groups(remap, N), N);
+	free(remap);
+	free(pos);
+}
+
+/* The smallest epsilon, 2^-1074, also welds adjacent subnormals, but integer
+ * coordinates are equal or 1 apart: there the grids must weld exactly what
+ * epsilon 0 does. A G x G quad mesh stored quad by quad, corners (0, 0),
+ * (1, 0), (1, 1), (0, 1), as files split it; z is +0 or -0. */
+static void weld_exact_agrees_with_grid(void** state)
+{
+	(void)state;
+	enum { G = 16, NV = 4 * G * G };
+	double pos[3 * NV];
+	for (int q = 0; q < G * G; ++q)
+		for (int k = 0; k < 4; ++k) {
+			double* p = pos + 3 * (4 * q + k);
+			p[0] = q % G + (k == 1 || k == 2) - 8, p[1] = 3 * (q / G + (k >= 2)), p[2] = k & 1 ? -0.0 : 0.0;
+		}
+	uint32_t exact[NV], grid[NV];
+	assert_int_equal(weld(pos, NV, 0.0, exact), vn_result_success);
+	assert_int_equal(weld(pos, NV, 4.9406564584124654e-324, grid), vn_result_success);
+	assert_remap(grid, exact, NV);
+	assert_int_equal(distinct_groups(exact, NV), (G + 1) * (G + 1));
+	/* Quad 1's first corner is quad 0's second; quad G + 1's is quad 0's third. */
+	assert_int_equal(exact[4], 1);
+	assert_int_equal(exact[4 * (G + 1)], 2);
+}
+
 /* ---------------------------------------------------------------- corner normals: a cube */
 
 /* The unit cube, two outward triangles a face, faces -z, +z, -y, +y, -x, +x. */
@@ -754,6 +838,9 @@ int main(void)
 	    cmocka_unit_test(weld_invalid_arguments),
 	    cmocka_unit_test(weld_allocator),
 	    cmocka_unit_test(weld_matches_brute_force),
+	    cmocka_unit_test(weld_exact_matches_brute_force),
+	    cmocka_unit_test(weld_exact_crowded),
+	    cmocka_unit_test(weld_exact_agrees_with_grid),
 	    cmocka_unit_test(cube_crease_30),
 	    cmocka_unit_test(cube_mewcsa_per_wedge),
 	    cmocka_unit_test(cube_crease_pi),

@@ -48,16 +48,21 @@ static const vn_drc_attribute* by_id(const vn_drc_geometry* g, uint32_t id)
 }
 
 /* Encodes the octahedron at `level` and decodes it into *out. */
-static void round_trip(int level, vn_drc_geometry* out)
+static void round_trip_order(int level, int keep_order, vn_drc_geometry* out)
 {
 	vn_drc_geometry g = octahedron();
 	void* data;
 	size_t size;
 	vn_io_error e;
-	assert_int_equal(vn_drc_encode(&g, level, "mem", &data, &size, &e), vn_io_success);
+	assert_int_equal(vn_drc_encode(&g, level, keep_order, "mem", &data, &size, &e), vn_io_success);
 	assert_true(size > 0);
 	assert_int_equal(vn_drc_decode(data, size, "mem", out, &e), vn_io_success);
 	free(data);
+}
+
+static void round_trip(int level, vn_drc_geometry* out)
+{
+	round_trip_order(level, 0, out);
 }
 
 /* Decoded point p's position, to find the point the input had there. */
@@ -130,6 +135,59 @@ static void test_round_trip_sequential(void** state)
 	vn_drc_geometry_free(&d);
 }
 
+/* keep_order: points and triangles come back as given at any level (what
+ * glTF morph targets need); edgebreaker at level 7 renumbers the points. */
+static void test_keep_order(void** state)
+{
+	(void)state;
+	vn_drc_geometry d;
+	round_trip_order(7, 1, &d);
+	for (size_t i = 0; i < d.point_count; ++i)
+		assert_int_equal(input_point(&d, i), (int)i);
+	for (size_t i = 0; i < 3 * d.triangle_count; ++i)
+		assert_int_equal(d.indices[i], indices[i]);
+	vn_drc_geometry_free(&d);
+	round_trip_order(7, 0, &d);
+	int moved = 0;
+	for (size_t i = 0; i < d.point_count; ++i)
+		moved += input_point(&d, i) != (int)i;
+	assert_true(moved > 0);
+	vn_drc_geometry_free(&d);
+}
+
+/* Points no triangle uses (a glTF primitive drawing part of a shared
+ * accessor): Draco 1.5.5's decoder refuses a mesh with more points than 3
+ * per triangle, so encoding one is an error; up to that they come back at
+ * every level (6 points, 2 triangles on 4 of them), in order with keep_order. */
+static void test_isolated_points(void** state)
+{
+	(void)state;
+	float p[7 * 3], q[7 * 3];
+	for (size_t i = 0; i < 7 * 3; ++i)
+		p[i] = (float)(i * 7 % 11), q[i] = i % 3 == 2 ? 1.0f : 0.0f;
+	const uint32_t t[6] = {0, 1, 2, 2, 1, 3};
+	vn_drc_attribute a[2] = {{0, vn_drc_position, vn_drc_float32, 3, 0, 14, p}, {1, vn_drc_normal, vn_drc_float32, 3, 0, 10, q}};
+	vn_drc_geometry g = {7, 2, (uint32_t*)t, 2, a};
+	void* data;
+	size_t size;
+	vn_io_error e;
+	vn_drc_geometry d;
+	assert_int_equal(vn_drc_encode(&g, 7, 0, "iso", &data, &size, &e), vn_io_error_unsupported);
+	assert_non_null(strstr(e.message, "iso: 7 points"));
+	g.point_count = 6;
+	for (int level = 0; level <= 10; level += 5)
+		for (int keep = 0; keep < 2; ++keep) {
+			assert_int_equal(vn_drc_encode(&g, level, keep, "iso", &data, &size, &e), vn_io_success);
+			assert_int_equal(vn_drc_decode(data, size, "iso", &d, &e), vn_io_success);
+			assert_int_equal(d.point_count, 6);
+			assert_int_equal(d.triangle_count, 2);
+			if (keep)
+				assert_memory_equal(d.indices, t, sizeof t);
+			vn_drc_geometry_free(&d);
+			free(data);
+		}
+}
+
 static void test_lossless_float(void** state)
 {
 	(void)state;
@@ -142,7 +200,7 @@ static void test_lossless_float(void** state)
 	size_t size;
 	vn_io_error e;
 	vn_drc_geometry d;
-	assert_int_equal(vn_drc_encode(&g, 10, "mem", &data, &size, &e), vn_io_success);
+	assert_int_equal(vn_drc_encode(&g, 10, 0, "mem", &data, &size, &e), vn_io_success);
 	assert_int_equal(vn_drc_decode(data, size, "mem", &d, &e), vn_io_success);
 	assert_int_equal(d.attributes[0].quantization_bits, 0);
 	assert_memory_equal(d.attributes[0].data, positions, sizeof positions);
@@ -158,7 +216,7 @@ static void test_corrupt_streams(void** state)
 	size_t size;
 	vn_io_error e;
 	vn_drc_geometry d;
-	assert_int_equal(vn_drc_encode(&g, 7, "mem", &data, &size, &e), vn_io_success);
+	assert_int_equal(vn_drc_encode(&g, 7, 0, "mem", &data, &size, &e), vn_io_success);
 	assert_int_equal(vn_drc_decode(data, 4, "short.drc", &d, &e), vn_io_error_parse);
 	assert_non_null(strstr(e.message, "short.drc: "));
 	assert_null(d.attributes);
@@ -179,21 +237,21 @@ static void test_bad_input(void** state)
 	size_t size;
 	vn_io_error e;
 	a[3].unique_id = 7;
-	assert_int_equal(vn_drc_encode(&g, 7, "dup", &data, &size, &e), vn_io_error_unsupported);
+	assert_int_equal(vn_drc_encode(&g, 7, 0, "dup", &data, &size, &e), vn_io_error_unsupported);
 	assert_non_null(strstr(e.message, "unique id 7"));
 	a[3].unique_id = 12;
 	a[0].quantization_bits = VN_DRC_MAX_BITS + 1;
-	assert_int_equal(vn_drc_encode(&g, 7, "bits", &data, &size, &e), vn_io_error_unsupported);
+	assert_int_equal(vn_drc_encode(&g, 7, 0, "bits", &data, &size, &e), vn_io_error_unsupported);
 	a[0].quantization_bits = 11;
 	a[1].quantization_bits = 1;
-	assert_int_equal(vn_drc_encode(&g, 7, "qn", &data, &size, &e), vn_io_error_unsupported);
+	assert_int_equal(vn_drc_encode(&g, 7, 0, "qn", &data, &size, &e), vn_io_error_unsupported);
 	assert_non_null(strstr(e.message, "normals need 2 to 30"));
 	a[1].quantization_bits = 9;
-	assert_int_equal(vn_drc_encode(&g, 11, "level", &data, &size, &e), vn_io_error_unsupported);
+	assert_int_equal(vn_drc_encode(&g, 11, 0, "level", &data, &size, &e), vn_io_error_unsupported);
 	uint32_t bad[3] = {0, 1, 6};
 	g.indices = bad;
 	g.triangle_count = 1;
-	assert_int_equal(vn_drc_encode(&g, 7, "index", &data, &size, &e), vn_io_error_unsupported);
+	assert_int_equal(vn_drc_encode(&g, 7, 0, "index", &data, &size, &e), vn_io_error_unsupported);
 	assert_null(data);
 }
 
@@ -217,6 +275,8 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 	    cmocka_unit_test(test_round_trip_edgebreaker),
 	    cmocka_unit_test(test_round_trip_sequential),
+	    cmocka_unit_test(test_keep_order),
+	    cmocka_unit_test(test_isolated_points),
 	    cmocka_unit_test(test_lossless_float),
 	    cmocka_unit_test(test_corrupt_streams),
 	    cmocka_unit_test(test_bad_input),

@@ -156,7 +156,7 @@ check "Box_Draco keeps its hard edges" $GLTFCHECK flat "$T/g-box-off.glb"
 # --draco-qn overriding an input's normal bits, --draco off after on.
 run "$VNC" "$GLTF/Duck.glb" "$T/duck-on.glb" --draco on --stats
 check "--draco on exits 0" [ $rc -eq 0 ]
-check "--draco on: counted" grep -q "^draco primitives: *1$" "$T/stdout"
+check "--draco on: counted" grep -q "^draco primitives: *1 (0 left uncompressed)$" "$T/stdout"
 check "--draco on: qn=10 stats line" \
   grep -q "^draco normal quantization error: median 0\.[0-9]* deg, max 0\.[0-9]* deg (qn=10, 2399 normals)$" "$T/stdout"
 check "--draco on: Draco data" $GLTFCHECK drc "$T/duck-on.glb" "$T/duck-on"
@@ -170,6 +170,75 @@ run "$VNC" "$T/duck-on.glb" "$T/duck-off.glb" -q --draco off
 check "--draco off after on: no Draco left" $GLTFCHECK nodraco "$T/duck-off.glb"
 run "$VNC" "$T/duck-off.glb" "$T/duck-back.off" -q
 check "--draco off: the decoded points and triangles" $COMPARE "$T/duck-on.json" "$T/duck-back.off" 24
+
+# --draco-qp re-quantizes an already compressed primitive (keep): the Duck
+# at 10 bits is within a 10-bit step of the input but not a 14-bit one, and
+# POSITION's min/max are the decoded positions' bounds.
+run "$VNC" "$T/duck-on.glb" "$T/duck-qp.glb" -q --draco-qp 10
+check "--draco-qp 10 (keep) exits 0" [ $rc -eq 0 ]
+check "--draco-qp 10: Draco data" $GLTFCHECK drc "$T/duck-qp.glb" "$T/duck-qp"
+check "--draco-qp 10: decoders read it" decode "$T/duck-qp_0.drc" "$T/duck-qp"
+check "--draco-qp 10: within 10 bits" $COMPARE "$T/duck.off" "$T/duck-qp.json" 10
+check "--draco-qp 10: re-quantized (not within 14 bits)" not $COMPARE "$T/duck.off" "$T/duck-qp.json" 14
+bounds() {
+  python3 - "$@" <<'EOF'
+import json, struct, sys
+glb, decoded = sys.argv[1:]
+data = open(glb, "rb").read()
+n = struct.unpack_from("<I", data, 12)[0]
+doc = json.loads(data[20:20 + n])
+p = json.load(open(decoded))["positions"]
+a = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
+f32 = lambda v: struct.unpack("<f", struct.pack("<f", v))[0]
+want = [[f32(min(p[k::3])) for k in range(3)], [f32(max(p[k::3])) for k in range(3)]]
+sys.exit(0 if [a["min"], a["max"]] == want else "%s != %s" % ([a["min"], a["max"]], want))
+EOF
+}
+check "--draco-qp 10: POSITION min/max are the decoded bounds" bounds "$T/duck-qp.glb" "$T/duck-qp.json"
+
+# --draco on with a primitive drawing part of a shared accessor (the shapes
+# strip uses 26 of the sphere's 117 vertices): Draco's decoders refuse more
+# points than 3 per triangle, so the unused vertices are left out.
+$GLTFCHECK shapes "$T/shapes.gltf"
+run "$VNC" "$T/shapes.gltf" "$T/shapes-on.glb" -q --draco on
+check "shapes --draco on exits 0" [ $rc -eq 0 ]
+check "shapes --draco on: Draco data" $GLTFCHECK drc "$T/shapes-on.glb" "$T/shapes-on"
+for k in 0 1 2 3; do
+  check "shapes --draco on: primitive $k decodes" decode "$T/shapes-on_$k.drc" "$T/shapes-on-$k"
+done
+check "shapes --draco on: the strip keeps its 26 vertices, 24 triangles" \
+  python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); sys.exit(d["points"] != 26 or d["triangles"] != 24)' \
+  "$T/shapes-on-3.json"
+
+# Morph targets: --draco on compresses AnimatedMorphCube with its points in
+# order (the targets' accessors follow it); read back (keep, then off), the
+# morphed normals are still the scheme's normals of the morphed positions.
+AMC=$GLTF/AnimatedMorphCube/AnimatedMorphCube.gltf
+run "$VNC" "$AMC" "$T/amc-on.glb" -m mwa --draco on --stats
+check "AnimatedMorphCube --draco on: compressed" grep -q "^draco primitives: *1 (0 left uncompressed)$" "$T/stdout"
+check "AnimatedMorphCube --draco on: Draco data" $GLTFCHECK drc "$T/amc-on.glb" "$T/amc-on"
+check "AnimatedMorphCube --draco on: decoders read it" decode "$T/amc-on_0.drc" "$T/amc-on"
+run "$VNC" "$AMC" "$T/amc.glb" -q -m mwa
+in_order() {
+  python3 - "$@" <<'EOF'
+import json, struct, sys
+p = json.load(open(sys.argv[1]))["positions"]
+data = open(sys.argv[2], "rb").read()
+n = struct.unpack_from("<I", data, 12)[0]
+doc = json.loads(data[20:20 + n])
+a = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
+v = doc["bufferViews"][a["bufferView"]]
+q = struct.unpack_from("<%df" % (3 * a["count"]), data, 28 + n + v.get("byteOffset", 0) + a.get("byteOffset", 0))
+step = max(a["max"][k] - a["min"][k] for k in range(3)) / (2 ** 14 - 1)
+sys.exit(len(p) != len(q) or max(abs(x - y) for x, y in zip(p, q)) > step)
+EOF
+}
+check "AnimatedMorphCube --draco on: points in order" in_order "$T/amc-on.json" "$T/amc.glb"
+run "$VNC" "$T/amc-on.glb" "$T/amc-keep.glb" -q -m mwa
+check "Draco with morph targets read and kept" [ $rc -eq 0 ]
+run "$VNC" "$T/amc-keep.glb" "$T/amc-off.glb" -q -m mwa --draco off
+check "Draco with morph targets: --draco off" $GLTFCHECK nodraco "$T/amc-off.glb"
+check "Draco with morph targets: morphed normals" $GLTFCHECK morph "$T/amc-off.glb" "$VNC" mwa split
 
 # A Draco primitive without NORMAL gets one: a new unique id and a
 # bufferView-less accessor; both decoders read unit normals.

@@ -86,6 +86,8 @@ check "--weld-scope mesh: structure" $CHECK diff "$T/shapes.gltf" "$T/shapes-mes
 check "--weld-scope mesh welds across primitives" [ "$(grep '^welded' "$T/stdout" | tr -dc 0-9)" -gt 80 ]
 run "$VNC" "$DATA/Box.glb" "$T/box.glb" --stats
 check "--stats counts" grep -q "^triangles: *12$" "$T/stdout"
+check "--stats: the cube's 12 edges kept hard" grep -q "^hard edges kept: *12$" "$T/stdout"
+check "--stats: nothing split" grep -q "^split vertices: *0$" "$T/stdout"
 
 # Hard edges already in the file stay hard: the box's split copies (one per
 # face) keep their face's normal; welded seams (equal input normals) do not.
@@ -113,6 +115,8 @@ for m in mwe mwa mwselr; do
   run "$VNC" "$T/cyl.gltf" "$T/cyl-$m.glb" -q -m $m --crease-angle 60
   check "--crease-angle 60 ($m) splits the rims" $CHECK crease "$T/cyl.gltf" "$T/cyl-$m.glb" 24 "$VNC" $m
 done
+run "$VNC" "$T/cyl.gltf" "$T/cyl-stats.glb" -q --crease-angle 60 --stats
+check "--stats: 24 split vertices" grep -q "^split vertices: *24$" "$T/stdout"
 run "$VNC" "$T/cyl.gltf" "$T/cyl-flat.glb" -q --crease-angle 10
 check "--crease-angle 10: every face flat" $CHECK flat "$T/cyl-flat.glb"
 run "$VNC" "$T/cyl.gltf" "$T/cyl-smooth.glb" -q --crease-angle 180

@@ -203,13 +203,19 @@ vn_io_result decode(const void* data, size_t size, const char* name, vn_drc_geom
 	return vn_io_success;
 }
 
-vn_io_result encode(const vn_drc_geometry* g, int level, const char* name, std::vector<char>* bytes,
+vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const char* name, std::vector<char>* bytes,
                     vn_io_error* error)
 {
 	if (level < 0 || level > 10)
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: compression level %d is not 0 to 10", name, level);
 	if (g->point_count > UINT32_MAX / 2)
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: too many points for Draco", name);
+	/* Draco 1.5.5's decoders refuse such a stream (sequential connectivity):
+	 * writing one would make a file nobody can read. */
+	if (g->point_count > 3 * g->triangle_count)
+		return vn_io_fail(error, vn_io_error_unsupported,
+		                  "%s: %zu points and %zu triangles: Draco cannot store more points than 3 per triangle "
+		                  "(remove the unused vertices)", name, g->point_count, g->triangle_count);
 	draco::Mesh mesh;
 	mesh.set_num_points(static_cast<uint32_t>(g->point_count));
 	for (size_t t = 0; t < g->triangle_count; ++t) {
@@ -253,7 +259,7 @@ vn_io_result encode(const vn_drc_geometry* g, int level, const char* name, std::
 	/* Levels below 10 pick edgebreaker, which splits non-manifold vertices
 	 * and drops degenerate triangles; the sequential method keeps every point
 	 * and triangle, so it is the fallback when edgebreaker changed a count. */
-	for (const bool sequential : {level == 10, true}) {
+	for (const bool sequential : {level == 10 || keep_order, true}) {
 		draco::ExpertEncoder encoder(mesh);
 		for (const auto& q : quantize)
 			encoder.SetAttributeQuantization(q.first, q.second);
@@ -465,14 +471,14 @@ vn_io_result vn_drc_decode(const void* data, size_t size, const char* name, vn_d
 	return r;
 }
 
-vn_io_result vn_drc_encode(const vn_drc_geometry* g, int compression_level, const char* name, void** data,
-                           size_t* size, vn_io_error* error)
+vn_io_result vn_drc_encode(const vn_drc_geometry* g, int compression_level, int keep_order, const char* name,
+                           void** data, size_t* size, vn_io_error* error)
 {
 	*data = nullptr;
 	*size = 0;
 	try {
 		std::vector<char> bytes;
-		const vn_io_result r = encode(g, compression_level, name, &bytes, error);
+		const vn_io_result r = encode(g, compression_level, keep_order != 0, name, &bytes, error);
 		if (r != vn_io_success)
 			return r;
 		if (!(*data = std::malloc(bytes.size() + 1)))
@@ -531,7 +537,7 @@ vn_io_result vn_io_drc_write(FILE* out, const char* path, const vn_io_mesh* mesh
 		geometry_builder b;
 		build(mesh, o, &b);
 		std::vector<char> bytes;
-		const vn_io_result r = encode(b.get(), o.compression_level, path, &bytes, error);
+		const vn_io_result r = encode(b.get(), o.compression_level, false, path, &bytes, error);
 		if (r != vn_io_success)
 			return r;
 		if (std::fwrite(bytes.data(), 1, bytes.size(), out) != bytes.size())
@@ -560,7 +566,7 @@ vn_io_result vn_drc_normal_error_of(const vn_io_mesh* mesh, const vn_drc_options
 			ids[i] = uint32_t(i);
 		b.add(vn_drc_generic, vn_drc_uint32, 1, 0, 0, ids);
 		std::vector<char> bytes;
-		vn_io_result r = encode(b.get(), options->compression_level, name, &bytes, error);
+		vn_io_result r = encode(b.get(), options->compression_level, false, name, &bytes, error);
 		if (r != vn_io_success)
 			return r;
 		vn_drc_geometry g;

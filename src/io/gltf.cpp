@@ -1,16 +1,22 @@
 /*
  * glTF 2.0 reading and writing: the C++ glue behind gltf.h.
  *
- * tinygltf only LOADS (it checks the document and resolves the buffers:
- * GLB BIN chunk, data URIs, external .bin files). Everything else works on
- * the original JSON, kept as an nlohmann::ordered_json so that key order,
- * extras and unknown extensions survive, and on copies of the buffers in
- * which only NORMAL bytes change (new data, when any, is appended; Draco
- * data are decoded and encoded again with draco.h).
+ * The original JSON is kept as an nlohmann::ordered_json so that key order,
+ * extras and unknown extensions survive; only NORMAL data change (in place
+ * where the accessor allows, else appended; Draco data are decoded and
+ * encoded again with draco.h). Buffers are read once and written once, in
+ * place: a GLB's BIN chunk stays in the memory the file was read into, and
+ * the output is written from it piece by piece. tinygltf 2.7's loader is not
+ * used for this because it copies every buffer into its model (twice the
+ * file in memory, half the time of a conversion: docs/PERFORMANCE.md);
+ * vn checks everything it reads itself, and takes tinygltf's data-URI
+ * decoding.
  */
 #include "gltf.h"
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/uio.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -87,26 +93,54 @@ std::string folder_of(const std::string& path)
 	return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
 }
 
-std::string first_line(std::string s)
+std::string uri_decode(const std::string& s)
 {
-	while (!s.empty() && (s[0] == '\n' || s[0] == ' '))
-		s.erase(0, 1);
-	size_t nl = s.find('\n');
-	return nl == std::string::npos ? s : s.substr(0, nl);
+	std::string out;
+	for (size_t i = 0; i < s.size(); ++i) {
+		if (s[i] == '%' && i + 2 < s.size() && isxdigit((unsigned char)s[i + 1]) && isxdigit((unsigned char)s[i + 2])) {
+			out += (char)std::stoi(s.substr(i + 1, 2), nullptr, 16);
+			i += 2;
+		} else {
+			out += s[i];
+		}
+	}
+	return out;
 }
 
 /* ------------------------------------------------------------------ loading */
 
-bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*)
-{
-	return true; /* images are copied as files or bytes, never decoded */
-}
+/* A buffer's bytes: `size` bytes at `base`, inside `owner` (a malloc'ed
+ * block: for a GLB's BIN chunk, the whole file as read), then what vn
+ * appends, from tail_start() on. No view straddles the two parts. */
+struct buffer {
+	std::shared_ptr<unsigned char> owner;
+	unsigned char* base = nullptr;
+	size_t size = 0;
+	bytes tail;
+	size_t tail_start() const { return (size + 3) / 4 * 4; }
+	size_t total() const { return tail.empty() ? size : tail_start() + tail.size(); }
+	unsigned char* at(size_t offset) const
+	{
+		return offset < size ? base + offset : const_cast<unsigned char*>(tail.data()) + (offset - tail_start());
+	}
+	/* The whole buffer in one piece (for a data URI). */
+	bytes contents() const
+	{
+		bytes out(base, base + size);
+		if (!tail.empty()) {
+			out.resize(tail_start(), 0);
+			out.insert(out.end(), tail.begin(), tail.end());
+		}
+		return out;
+	}
+};
 
 struct document {
 	bool glb = false;
 	std::string folder;
 	json j;
-	std::vector<bytes> buffers;
+	std::vector<buffer> buffers;
+	size_t input_views = 0; /* the file's bufferViews (lie in the buffers' first parts) */
 };
 
 /* Integer property `key` of o, or def when absent; anything but a
@@ -166,6 +200,12 @@ struct accessor {
 	span sparse_indices, sparse_values;
 };
 
+/* Element i of s. */
+unsigned char* element_at(const document& d, const span& s, size_t i)
+{
+	return d.buffers[(size_t)s.buffer].at(s.offset + i * s.stride);
+}
+
 /* The bufferView `view` checked against its buffer; needed bytes from the
  * view's start must fit in it. */
 span view_span(const document& d, long long view, size_t offset, size_t needed, size_t element_size,
@@ -179,10 +219,11 @@ span view_span(const document& d, long long view, size_t offset, size_t needed, 
 	long long begin = get_int(v, "byteOffset", 0, vw), length = get_int(v, "byteLength", -1, vw);
 	if (length < 0)
 		fail(vn_io_error_parse, vw + " has no byteLength");
-	if ((unsigned long long)begin + (unsigned long long)length > d.buffers[(size_t)buffer].size())
+	const auto& b = d.buffers[(size_t)buffer];
+	const size_t bound = (size_t)view < d.input_views ? b.size : b.total();
+	if ((unsigned long long)begin + (unsigned long long)length > bound)
 		fail(vn_io_error_parse, str("%s overflows buffers[%lld]: it ends at byte %llu, the buffer has %zu",
-		                            vw.c_str(), buffer, (unsigned long long)(begin + length),
-		                            d.buffers[(size_t)buffer].size()));
+		                            vw.c_str(), buffer, (unsigned long long)(begin + length), bound));
 	span s;
 	s.buffer = (int)buffer;
 	s.offset = (size_t)begin + offset;
@@ -285,7 +326,7 @@ std::vector<double> read_accessor(const document& d, const accessor& a)
 	std::vector<double> out((size_t)a.count * a.components, 0.0);
 	const size_t csize = component_size(a.component);
 	auto read_element = [&](const span& s, size_t i, double* to) {
-		const unsigned char* p = d.buffers[(size_t)s.buffer].data() + s.offset + i * s.stride;
+		const unsigned char* p = element_at(d, s, i);
 		for (size_t c = 0; c < a.components; ++c)
 			to[c] = read_component(p + c * csize, a.component, a.normalized);
 	};
@@ -293,9 +334,7 @@ std::vector<double> read_accessor(const document& d, const accessor& a)
 		for (size_t i = 0; i < (size_t)a.count; ++i)
 			read_element(a.data, i, &out[i * a.components]);
 	for (size_t k = 0; k < (size_t)a.sparse_count; ++k) {
-		const unsigned char* p =
-		    d.buffers[(size_t)a.sparse_indices.buffer].data() + a.sparse_indices.offset + k * a.sparse_indices.stride;
-		double index = read_component(p, a.sparse_index_component, false);
+		double index = read_component(element_at(d, a.sparse_indices, k), a.sparse_index_component, false);
 		if (index >= (double)a.count)
 			fail(vn_io_error_parse, str("a sparse index (%.0f) is out of range (count %lld)", index, a.count));
 		read_element(a.sparse_values, k, &out[(size_t)index * a.components]);
@@ -303,39 +342,67 @@ std::vector<double> read_accessor(const document& d, const accessor& a)
 	return out;
 }
 
-const json* draco_extension(const json& prim);
-
-/* The file as tinygltf gets it: tinygltf insists on a bufferView for every
- * primitive's indices accessor, which Draco-compressed primitives lack, so
- * their "indices" are left out (vn reads them itself). json_length: the
- * GLB's JSON chunk length. */
-std::string for_tinygltf(const std::string& file, const json& j, bool glb, size_t json_length)
+/* A malloc'ed block of n bytes, freed with the last shared_ptr to it. */
+std::shared_ptr<unsigned char> block(size_t n)
 {
-	json copy = j;
-	bool changed = false;
-	auto meshes = copy.find("meshes");
-	if (meshes != copy.end() && meshes->is_array())
-		for (json& mesh : *meshes)
-			if (mesh.is_object() && mesh.contains("primitives") && mesh["primitives"].is_array())
-				for (json& prim : mesh["primitives"])
-					if (prim.is_object() && draco_extension(prim) && prim.contains("indices"))
-						changed = prim.erase("indices") != 0;
-	if (!changed)
-		return file;
-	std::string text = copy.dump();
-	if (!glb)
-		return text;
-	text.resize((text.size() + 3) / 4 * 4, ' ');
-	const std::string rest = file.substr(20 + json_length);
-	bytes head;
-	put32(head, glb_magic);
-	put32(head, 2);
-	put32(head, (uint32_t)(20 + text.size() + rest.size()));
-	put32(head, (uint32_t)text.size());
-	put32(head, chunk_json);
-	return std::string(head.begin(), head.end()) + text + rest;
+	unsigned char* p = (unsigned char*)malloc(n ? n : 1);
+	if (!p)
+		throw std::bad_alloc();
+	return std::shared_ptr<unsigned char>(p, free);
 }
 
+/* Buffer i's bytes: the GLB's BIN chunk (bin: its first byte, null when the
+ * file has none), a data URI or an external file. */
+buffer load_buffer(const document& d, size_t i, const std::shared_ptr<unsigned char>& file, const unsigned char* bin,
+                   size_t bin_length)
+{
+	const std::string what = str("buffers[%zu]", i);
+	const json& b = element(d.j, "buffers", (long long)i, what);
+	const long long length = get_int(b, "byteLength", -1, what);
+	if (length < 0)
+		fail(vn_io_error_parse, what + " has no byteLength");
+	buffer out;
+	out.size = (size_t)length;
+	auto uri = b.find("uri");
+	if (uri == b.end()) {
+		if (!d.glb || i != 0)
+			fail(vn_io_error_parse, what + " has no uri");
+		if (!bin)
+			fail(vn_io_error_parse, what + " is the GLB's BIN chunk, which the file does not have");
+		if (out.size > bin_length)
+			fail(vn_io_error_parse, str("%s.byteLength %lld exceeds the BIN chunk (%zu bytes)", what.c_str(), length, bin_length));
+		out.owner = file;
+		out.base = const_cast<unsigned char*>(bin);
+		return out;
+	}
+	if (!uri->is_string())
+		fail(vn_io_error_parse, what + ".uri is not a string");
+	const std::string& text = uri->get_ref<const std::string&>();
+	size_t have;
+	if (tinygltf::IsDataURI(text)) {
+		std::vector<unsigned char> data;
+		std::string mime;
+		if (!tinygltf::DecodeDataURI(&data, mime, text, 0, false))
+			fail(vn_io_error_parse, what + ": cannot decode its data URI");
+		have = data.size();
+		out.owner = block(have);
+		memcpy(out.owner.get(), data.data(), have);
+	} else {
+		const std::string path = d.folder + uri_decode(text);
+		char* raw;
+		vn_io_error e;
+		if (vn_io_read_all(path.c_str(), &raw, &have, &e) != vn_io_success)
+			fail(vn_io_error_open, str("%s: %s", what.c_str(), e.message));
+		out.owner = std::shared_ptr<unsigned char>((unsigned char*)raw, free);
+	}
+	if (have < out.size)
+		fail(vn_io_error_parse, str("%s has %zu bytes, fewer than its byteLength %lld", what.c_str(), have, length));
+	out.base = out.owner.get();
+	return out;
+}
+
+/* Reads the file in one piece and parses its JSON; the GLB's BIN chunk
+ * becomes buffer 0 where it lies, other buffers are read from their URIs. */
 document load(const std::string& path)
 {
 	char* raw;
@@ -343,14 +410,15 @@ document load(const std::string& path)
 	vn_io_error e;
 	if (vn_io_read_all(path.c_str(), &raw, &size, &e) != vn_io_success)
 		fail_named(vn_io_error_open, e.message);
-	std::string file(raw, size);
-	free(raw);
+	const std::shared_ptr<unsigned char> file((unsigned char*)raw, free);
 
 	document d;
 	d.folder = folder_of(path);
-	const unsigned char* u = (const unsigned char*)file.data();
-	std::string text = file;
-	size_t json_length = 0;
+	const unsigned char* u = file.get();
+	const char* text = raw;
+	size_t text_length = size;
+	const unsigned char* bin = nullptr;
+	size_t bin_length = 0;
 	d.glb = size >= 4 && le32(u) == glb_magic;
 	if (d.glb) {
 		if (size < 20)
@@ -365,46 +433,33 @@ document load(const std::string& path)
 			fail(vn_io_error_parse, "malformed GLB: the first chunk is not JSON");
 		if (length > size - 20)
 			fail(vn_io_error_parse, str("malformed GLB: the JSON chunk length %u exceeds the file", length));
-		text = file.substr(20, length);
-		json_length = length;
+		text = raw + 20;
+		text_length = length;
 		size_t at = 20 + (size_t)length;
 		if (at < size) {
 			if (size - at < 8)
 				fail(vn_io_error_parse, "malformed GLB: truncated chunk header after the JSON chunk");
-			uint32_t bin_length = le32(u + at);
-			if (bin_length > size - at - 8)
-				fail(vn_io_error_parse, str("malformed GLB: the chunk length %u exceeds the file", bin_length));
+			uint32_t chunk_length = le32(u + at);
+			if (chunk_length > size - at - 8)
+				fail(vn_io_error_parse, str("malformed GLB: the chunk length %u exceeds the file", chunk_length));
+			if (le32(u + at + 4) == chunk_bin) /* another chunk type: no BIN chunk */
+				bin = u + at + 8, bin_length = chunk_length;
 		}
 	}
 	try {
-		d.j = json::parse(text);
+		d.j = json::parse(text, text + text_length);
 	} catch (const json::exception& x) {
 		fail(vn_io_error_parse, std::string("invalid JSON: ") + x.what());
 	}
 	if (!d.j.is_object())
 		fail(vn_io_error_parse, "invalid JSON: the document is not an object");
-
-	tinygltf::TinyGLTF loader;
-	loader.SetImageLoader(skip_image, nullptr);
-	tinygltf::Model model;
-	std::string err, warn;
-	const std::string given = for_tinygltf(file, d.j, d.glb, json_length);
-	bool ok = d.glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, (const unsigned char*)given.data(),
-	                                              (unsigned)given.size(), d.folder)
-	                : loader.LoadASCIIFromString(&model, &err, &warn, given.data(), (unsigned)given.size(), d.folder);
-	if (!ok)
-		fail(vn_io_error_parse, first_line(err.empty() ? "tinygltf cannot load the file" : err));
-	for (auto& b : model.buffers)
-		d.buffers.push_back(std::move(b.data));
 	auto jb = d.j.find("buffers");
-	if (d.buffers.size() != (jb != d.j.end() && jb->is_array() ? jb->size() : 0))
-		fail(vn_io_error_parse, "the buffers could not all be loaded");
-	for (size_t i = 0; i < d.buffers.size(); ++i) {
-		long long declared = get_int((*jb)[i], "byteLength", 0, str("buffers[%zu]", i));
-		if ((size_t)declared > d.buffers[i].size())
-			fail(vn_io_error_parse, str("buffers[%zu] has %zu bytes, fewer than its byteLength %lld", i,
-			                            d.buffers[i].size(), declared));
-	}
+	if (jb != d.j.end() && !jb->is_array())
+		fail(vn_io_error_parse, "buffers is not an array");
+	for (size_t i = 0; jb != d.j.end() && i < jb->size(); ++i)
+		d.buffers.push_back(load_buffer(d, i, file, bin, bin_length));
+	auto views = d.j.find("bufferViews");
+	d.input_views = views != d.j.end() && views->is_array() ? views->size() : 0;
 	return d;
 }
 
@@ -436,22 +491,22 @@ struct draco_mesh {
 size_t append_view(document& d, const bytes& data, size_t stride, int target);
 
 /* Decodes primitive prim's Draco data (ext: its extension object) and
- * checks it against the primitive: every attribute compressed, accessors
- * with the decoded counts and sizes, TRIANGLES with indices, no targets. */
+ * checks it against the primitive: indexed TRIANGLES, POSITION in the
+ * data, accessors with the decoded counts and sizes. Attributes outside the
+ * Draco data and morph targets follow the decoded points' order. */
 std::shared_ptr<draco_mesh> decode_draco(const document& d, const json& prim, const json& ext, const std::string& what)
 {
 	const std::string ew = what + ".extensions." + draco_name;
 	if (!ext.is_object() || !ext.contains("attributes") || !ext["attributes"].is_object())
 		fail(vn_io_error_parse, ew + " is malformed");
-	if (get_int(prim, "mode", 4, what) != 4 || !prim.contains("indices") || prim.contains("targets"))
-		fail(vn_io_error_unsupported,
-		     what + " is Draco-compressed and not indexed TRIANGLES without morph targets, which vn does not read");
+	if (get_int(prim, "mode", 4, what) != 4 || !prim.contains("indices"))
+		fail(vn_io_error_unsupported, what + " is Draco-compressed and not indexed TRIANGLES, which vn does not read");
 	const long long view = get_int(ext, "bufferView", -1, ew);
 	const size_t length = (size_t)get_int(element(d.j, "bufferViews", view, ew), "byteLength", 0, str("bufferViews[%lld]", view));
 	const span s = view_span(d, view, 0, length, 1, ew);
 	auto m = std::make_shared<draco_mesh>();
 	vn_io_error e;
-	const vn_io_result r = vn_drc_decode(d.buffers[(size_t)s.buffer].data() + s.offset, length, what.c_str(), &m->g, &e);
+	const vn_io_result r = vn_drc_decode(element_at(d, s, 0), length, what.c_str(), &m->g, &e);
 	if (r != vn_io_success)
 		fail(r, e.message);
 	const json& attributes = prim["attributes"];
@@ -466,12 +521,12 @@ std::shared_ptr<draco_mesh> decode_draco(const document& d, const json& prim, co
 		if (!attributes.contains(kv.key()))
 			fail(vn_io_error_parse, str("%s.attributes has no %s", what.c_str(), kv.key().c_str()));
 	}
+	if (!m->by_name.count("POSITION"))
+		fail(vn_io_error_unsupported, what + ": POSITION is not in the Draco data, which vn does not handle");
 	for (auto& kv : attributes.items()) {
-		if (!m->by_name.count(kv.key()))
-			fail(vn_io_error_unsupported, str("%s: %s is not in the Draco data, which vn does not handle", what.c_str(),
-			                                  kv.key().c_str()));
 		const accessor a = get_accessor(d, get_int(attributes, kv.key().c_str(), 0, what + ".attributes"));
-		if ((size_t)a.count != m->g.point_count || (int)a.components != m->by_name[kv.key()]->components)
+		auto in = m->by_name.find(kv.key());
+		if ((size_t)a.count != m->g.point_count || (in != m->by_name.end() && (int)a.components != in->second->components))
 			fail(vn_io_error_parse, str("%s: the %s accessor's count or type does not match the Draco data (%zu points)",
 			                            what.c_str(), kv.key().c_str(), m->g.point_count));
 	}
@@ -568,14 +623,83 @@ void decompress_draco(document& d)
 
 /* ------------------------------------------------------------------ normals */
 
+/* 3-vectors (positions, normals) of float32 or float64: a view into a
+ * buffer or Draco data, or decoded values owned here. Move-only: the view
+ * may point into `owned`. */
+struct vec3s {
+	vn_positions view = {nullptr, 0, 0, vn_scalar_float64};
+	std::vector<double> owned;
+	vec3s() = default;
+	vec3s(vec3s&&) = default;
+	vec3s& operator=(vec3s&&) = default;
+	vec3s(const vec3s&) = delete;
+	vec3s& operator=(const vec3s&) = delete;
+	explicit vec3s(std::vector<double> values) : owned(std::move(values))
+	{
+		view = {owned.data(), owned.size() / 3, 0, vn_scalar_float64};
+	}
+	vec3s(const void* data, size_t count, size_t stride, vn_scalar type) : view{data, count, stride, type} {}
+	size_t size() const { return view.count; }
+	bool empty() const { return view.count == 0; }
+	void load(size_t i, double out[3]) const
+	{
+		const size_t stride = view.stride ? view.stride : view.type == vn_scalar_float32 ? 12 : 24;
+		const unsigned char* p = (const unsigned char*)view.data + i * stride;
+		if (view.type == vn_scalar_float32) {
+			float f[3];
+			memcpy(f, p, sizeof f);
+			out[0] = f[0], out[1] = f[1], out[2] = f[2];
+		} else {
+			memcpy(out, p, 3 * sizeof(double));
+		}
+	}
+	void append_to(std::vector<double>& to) const
+	{
+		const size_t first = to.size();
+		to.resize(first + 3 * size());
+		for (size_t i = 0; i < size(); ++i)
+			load(i, &to[first + 3 * i]);
+	}
+};
+
+/* Accessor a (VEC3) as vec3s: a view when it is plain aligned float32. */
+vec3s read_vec3(const document& d, const accessor& a)
+{
+	if (a.component == 5126 && a.data.buffer >= 0 && a.sparse_count == 0) {
+		const unsigned char* p = element_at(d, a.data, 0);
+		if ((uintptr_t)p % 4 == 0 && a.data.stride % 4 == 0)
+			return vec3s(p, (size_t)a.count, a.data.stride, vn_scalar_float32);
+	}
+	return vec3s(read_accessor(d, a));
+}
+
+/* Triangle corners: a view into a buffer or Draco data, or owned. Move-only. */
+struct corners {
+	const uint32_t* data_ = nullptr;
+	size_t size_ = 0;
+	std::vector<uint32_t> owned;
+	corners() = default;
+	corners(corners&&) = default;
+	corners& operator=(corners&&) = default;
+	corners(const corners&) = delete;
+	corners& operator=(const corners&) = delete;
+	explicit corners(std::vector<uint32_t> values) : data_(values.data()), size_(values.size()), owned(std::move(values)) {}
+	corners(const uint32_t* data, size_t size) : data_(data), size_(size) {}
+	const uint32_t* data() const { return data_; }
+	size_t size() const { return size_; }
+	const uint32_t* begin() const { return data_; }
+	const uint32_t* end() const { return data_ + size_; }
+	uint32_t operator[](size_t k) const { return data_[k]; }
+};
+
 struct primitive {
 	size_t mesh, index;
 	long long position, normal = -1;
 	bool tangent = false;
-	std::vector<double> positions;  /* 3 per vertex */
-	std::vector<uint32_t> triangles; /* 3 per triangle */
-	std::vector<double> input_normals; /* empty, or 3 per vertex */
-	std::vector<float> normals;     /* result, 3 per output vertex */
+	vec3s positions;
+	corners triangles;           /* 3 per triangle */
+	vec3s input_normals;         /* empty, or one per vertex */
+	std::vector<float> normals;  /* result, 3 per output vertex */
 	/* Morph targets: per target, the morphed positions P + dP (empty when
 	 * the target has no POSITION), its NORMAL accessor (-1: none) and the
 	 * resulting NORMAL displacement (3 per output vertex; empty when the
@@ -589,11 +713,47 @@ struct primitive {
 	std::vector<uint32_t> split_source;
 	std::vector<uint32_t> split_triangles;
 	/* Draco-compressed (null: not): positions, triangles and input normals
-	 * above come from it. */
+	 * above are views into it. */
 	std::shared_ptr<const draco_mesh> draco;
-	size_t vertices() const { return positions.size() / 3; }
+	size_t vertices() const { return positions.size(); }
 	size_t output_vertices() const { return vertices() + split_source.size(); }
 };
+
+/* The vertex order of indices accessor ia (each checked < n). */
+corners read_indices(const document& d, const accessor& ia, size_t n, bool whole_triangles, const std::string& what)
+{
+	if (ia.components != 1 || (ia.component != 5121 && ia.component != 5123 && ia.component != 5125))
+		fail(vn_io_error_parse, what + ": indices are not unsigned integer scalars");
+	auto checked = [&](uint32_t v) {
+		if (v >= n)
+			fail(vn_io_error_parse, str("%s: index %u is out of range (%zu vertices)", what.c_str(), v, n));
+		return v;
+	};
+	const size_t count = whole_triangles ? (size_t)ia.count / 3 * 3 : (size_t)ia.count;
+	if (ia.component == 5125 && ia.sparse_count == 0 && ia.data.buffer >= 0 && ia.data.stride == 4) {
+		const unsigned char* p = element_at(d, ia.data, 0);
+		if ((uintptr_t)p % 4 == 0) {
+			const uint32_t* v = (const uint32_t*)p;
+			for (size_t k = 0; k < count; ++k)
+				checked(v[k]);
+			return corners(v, count);
+		}
+	}
+	std::vector<uint32_t> order((size_t)ia.count, 0);
+	if (ia.data.buffer >= 0)
+		for (size_t k = 0; k < order.size(); ++k)
+			order[k] = (uint32_t)read_component(element_at(d, ia.data, k), ia.component, false);
+	for (size_t k = 0; k < (size_t)ia.sparse_count; ++k) {
+		const double i = read_component(element_at(d, ia.sparse_indices, k), ia.sparse_index_component, false);
+		if (i >= (double)ia.count)
+			fail(vn_io_error_parse, str("a sparse index (%.0f) is out of range (count %lld)", i, ia.count));
+		order[(size_t)i] = (uint32_t)read_component(element_at(d, ia.sparse_values, k), ia.component, false);
+	}
+	for (uint32_t v : order)
+		checked(v);
+	order.resize(count);
+	return corners(std::move(order));
+}
 
 /* Reads the triangle primitives; counts the others. */
 std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
@@ -631,35 +791,33 @@ std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 			r.mesh = m;
 			r.index = p;
 			r.position = get_int(attributes, "POSITION", 0, what + ".attributes");
+			r.tangent = attributes.contains("TANGENT");
 			if (const json* ext = draco_extension(prim)) {
 				r.draco = decode_draco(d, prim, *ext, what);
 				const vn_drc_geometry& g = r.draco->g;
-				const float* q = (const float*)r.draco->by_name.at("POSITION")->data;
-				r.positions.assign(q, q + 3 * g.point_count);
-				r.triangles.assign(g.indices, g.indices + 3 * g.triangle_count);
-				auto normal = r.draco->by_name.find("NORMAL");
-				if (normal != r.draco->by_name.end()) {
-					r.normal = get_int(attributes, "NORMAL", 0, what + ".attributes");
-					q = (const float*)normal->second->data;
-					r.input_normals.assign(q, q + 3 * g.point_count);
-				}
-				r.tangent = attributes.contains("TANGENT");
-				out.push_back(std::move(r));
-				continue;
+				r.positions = vec3s(r.draco->by_name.at("POSITION")->data, g.point_count, 0, vn_scalar_float32);
+				r.triangles = corners(g.indices, 3 * g.triangle_count);
+			} else {
+				accessor pa = get_accessor(d, r.position);
+				if (pa.components != 3 || pa.count > (long long)UINT32_MAX)
+					fail(vn_io_error_parse, what + ": POSITION is not VEC3");
+				r.positions = read_vec3(d, pa);
 			}
-			accessor pa = get_accessor(d, r.position);
-			if (pa.components != 3 || pa.count > (long long)UINT32_MAX)
-				fail(vn_io_error_parse, what + ": POSITION is not VEC3");
-			r.positions = read_accessor(d, pa);
-			const size_t n = (size_t)pa.count;
+			const size_t n = r.vertices();
 			if (attributes.contains("NORMAL")) {
 				r.normal = get_int(attributes, "NORMAL", 0, what + ".attributes");
-				accessor na = get_accessor(d, r.normal);
-				if (na.components != 3 || na.count != pa.count)
-					fail(vn_io_error_parse, what + ": NORMAL is not VEC3 with one element per vertex");
-				r.input_normals = read_accessor(d, na);
+				const vn_drc_attribute* compressed = nullptr;
+				if (r.draco && r.draco->by_name.count("NORMAL"))
+					compressed = r.draco->by_name.at("NORMAL");
+				if (compressed) {
+					r.input_normals = vec3s(compressed->data, n, 0, vn_scalar_float32);
+				} else {
+					accessor na = get_accessor(d, r.normal);
+					if (na.components != 3 || (size_t)na.count != n)
+						fail(vn_io_error_parse, what + ": NORMAL is not VEC3 with one element per vertex");
+					r.input_normals = read_vec3(d, na);
+				}
 			}
-			r.tangent = attributes.contains("TANGENT");
 			if (prim.contains("targets")) {
 				if (!prim["targets"].is_array())
 					fail(vn_io_error_parse, what + ".targets is not an array");
@@ -671,47 +829,50 @@ std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 					std::vector<double> morphed;
 					if (target.contains("POSITION")) {
 						accessor ta = get_accessor(d, get_int(target, "POSITION", 0, tw));
-						if (ta.components != 3 || ta.count != pa.count)
+						if (ta.components != 3 || (size_t)ta.count != n)
 							fail(vn_io_error_parse, tw + ": POSITION is not VEC3 with one element per vertex");
 						morphed = read_accessor(d, ta);
-						for (size_t i = 0; i < morphed.size(); ++i)
-							morphed[i] += r.positions[i];
+						for (size_t i = 0; i < n; ++i) {
+							double q[3];
+							r.positions.load(i, q);
+							for (int c = 0; c < 3; ++c)
+								morphed[3 * i + c] += q[c];
+						}
 					}
 					long long normal = target.contains("NORMAL") ? get_int(target, "NORMAL", 0, tw) : -1;
 					if (normal >= 0) {
 						accessor tn = get_accessor(d, normal);
-						if (tn.components != 3 || tn.count != pa.count)
+						if (tn.components != 3 || (size_t)tn.count != n)
 							fail(vn_io_error_parse, tw + ": NORMAL is not VEC3 with one element per vertex");
 					}
 					r.target_positions.push_back(std::move(morphed));
 					r.target_normal.push_back(normal);
 				}
 			}
-
-			std::vector<uint32_t> order;
-			if (prim.contains("indices")) {
-				accessor ia = get_accessor(d, get_int(prim, "indices", 0, what));
-				if (ia.components != 1 || (ia.component != 5121 && ia.component != 5123 && ia.component != 5125))
-					fail(vn_io_error_parse, what + ": indices are not unsigned integer scalars");
-				for (double v : read_accessor(d, ia)) {
-					if (v >= (double)n)
-						fail(vn_io_error_parse,
-						     str("%s: index %.0f is out of range (%zu vertices)", what.c_str(), v, n));
-					order.push_back((uint32_t)v);
-				}
-			} else {
-				for (size_t i = 0; i < n; ++i)
-					order.push_back((uint32_t)i);
+			if (r.draco) {
+				out.push_back(std::move(r));
+				continue;
 			}
-			const size_t k = order.size();
-			if (mode == 4) {
-				r.triangles.assign(order.begin(), order.begin() + (long)(k / 3 * 3));
+
+			corners order;
+			if (prim.contains("indices")) {
+				order = read_indices(d, get_accessor(d, get_int(prim, "indices", 0, what)), n, mode == 4, what);
 			} else {
-				for (size_t i = 0; i + 2 < k; ++i) {
+				std::vector<uint32_t> all(mode == 4 ? n / 3 * 3 : n);
+				for (size_t i = 0; i < all.size(); ++i)
+					all[i] = (uint32_t)i;
+				order = corners(std::move(all));
+			}
+			if (mode == 4) {
+				r.triangles = std::move(order);
+			} else {
+				std::vector<uint32_t> triangles;
+				for (size_t i = 0; i + 2 < order.size(); ++i) {
 					uint32_t a = mode == 5 ? order[i + (i & 1)] : order[0];
 					uint32_t b = mode == 5 ? order[i + 1 - (i & 1)] : order[i + 1];
-					r.triangles.insert(r.triangles.end(), {a, b, order[i + 2]});
+					triangles.insert(triangles.end(), {a, b, order[i + 2]});
 				}
+				r.triangles = corners(std::move(triangles));
 			}
 			out.push_back(std::move(r));
 		}
@@ -733,17 +894,21 @@ void check(vn_result r)
 const double default_hard_edge_angle = 0.1 * M_PI / 180;
 
 /* How a group of primitives (one primitive, or a whole mesh) gets its
- * normals: the same plan serves the base shape and every morph target. */
+ * normals: the same plan serves the base shape and every morph target. A
+ * group of one primitive uses its data where they lie; a larger group
+ * joins copies. */
 struct group_plan {
 	std::vector<primitive*> prims;
 	std::vector<size_t> first;          /* first input vertex of each primitive */
 	std::vector<size_t> extra_first;    /* first split vertex of each primitive, counted from n */
 	size_t n = 0;                       /* input vertices */
+	size_t corners = 0;                 /* 3 per triangle */
 	std::vector<uint32_t> remap;        /* input vertex -> welded representative */
-	std::vector<uint32_t> corner_input; /* input vertex of each corner */
-	std::vector<uint32_t> triangles;    /* corners on welded vertices */
-	std::vector<double> input_normals;  /* 3 per input vertex; 0 0 0 when none */
-	bool corners = false;               /* per-corner normals (sharp edges or a crease angle) */
+	const uint32_t* corner_input = nullptr; /* input vertex of each corner */
+	const uint32_t* triangles = nullptr;    /* corners on welded vertices */
+	std::vector<uint32_t> joined_corners, welded_corners; /* what those point at, when not a primitive's */
+	vec3s input_normals;                /* one per input vertex, or empty */
+	bool corner_normals = false;        /* per-corner normals (sharp edges or a crease angle) */
 	double crease = M_PI;               /* radians; pi: no crease */
 	std::vector<uint8_t> sharp;         /* per corner: edges whose input normals differ */
 	std::vector<uint32_t> corner_output; /* per corner: output vertex, when splitting */
@@ -752,39 +917,40 @@ struct group_plan {
 	vn_options options;
 };
 
-/* The plan's normals for input positions q (3 per input vertex): one unit
- * vector per output vertex (input vertices, then split ones). A vertex no
- * face contributes to gets its input normal when that is a unit vector,
- * else +Z; *zeros counts them. */
-std::vector<double> plan_normals(const group_plan& g, const std::vector<double>& q, size_t* zeros)
+/* The plan's normals for input positions q: one unit vector per output
+ * vertex (input vertices, then split ones), 3 floats each. A vertex no face
+ * contributes to gets its input normal when that is a unit vector, else +Z;
+ * *zeros counts them. */
+std::vector<float> plan_normals(const group_plan& g, const vn_positions& q, size_t* zeros)
 {
 	const size_t n = g.n, outputs = n + g.extra_source.size();
-	const vn_positions pos = {q.data(), n, 0, vn_scalar_float64};
-	std::vector<double> out(3 * outputs, 0.0);
-	auto vertex_normals = [&] {
-		std::vector<double> v(3 * n);
-		const vn_vectors vv = {v.data(), 0, vn_scalar_float64};
-		check(vn_triangle_normals(&vv, &pos, g.triangles.data(), g.triangles.size(), g.method, &g.options, nullptr));
-		return v;
-	};
-	if (!g.corners) {
-		std::vector<double> v = vertex_normals();
+	std::vector<float> out(3 * outputs, 0.0f);
+	/* Welded vertex normals into v, then copied to every vertex of each
+	 * group (the representative is the group's lowest index, so it is
+	 * final by the time the others copy it). */
+	auto vertex_normals = [&](float* v) {
+		const vn_vectors vv = {v, 0, vn_scalar_float32};
+		check(vn_triangle_normals(&vv, &q, g.triangles, g.corners, g.method, &g.options, nullptr));
 		for (size_t i = 0; i < n; ++i)
-			std::copy_n(&v[3 * g.remap[i]], 3, &out[3 * i]);
+			if (g.remap[i] != i)
+				std::copy_n(&v[3 * g.remap[i]], 3, &v[3 * i]);
+	};
+	if (!g.corner_normals) {
+		vertex_normals(out.data());
 	} else {
-		std::vector<double> c(g.triangles.size() * 3);
-		const vn_vectors cv = {c.data(), 0, vn_scalar_float64};
-		check(vn_corner_normals(&cv, &pos, g.triangles.data(), g.triangles.size(), g.method, g.crease,
+		std::vector<float> c(3 * g.corners);
+		const vn_vectors cv = {c.data(), 0, vn_scalar_float32};
+		check(vn_corner_normals(&cv, &q, g.triangles, g.corners, g.method, g.crease,
 		                        g.sharp.empty() ? nullptr : g.sharp.data(), &g.options, nullptr));
 		if (!g.corner_output.empty()) {
-			for (size_t k = 0; k < g.corner_output.size(); ++k)
+			for (size_t k = 0; k < g.corners; ++k)
 				std::copy_n(&c[3 * k], 3, &out[3 * g.corner_output[k]]);
 		} else {
 			/* No splitting: a vertex whose corners disagree (its fans are
 			 * not separated in the file) gets the smooth normal. */
 			std::vector<uint32_t> seen(n, UINT32_MAX);
 			std::vector<uint8_t> conflict(n, 0);
-			for (size_t k = 0; k < g.corner_input.size(); ++k) {
+			for (size_t k = 0; k < g.corners; ++k) {
 				const uint32_t i = g.corner_input[k];
 				if (seen[i] == UINT32_MAX)
 					seen[i] = (uint32_t)k, std::copy_n(&c[3 * k], 3, &out[3 * i]);
@@ -792,22 +958,25 @@ std::vector<double> plan_normals(const group_plan& g, const std::vector<double>&
 					conflict[i] = 1;
 			}
 			if (std::find(conflict.begin(), conflict.end(), 1) != conflict.end()) {
-				std::vector<double> v = vertex_normals();
+				std::vector<float> v(3 * n);
+				vertex_normals(v.data());
 				for (size_t i = 0; i < n; ++i)
 					if (conflict[i])
-						std::copy_n(&v[3 * g.remap[i]], 3, &out[3 * i]);
+						std::copy_n(&v[3 * i], 3, &out[3 * i]);
 			}
 		}
 	}
 	for (size_t k = 0; k < outputs; ++k) {
-		double* v = &out[3 * k];
+		float* v = &out[3 * k];
 		if (v[0] != 0 || v[1] != 0 || v[2] != 0)
 			continue;
 		++*zeros;
-		const double* w = &g.input_normals[3 * (k < n ? k : g.extra_source[k - n])];
+		double w[3] = {0, 0, 0};
+		if (!g.input_normals.empty())
+			g.input_normals.load(k < n ? k : g.extra_source[k - n], w);
 		double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
 		if (std::isfinite(l) && std::fabs(l - 1) < 1e-3)
-			v[0] = w[0] / l, v[1] = w[1] / l, v[2] = w[2] / l;
+			v[0] = (float)(w[0] / l), v[1] = (float)(w[1] / l), v[2] = (float)(w[2] / l);
 		else
 			v[2] = 1;
 	}
@@ -815,35 +984,41 @@ std::vector<double> plan_normals(const group_plan& g, const std::vector<double>&
 }
 
 /* Flags the corners whose edge joins split copies with input normals more
- * than `angle` apart at either end; returns how many. */
+ * than `angle` apart at either end; returns how many edges that makes (an
+ * edge is flagged from both sides). */
 size_t flag_hard_edges(group_plan& g, double angle)
 {
+	if (g.input_normals.empty())
+		return 0;
 	const double limit = std::cos(angle);
 	auto differ = [&](uint32_t a, uint32_t b) {
-		const double* x = &g.input_normals[3 * a];
-		const double* y = &g.input_normals[3 * b];
+		double x[3], y[3];
+		g.input_normals.load(a, x);
+		g.input_normals.load(b, y);
 		double lx = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
 		double ly = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
 		return a != b && lx > 0 && ly > 0 && (x[0] * y[0] + x[1] * y[1] + x[2] * y[2]) < limit * lx * ly;
 	};
 	auto next = [](size_t k) { return k - k % 3 + (k + 1) % 3; };
-	const size_t corners = g.triangles.size();
 	/* Only an edge with an end where welding merged copies can join copies
 	 * with different input normals: the others need no search (on a file
 	 * without split vertices, that is every edge). */
 	std::vector<uint8_t> merged(g.n, 0);
+	bool any = false;
 	for (size_t i = 0; i < g.n; ++i)
 		if (g.remap[i] != i)
-			merged[g.remap[i]] = 1;
+			merged[g.remap[i]] = 1, any = true;
+	if (!any)
+		return 0;
 	auto candidate = [&](size_t k) { return merged[g.triangles[k]] || merged[g.triangles[next(k)]]; };
 	std::vector<std::pair<uint64_t, uint32_t>> edges;
-	for (size_t k = 0; k < corners; ++k)
+	for (size_t k = 0; k < g.corners; ++k)
 		if (candidate(k))
 			edges.push_back({(uint64_t)g.triangles[k] << 32 | g.triangles[next(k)], (uint32_t)k});
 	std::sort(edges.begin(), edges.end());
-	g.sharp.assign(corners, 0);
+	g.sharp.assign(g.corners, 0);
 	size_t flagged = 0;
-	for (size_t k = 0; k < corners; ++k) {
+	for (size_t k = 0; k < g.corners; ++k) {
 		if (!candidate(k) || g.triangles[k] == g.triangles[next(k)])
 			continue; /* no merged end, or a degenerate triangle (no edges) */
 		const uint64_t opposite = (uint64_t)g.triangles[next(k)] << 32 | g.triangles[k];
@@ -853,7 +1028,7 @@ size_t flag_hard_edges(group_plan& g, double angle)
 			g.sharp[k] = differ(g.corner_input[k], g.corner_input[next(j)]) ||
 			             differ(g.corner_input[next(k)], g.corner_input[j]);
 		}
-		flagged += g.sharp[k];
+		flagged += g.sharp[k] && g.triangles[k] < g.triangles[next(k)];
 	}
 	return flagged;
 }
@@ -861,15 +1036,14 @@ size_t flag_hard_edges(group_plan& g, double angle)
 /* Split vertices for per-corner normals c: a corner whose normal differs
  * from the first one of its input vertex gets a new vertex, shared by the
  * vertex's corners with the same normal. */
-void split_corners(group_plan& g, const std::vector<double>& c)
+void split_corners(group_plan& g, const std::vector<float>& c)
 {
-	const size_t corners = g.corner_input.size();
 	std::vector<uint32_t> owner(g.n, UINT32_MAX);
 	g.extra_first.assign(1, 0);
 	std::map<uint32_t, std::vector<uint32_t>> extras; /* input vertex -> its split vertices' first corner */
-	g.corner_output.assign(corners, 0);
+	g.corner_output.assign(g.corners, 0);
 	size_t p = 0;
-	for (size_t k = 0; k < corners; ++k) {
+	for (size_t k = 0; k < g.corners; ++k) {
 		const uint32_t i = g.corner_input[k];
 		while (p + 1 < g.prims.size() && i >= g.first[p + 1])
 			g.extra_first.push_back(g.extra_source.size()), ++p;
@@ -906,54 +1080,80 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 	g.method = o.method;
 	memset(&g.options, 0, sizeof g.options);
 	g.options.threads = o.threads;
-	std::vector<double> positions;
+	std::vector<double> joined;
+	vn_positions pos = prims[0]->positions.view;
+	bool any_normals = false;
 	for (primitive* p : prims) {
-		g.first.push_back(positions.size() / 3);
-		if (positions.size() / 3 + p->vertices() > UINT32_MAX)
+		g.first.push_back(g.n);
+		if (g.n + p->vertices() > UINT32_MAX)
 			fail(vn_io_error_unsupported, "a mesh has more than 2^32 vertices");
-		positions.insert(positions.end(), p->positions.begin(), p->positions.end());
-		if (p->input_normals.empty())
-			g.input_normals.resize(positions.size(), 0.0);
-		else
-			g.input_normals.insert(g.input_normals.end(), p->input_normals.begin(), p->input_normals.end());
-		for (uint32_t v : p->triangles)
-			g.corner_input.push_back((uint32_t)(g.first.back() + v));
+		g.n += p->vertices();
+		g.corners += p->triangles.size();
+		any_normals = any_normals || !p->input_normals.empty();
 	}
-	g.n = positions.size() / 3;
-	const vn_positions pos = {positions.data(), g.n, 0, vn_scalar_float64};
+	if (prims.size() == 1) {
+		g.corner_input = prims[0]->triangles.data();
+		g.input_normals = vec3s(prims[0]->input_normals.view.data, prims[0]->input_normals.size(),
+		                        prims[0]->input_normals.view.stride, prims[0]->input_normals.view.type);
+	} else {
+		std::vector<double> joined_normals;
+		for (size_t k = 0; k < prims.size(); ++k) {
+			const primitive* p = prims[k];
+			p->positions.append_to(joined);
+			if (any_normals && p->input_normals.empty())
+				joined_normals.resize(joined.size(), 0.0);
+			else if (any_normals)
+				p->input_normals.append_to(joined_normals);
+			for (uint32_t v : p->triangles)
+				g.joined_corners.push_back((uint32_t)(g.first[k] + v));
+		}
+		pos = {joined.data(), g.n, 0, vn_scalar_float64};
+		g.corner_input = g.joined_corners.data();
+		g.input_normals = vec3s(std::move(joined_normals));
+	}
 	g.remap.resize(g.n);
 	for (size_t i = 0; i < g.n; ++i)
 		g.remap[i] = (uint32_t)i;
+	size_t welded = 0;
 	if (!o.no_weld) {
 		check(vn_weld_positions(g.remap.data(), &pos, o.weld_epsilon, &g.options));
 		for (size_t i = 0; i < g.n; ++i)
-			st.welded_vertices += g.remap[i] != i;
+			welded += g.remap[i] != i;
+		st.welded_vertices += welded;
 	}
-	g.triangles.resize(g.corner_input.size());
-	for (size_t k = 0; k < g.triangles.size(); ++k)
-		g.triangles[k] = g.remap[g.corner_input[k]];
-	if (!o.no_weld && !flag_hard_edges(g, o.crease ? o.crease_angle : default_hard_edge_angle))
+	g.triangles = g.corner_input;
+	if (welded) {
+		g.welded_corners.resize(g.corners);
+		for (size_t k = 0; k < g.corners; ++k)
+			g.welded_corners[k] = g.remap[g.corner_input[k]];
+		g.triangles = g.welded_corners.data();
+	}
+	const size_t hard = o.no_weld ? 0 : flag_hard_edges(g, o.crease ? o.crease_angle : default_hard_edge_angle);
+	if (!hard)
 		g.sharp.clear();
-	g.corners = o.crease || !g.sharp.empty();
+	st.hard_edges += hard;
+	g.corner_normals = o.crease || !g.sharp.empty();
 	if (o.crease) {
 		g.crease = o.crease_angle;
-		std::vector<double> c(g.triangles.size() * 3);
-		const vn_vectors cv = {c.data(), 0, vn_scalar_float64};
-		check(vn_corner_normals(&cv, &pos, g.triangles.data(), g.triangles.size(), g.method, g.crease,
+		std::vector<float> c(3 * g.corners);
+		const vn_vectors cv = {c.data(), 0, vn_scalar_float32};
+		check(vn_corner_normals(&cv, &pos, g.triangles, g.corners, g.method, g.crease,
 		                        g.sharp.empty() ? nullptr : g.sharp.data(), &g.options, nullptr));
 		split_corners(g, c);
+		st.split_vertices += g.extra_source.size();
 	}
 	size_t zeros = 0;
-	const std::vector<double> base = plan_normals(g, positions, &zeros);
+	std::vector<float> base = plan_normals(g, pos, &zeros);
 	st.zero_normals += zeros;
 
-	/* Each primitive's output vertices: its input ones, then its split ones. */
-	auto gather = [&](const std::vector<double>& all, size_t p, std::vector<float>& out, const std::vector<double>* minus) {
+	/* Each primitive's output vertices: its input ones, then its split ones
+	 * (a group of one primitive is laid out so already). */
+	auto gather = [&](const std::vector<float>& all, size_t p, std::vector<float>& out, const std::vector<float>* minus) {
 		const primitive& pr = *prims[p];
 		out.resize(3 * pr.output_vertices());
 		for (size_t i = 0; i < out.size(); ++i) {
 			const size_t k = i < 3 * pr.vertices() ? 3 * g.first[p] + i : 3 * (g.n + g.extra_first[p]) + i - 3 * pr.vertices();
-			out[i] = (float)(minus ? all[k] - (*minus)[k] : all[k]);
+			out[i] = minus ? all[k] - (*minus)[k] : all[k];
 		}
 	};
 	size_t corner_first = 0;
@@ -969,7 +1169,6 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 				                                     : (uint32_t)(pr.vertices() + v - g.n - g.extra_first[p]));
 			}
 		}
-		gather(base, p, pr.normals, nullptr);
 		corner_first += pr.triangles.size();
 		st.vertices += pr.vertices();
 		st.triangles += pr.triangles.size() / 3;
@@ -983,12 +1182,14 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 	for (size_t t = 0; t < targets; ++t) {
 		std::vector<double> morphed;
 		for (primitive* p : prims) {
-			const bool moves = t < p->target_positions.size() && !p->target_positions[t].empty();
-			const std::vector<double>& q = moves ? p->target_positions[t] : p->positions;
-			morphed.insert(morphed.end(), q.begin(), q.end());
+			if (t < p->target_positions.size() && !p->target_positions[t].empty())
+				morphed.insert(morphed.end(), p->target_positions[t].begin(), p->target_positions[t].end());
+			else
+				p->positions.append_to(morphed);
 		}
 		size_t ignored = 0;
-		const std::vector<double> normals = plan_normals(g, morphed, &ignored);
+		const vn_positions q = {morphed.data(), g.n, 0, vn_scalar_float64};
+		const std::vector<float> normals = plan_normals(g, q, &ignored);
 		for (size_t p = 0; p < prims.size(); ++p) {
 			primitive& pr = *prims[p];
 			if (t >= pr.target_positions.size())
@@ -998,6 +1199,11 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 				gather(normals, p, pr.target_normals.back(), &base);
 		}
 	}
+	if (prims.size() == 1)
+		prims[0]->normals = std::move(base);
+	else
+		for (size_t p = 0; p < prims.size(); ++p)
+			gather(base, p, prims[p]->normals, nullptr);
 }
 
 json& mesh_primitive(document& d, const primitive& p)
@@ -1017,11 +1223,11 @@ size_t append_view(document& d, const bytes& data, size_t stride, int target)
 	size_t b = d.buffers.size() - 1;
 	if (d.glb && !d.j["buffers"][0].contains("uri"))
 		b = 0;
-	bytes& buffer = d.buffers[b];
-	buffer.resize((buffer.size() + 3) / 4 * 4, 0);
-	const size_t offset = buffer.size();
-	buffer.insert(buffer.end(), data.begin(), data.end());
-	d.j["buffers"][b]["byteLength"] = buffer.size();
+	buffer& to = d.buffers[b];
+	to.tail.resize((to.tail.size() + 3) / 4 * 4, 0);
+	const size_t offset = to.tail_start() + to.tail.size();
+	to.tail.insert(to.tail.end(), data.begin(), data.end());
+	d.j["buffers"][b]["byteLength"] = to.total();
 	if (!d.j.contains("bufferViews"))
 		d.j["bufferViews"] = json::array();
 	json view = {{"buffer", b}, {"byteOffset", offset}, {"byteLength", data.size()}};
@@ -1048,7 +1254,7 @@ void overwrite_vec3(document& d, long long index, const accessor& a, const std::
 {
 	std::vector<double> lo(3, INFINITY), hi(3, -INFINITY);
 	for (size_t i = 0; i < values.size() / 3; ++i) {
-		unsigned char* e = d.buffers[(size_t)a.data.buffer].data() + a.data.offset + i * a.data.stride;
+		unsigned char* e = element_at(d, a.data, i);
 		for (size_t c = 0; c < 3; ++c) {
 			double v = values[3 * i + c], stored;
 			if (a.component == 5126) {
@@ -1114,9 +1320,7 @@ long long split_accessor(document& d, long long index, const primitive& p)
 	const accessor a = get_accessor(d, index);
 	const size_t stride = (a.element + 3) / 4 * 4;
 	bytes data(stride * p.output_vertices(), 0);
-	auto element = [&](const span& s, size_t i) {
-		return d.buffers[(size_t)s.buffer].data() + s.offset + i * s.stride;
-	};
+	auto element = [&](const span& s, size_t i) { return element_at(d, s, i); };
 	if (a.data.buffer >= 0)
 		for (size_t i = 0; i < p.vertices(); ++i)
 			memcpy(&data[i * stride], element(a.data, i), a.element);
@@ -1187,36 +1391,82 @@ vn_drc_options draco_bits(const vn_gltf_options& o)
 	return bits;
 }
 
-/* g Draco-encoded at `level` into a new bufferView; returns its index. */
-size_t append_draco(document& d, const vn_drc_geometry& g, int level, const std::string& what)
+/* g Draco-encoded (keep_order: as vn_drc_encode) into a new bufferView;
+ * returns its index. When position >= 0, that accessor (g's attribute
+ * position_id) gets the min/max of the positions a decoder gets back when
+ * they are floats: quantizing anew may move them outside the bounds of the
+ * input's (integer positions are lossless). */
+size_t append_draco(document& d, const vn_drc_geometry& g, int level, bool keep_order, long long position,
+                    uint32_t position_id, const std::string& what)
 {
 	void* data;
 	size_t size;
 	vn_io_error e;
-	const vn_io_result r = vn_drc_encode(&g, level, what.c_str(), &data, &size, &e);
+	vn_io_result r = vn_drc_encode(&g, level, keep_order, what.c_str(), &data, &size, &e);
 	if (r != vn_io_success)
 		fail(r, e.message);
 	const bytes encoded((unsigned char*)data, (unsigned char*)data + size);
 	free(data);
+	if (position >= 0) {
+		draco_mesh back;
+		if ((r = vn_drc_decode(encoded.data(), encoded.size(), what.c_str(), &back.g, &e)) != vn_io_success)
+			fail(r, e.message);
+		for (size_t i = 0; i < back.g.attribute_count; ++i)
+			if (back.g.attributes[i].unique_id == position_id && back.g.attributes[i].component_type == vn_drc_float32) {
+				const float* q = (const float*)back.g.attributes[i].data;
+				json lo = json::array(), hi = json::array();
+				for (int c = 0; c < 3; ++c) {
+					float l = INFINITY, h = -INFINITY;
+					for (size_t k = 0; k < back.g.point_count; ++k)
+						l = std::min(l, q[3 * k + c]), h = std::max(h, q[3 * k + c]);
+					lo.push_back(l), hi.push_back(h);
+				}
+				d.j["accessors"][(size_t)position]["min"] = lo;
+				d.j["accessors"][(size_t)position]["max"] = hi;
+			}
+	}
 	return append_view(d, encoded, 0, 0);
 }
 
-/* Adds p's output vertices (positions, new normals) and triangles. */
+/* Adds p's output vertices that triangles use (positions, new normals) and
+ * its triangles. */
 void record_normals(quantized_normals& q, const primitive& p)
 {
-	const size_t first = q.positions.size() / 3;
-	for (uint32_t v : p.split_source.empty() ? p.triangles : p.split_triangles)
-		q.indices.push_back((uint32_t)(first + v));
-	q.positions.insert(q.positions.end(), p.positions.begin(), p.positions.end());
-	for (uint32_t v : p.split_source)
-		q.positions.insert(q.positions.end(), &p.positions[3 * v], &p.positions[3 * v] + 3);
-	q.normals.insert(q.normals.end(), p.normals.begin(), p.normals.end());
+	const corners triangles = p.split_source.empty() ? corners(p.triangles.data(), p.triangles.size())
+	                                                 : corners(p.split_triangles.data(), p.split_triangles.size());
+	std::vector<uint32_t> renumbered(p.output_vertices(), UINT32_MAX);
+	for (uint32_t v : triangles) {
+		if (renumbered[v] == UINT32_MAX) {
+			renumbered[v] = (uint32_t)(q.positions.size() / 3);
+			double x[3];
+			p.positions.load(v < p.vertices() ? v : p.split_source[v - p.vertices()], x);
+			q.positions.insert(q.positions.end(), x, x + 3);
+			q.normals.insert(q.normals.end(), &p.normals[3 * v], &p.normals[3 * v] + 3);
+		}
+		q.indices.push_back(renumbered[v]);
+	}
+}
+
+/* The bits --draco-qp/qn/qt/qc gave for attribute a (by semantic), or -1. */
+int given_bits(const vn_gltf_options& o, const vn_drc_attribute& a)
+{
+	if (a.component_type != vn_drc_float32)
+		return -1; /* integers are lossless */
+	switch (a.semantic) {
+	case vn_drc_position: return o.draco_options.position_bits;
+	case vn_drc_normal: return o.draco_options.normal_bits;
+	case vn_drc_texcoord: return o.draco_options.texcoord_bits;
+	case vn_drc_color: return o.draco_options.color_bits;
+	default: return -1;
+	}
 }
 
 /* Encodes Draco primitive p again with its new normals: the same attributes
- * (but a dropped TANGENT), unique ids and bits (normals: --draco-qn when given; a NORMAL the data
- * lacked gets the next unique id and a bufferView-less accessor), in a new
- * bufferView the extension points at. */
+ * (but a dropped TANGENT), unique ids and bits, except the bits given with
+ * --draco-qp/qn/qt/qc (a NORMAL the data lacked gets the next unique id, a
+ * bufferView-less accessor and --draco-qn or default bits), in a new bufferView
+ * the extension points at. Points keep their order when morph targets or
+ * attributes outside the Draco data follow it. */
 void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_gltf_stats& st,
                  std::map<int, quantized_normals>& quantized)
 {
@@ -1228,33 +1478,40 @@ void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_g
 	json& prim = mesh_primitive(d, p);
 	json& ext = prim["extensions"][draco_name];
 	const vn_drc_geometry& in = p.draco->g;
+	const auto& by_name = p.draco->by_name;
 	std::vector<vn_drc_attribute> attributes;
 	for (size_t i = 0; i < in.attribute_count; ++i)
-		if (!o.drop_tangents || !p.draco->by_name.count("TANGENT") || p.draco->by_name.at("TANGENT") != &in.attributes[i])
+		if (!o.drop_tangents || !by_name.count("TANGENT") || by_name.at("TANGENT") != &in.attributes[i])
 			attributes.push_back(in.attributes[i]);
-	std::vector<float> normals(p.normals);
+	const bool keep_order = prim.contains("targets") || prim["attributes"].size() > by_name.size() -
+	                        (o.drop_tangents && by_name.count("TANGENT"));
 	auto normal = std::find_if(attributes.begin(), attributes.end(), [&](const vn_drc_attribute& a) {
-		return p.draco->by_name.count("NORMAL") && a.unique_id == p.draco->by_name.at("NORMAL")->unique_id;
+		return by_name.count("NORMAL") && a.unique_id == by_name.at("NORMAL")->unique_id;
 	});
 	if (normal == attributes.end()) {
-		vn_drc_attribute a = {0, vn_drc_normal, vn_drc_float32, 3, 0, 0, nullptr};
+		vn_drc_attribute a = {0, vn_drc_normal, vn_drc_float32, 3, 0, draco_bits(o).normal_bits, nullptr};
 		for (const vn_drc_attribute& b : attributes)
 			a.unique_id = std::max(a.unique_id, b.unique_id + 1);
-		a.quantization_bits = -1; /* set below */
 		ext["attributes"]["NORMAL"] = a.unique_id;
 		prim["attributes"]["NORMAL"] = append_accessor(d, json{{"componentType", 5126}, {"count", in.point_count}, {"type", "VEC3"}});
 		++st.appended_accessors;
 		attributes.push_back(a);
 		normal = attributes.end() - 1;
 	}
-	normal->data = normals.data();
-	const vn_drc_options bits = draco_bits(o);
-	if (o.draco_options.normal_bits >= 0 || normal->quantization_bits < 0)
-		normal->quantization_bits = bits.normal_bits;
+	normal->data = const_cast<float*>(p.normals.data());
+	bool moved = false; /* positions quantized with other bits than the stream's */
+	for (vn_drc_attribute& a : attributes) {
+		const int bits = given_bits(o, a);
+		if (bits >= 0 && bits != a.quantization_bits) {
+			moved = moved || a.semantic == vn_drc_position;
+			a.quantization_bits = bits;
+		}
+	}
 	vn_drc_geometry g = in;
 	g.attributes = attributes.data();
 	g.attribute_count = attributes.size();
-	ext["bufferView"] = append_draco(d, g, bits.compression_level, what);
+	ext["bufferView"] = append_draco(d, g, draco_bits(o).compression_level, keep_order, moved ? p.position : -1,
+	                                 by_name.at("POSITION")->unique_id, what);
 	++st.draco_primitives;
 	record_normals(quantized[normal->quantization_bits], p);
 }
@@ -1263,21 +1520,40 @@ void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_g
  * when it had to be) gets its attributes and triangles Draco-encoded with
  * o's bits (semantics by name: POSITION, NORMAL, TEXCOORD_n, COLOR_n, the
  * rest generic and lossless), new bufferView-less accessors and indices,
- * and the extension. The old accessors stay (unused). A primitive with
- * morph targets is left uncompressed: Draco renumbers the vertices that
- * the targets' accessors follow. */
+ * and the extension; POSITION's min/max are the decoded positions'.
+ * Vertices no triangle uses are left out. A primitive with morph targets
+ * keeps every point in order, which the targets' accessors follow; when
+ * that is more than 3 points per triangle (which Draco's decoders refuse),
+ * it stays uncompressed (counted). The old accessors stay (unused). */
 void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_gltf_stats& st,
                     std::map<int, quantized_normals>& quantized)
 {
 	json& prim = mesh_primitive(d, p);
-	if (prim.contains("targets"))
-		return;
 	const std::string what = str("meshes[%zu].primitives[%zu]", p.mesh, p.index);
 	const vn_drc_options bits = draco_bits(o);
 	const size_t n = p.output_vertices();
+	const bool targets = prim.contains("targets");
+	const corners triangles = p.split_source.empty() ? corners(p.triangles.data(), p.triangles.size())
+	                                                 : corners(p.split_triangles.data(), p.split_triangles.size());
+	/* Vertices no triangle uses are left out (Draco's decoders refuse more
+	 * points than 3 per triangle), unless morph targets follow the order. */
+	std::vector<uint32_t> kept, renumbered(n, UINT32_MAX);
+	for (uint32_t v : triangles)
+		renumbered[v] = 0;
+	for (size_t v = 0; v < n; ++v)
+		if (targets || renumbered[v] == 0)
+			renumbered[v] = (uint32_t)kept.size(), kept.push_back((uint32_t)v);
+	if (kept.size() > triangles.size()) {
+		++st.draco_uncompressed;
+		return;
+	}
+	std::vector<uint32_t> corners_kept(triangles.size());
+	for (size_t k = 0; k < triangles.size(); ++k)
+		corners_kept[k] = renumbered[triangles[k]];
 	std::vector<bytes> storage;
 	std::vector<vn_drc_attribute> attributes;
 	json ext_attributes = json::object();
+	long long position = -1;
 	for (auto& kv : prim["attributes"].items()) {
 		const std::string& name = kv.key();
 		const long long index = get_int(prim["attributes"], name.c_str(), 0, what + ".attributes");
@@ -1288,9 +1564,14 @@ void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, v
 		a.normalized = false; /* the stored integers, which Draco keeps with the flag */
 		const std::vector<double> values = read_accessor(d, a);
 		const size_t csize = component_size(a.component);
-		storage.emplace_back(values.size() * csize);
-		for (size_t i = 0; i < values.size(); ++i)
-			write_component(&storage.back()[i * csize], a.component, values[i]);
+		storage.emplace_back(kept.size() * a.components * csize);
+		std::vector<double> lo(a.components, INFINITY), hi(a.components, -INFINITY);
+		for (size_t i = 0; i < kept.size(); ++i)
+			for (size_t c = 0; c < a.components; ++c) {
+				const double v = values[kept[i] * a.components + c];
+				write_component(&storage.back()[(i * a.components + c) * csize], a.component, v);
+				lo[c] = std::min(lo[c], v), hi[c] = std::max(hi[c], v);
+			}
 		const bool texcoord = name.rfind("TEXCOORD_", 0) == 0, color = name.rfind("COLOR_", 0) == 0;
 		vn_drc_attribute da = {(uint32_t)attributes.size(),
 		                       name == "POSITION" ? vn_drc_position : name == "NORMAL" ? vn_drc_normal
@@ -1304,14 +1585,24 @@ void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, v
 		copy.erase("bufferView");
 		copy.erase("byteOffset");
 		copy.erase("sparse");
+		copy["count"] = kept.size();
+		for (auto bound : {std::make_pair("min", &lo), std::make_pair("max", &hi)})
+			if (copy.contains(bound.first)) {
+				copy[bound.first] = json::array();
+				for (double v : *bound.second)
+					copy[bound.first].push_back(a.component == 5126 ? json(v) : json((long long)v));
+			}
 		kv.value() = append_accessor(d, copy);
+		if (name == "POSITION")
+			position = kv.value().get<long long>();
 	}
 	for (size_t i = 0; i < attributes.size(); ++i)
 		attributes[i].data = storage[i].data();
-	const std::vector<uint32_t>& triangles = p.split_source.empty() ? p.triangles : p.split_triangles;
-	vn_drc_geometry g = {n, triangles.size() / 3, const_cast<uint32_t*>(triangles.data()), attributes.size(), attributes.data()};
-	const size_t view = append_draco(d, g, bits.compression_level, what);
-	prim["indices"] = append_accessor(d, json{{"componentType", n <= 256 ? 5121 : n <= 65536 ? 5123 : 5125},
+	vn_drc_geometry g = {kept.size(), corners_kept.size() / 3, corners_kept.data(), attributes.size(), attributes.data()};
+	const size_t view = append_draco(d, g, bits.compression_level, targets, position,
+	                                 ext_attributes["POSITION"].get<uint32_t>(), what);
+	const size_t points = kept.size();
+	prim["indices"] = append_accessor(d, json{{"componentType", points <= 256 ? 5121 : points <= 65536 ? 5123 : 5125},
 	                                          {"count", triangles.size()},
 	                                          {"type", "SCALAR"}});
 	if (prim.contains("mode"))
@@ -1360,19 +1651,22 @@ void write_normals(document& d, std::vector<primitive>& prims, const vn_gltf_opt
 	std::map<long long, const std::vector<float>*> written;
 	std::map<int, quantized_normals> quantized;
 	for (primitive& p : prims) {
+		const bool split = !p.split_source.empty();
 		if (p.draco) {
 			write_draco(d, p, o, st, quantized);
-			continue;
+		} else {
+			if (split)
+				write_split(d, p);
+			const long long normal = put_vec3(d, split ? -1 : p.normal, p.normals, written, st);
+			mesh_primitive(d, p)["attributes"]["NORMAL"] = normal;
 		}
-		const bool split = !p.split_source.empty();
-		if (split)
-			write_split(d, p);
-		json& prim = mesh_primitive(d, p);
-		prim["attributes"]["NORMAL"] = put_vec3(d, split ? -1 : p.normal, p.normals, written, st);
+		/* Morph targets are never Draco-compressed. */
 		for (size_t t = 0; t < p.target_normals.size(); ++t)
-			if (!p.target_normals[t].empty())
-				prim["targets"][t]["NORMAL"] = put_vec3(d, split ? -1 : p.target_normal[t], p.target_normals[t], written, st);
-		if (o.draco == vn_gltf_draco_on)
+			if (!p.target_normals[t].empty()) {
+				const long long normal = put_vec3(d, split ? -1 : p.target_normal[t], p.target_normals[t], written, st);
+				mesh_primitive(d, p)["targets"][t]["NORMAL"] = normal;
+			}
+		if (!p.draco && o.draco == vn_gltf_draco_on)
 			compress_draco(d, p, o, st, quantized);
 	}
 	if (o.draco_normal_error)
@@ -1396,20 +1690,6 @@ std::string base64(const bytes& data)
 		out += digits[v >> 12 & 63];
 		out += i + 1 < data.size() ? digits[v >> 6 & 63] : '=';
 		out += i + 2 < data.size() ? digits[v & 63] : '=';
-	}
-	return out;
-}
-
-std::string uri_decode(const std::string& s)
-{
-	std::string out;
-	for (size_t i = 0; i < s.size(); ++i) {
-		if (s[i] == '%' && i + 2 < s.size() && isxdigit((unsigned char)s[i + 1]) && isxdigit((unsigned char)s[i + 2])) {
-			out += (char)std::stoi(s.substr(i + 1, 2), nullptr, 16);
-			i += 2;
-		} else {
-			out += s[i];
-		}
 	}
 	return out;
 }
@@ -1444,26 +1724,59 @@ std::string data_uri(const json& buffer, const bytes& data)
 	return prefix + base64(data);
 }
 
-bytes glb_file(const json& j, const bytes* bin)
+/* A file's contents: byte ranges written one after the other, and the
+ * small pieces (headers, JSON, padding) they include, owned here. */
+struct pieces {
+	std::vector<std::pair<const unsigned char*, size_t>> list;
+	std::vector<std::unique_ptr<std::string>> owned;
+	size_t size = 0;
+	void add(const void* data, size_t n)
+	{
+		if (n)
+			list.emplace_back((const unsigned char*)data, n), size += n;
+	}
+	void add(std::string text)
+	{
+		owned.emplace_back(new std::string(std::move(text)));
+		add(owned.back()->data(), owned.back()->size());
+	}
+	/* Buffer b, padded with zeros to a multiple of 4 bytes when `pad`. */
+	void add(const buffer& b, bool pad)
+	{
+		add(b.base, b.size);
+		if (!b.tail.empty()) {
+			add(std::string(b.tail_start() - b.size, '\0'));
+			add(b.tail.data(), b.tail.size());
+		}
+		if (pad)
+			add(std::string((4 - b.total() % 4) % 4, '\0'));
+	}
+};
+
+std::string le32_text(std::initializer_list<size_t> values)
+{
+	bytes out;
+	for (size_t v : values)
+		put32(out, (uint32_t)v);
+	return std::string(out.begin(), out.end());
+}
+
+/* A GLB of JSON j and the BIN chunk bin (null: none). */
+pieces glb_file(const json& j, const buffer* bin)
 {
 	std::string text = j.dump();
 	text.resize((text.size() + 3) / 4 * 4, ' ');
-	size_t bin_padded = bin ? (bin->size() + 3) / 4 * 4 : 0;
-	bytes out;
-	put32(out, glb_magic);
-	put32(out, 2);
-	put32(out, (uint32_t)(12 + 8 + text.size() + (bin ? 8 + bin_padded : 0)));
-	put32(out, (uint32_t)text.size());
-	put32(out, chunk_json);
-	out.insert(out.end(), text.begin(), text.end());
-	if (bin) {
-		put32(out, (uint32_t)bin_padded);
-		put32(out, chunk_bin);
-		out.insert(out.end(), bin->begin(), bin->end());
-		out.resize(out.size() + bin_padded - bin->size(), 0);
-	}
-	if (out.size() > UINT32_MAX)
+	const size_t bin_padded = bin ? (bin->total() + 3) / 4 * 4 : 0;
+	const size_t total = 12 + 8 + text.size() + (bin ? 8 + bin_padded : 0);
+	if (total > UINT32_MAX)
 		fail(vn_io_error_unsupported, "the GLB would exceed 4 GiB");
+	pieces out;
+	out.add(le32_text({glb_magic, 2, total, text.size(), chunk_json}));
+	out.add(std::move(text));
+	if (bin) {
+		out.add(le32_text({bin_padded, chunk_bin}));
+		out.add(*bin, true);
+	}
 	return out;
 }
 
@@ -1476,7 +1789,7 @@ struct file_set {
 		for (auto& f : files)
 			unlink(f.first.c_str());
 	}
-	void add(const std::string& path, const unsigned char* data, size_t size)
+	void add(const std::string& path, const pieces& contents)
 	{
 		const size_t slash = path.rfind('/') == std::string::npos ? 0 : path.rfind('/') + 1;
 		std::string temporary = path.substr(0, slash) + "." + path.substr(slash) + ".XXXXXX";
@@ -1488,17 +1801,24 @@ struct file_set {
 		mode_t mask = umask(0);
 		umask(mask);
 		bool ok = fchmod(fd, 0644 & ~mask) == 0;
-		for (size_t done = 0; ok && done < size;) {
-			ssize_t n = write(fd, data + done, size - done);
-			if (n < 0 && errno == EINTR)
-				continue;
-			ok = n > 0;
-			done += ok ? (size_t)n : 0;
-		}
+		for (const auto& piece : contents.list)
+			for (size_t done = 0; ok && done < piece.second;) {
+				ssize_t n = write(fd, piece.first + done, piece.second - done);
+				if (n < 0 && errno == EINTR)
+					continue;
+				ok = n > 0;
+				done += ok ? (size_t)n : 0;
+			}
 		ok = ok && fsync(fd) == 0;
 		ok = close(fd) == 0 && ok;
 		if (!ok)
 			fail_named(vn_io_error_write, str("%s: cannot write: %s", path.c_str(), strerror(errno)));
+	}
+	void add(const std::string& path, const std::string& text)
+	{
+		pieces p;
+		p.add(text.data(), text.size());
+		add(path, p);
 	}
 	void commit()
 	{
@@ -1542,7 +1862,7 @@ void save(document& d, const std::string& path, bool glb)
 			if (i == 0)
 				jb[i].erase("uri");
 			else
-				jb[i]["uri"] = data_uri(jb[i], d.buffers[i]);
+				jb[i]["uri"] = data_uri(jb[i], d.buffers[i].contents());
 		}
 	} else {
 		std::string stem = path.substr(folder.size());
@@ -1552,13 +1872,15 @@ void save(document& d, const std::string& path, bool glb)
 		size_t k = 0;
 		for (size_t i = 0; i < d.buffers.size(); ++i) {
 			if (is_data_uri(jb[i])) {
-				jb[i]["uri"] = data_uri(jb[i], d.buffers[i]);
+				jb[i]["uri"] = data_uri(jb[i], d.buffers[i].contents());
 				continue;
 			}
 			std::string name = stem + (k ? str("_%zu", k) : "") + ".bin";
 			++k;
 			jb[i]["uri"] = uri_encode(name);
-			files.add(folder + name, d.buffers[i].data(), d.buffers[i].size());
+			pieces contents;
+			contents.add(d.buffers[i], false);
+			files.add(folder + name, contents);
 		}
 	}
 	/* External images: same URIs, so the files go next to the output. */
@@ -1576,16 +1898,13 @@ void save(document& d, const std::string& path, bool glb)
 					                            (folder + name).c_str()));
 				continue;
 			}
-			files.add(folder + name, data.data(), data.size());
+			files.add(folder + name, std::string(data.begin(), data.end()));
 		}
 	}
-	if (glb) {
-		bytes file = glb_file(d.j, d.buffers.empty() ? nullptr : &d.buffers[0]);
-		files.add(path, file.data(), file.size());
-	} else {
-		std::string text = d.j.dump(2) + "\n";
-		files.add(path, (const unsigned char*)text.data(), text.size());
-	}
+	if (glb)
+		files.add(path, glb_file(d.j, d.buffers.empty() ? nullptr : &d.buffers[0]));
+	else
+		files.add(path, d.j.dump(2) + "\n");
 	files.commit();
 }
 
@@ -1610,7 +1929,8 @@ void mesh_from_document(const document& d, vn_io_mesh* mesh)
 		fail(vn_io_error_memory, "out of memory");
 	size_t v = 0, t = 0;
 	for (const primitive& p : prims) {
-		std::copy(p.positions.begin(), p.positions.end(), mesh->positions + 3 * v);
+		for (size_t i = 0; i < p.vertices(); ++i)
+			p.positions.load(i, mesh->positions + 3 * (v + i));
 		for (uint32_t i : p.triangles)
 			mesh->indices[t++] = (uint32_t)(v + i);
 		v += p.vertices();
@@ -1697,16 +2017,19 @@ vn_io_result write_stream(FILE* out, const char* path, const vn_io_mesh* mesh, b
 	return guarded(path, error, [&] {
 		json j;
 		bytes bin = document_from_mesh(mesh, j);
-		bytes file;
+		buffer b;
+		b.base = bin.data();
+		b.size = bin.size();
+		pieces file;
 		if (glb) {
-			file = glb_file(j, &bin);
+			file = glb_file(j, &b);
 		} else {
 			j["buffers"][0]["uri"] = data_uri(json::object(), bin);
-			std::string text = j.dump(2) + "\n";
-			file.assign(text.begin(), text.end());
+			file.add(j.dump(2) + "\n");
 		}
-		if (fwrite(file.data(), 1, file.size(), out) != file.size())
-			fail_named(vn_io_error_write, str("%s: cannot write: %s", path, strerror(errno)));
+		for (const auto& piece : file.list)
+			if (fwrite(piece.first, 1, piece.second, out) != piece.second)
+				fail_named(vn_io_error_write, str("%s: cannot write: %s", path, strerror(errno)));
 	});
 }
 

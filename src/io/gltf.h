@@ -71,12 +71,17 @@ typedef struct vn_gltf_stats {
 	size_t vertices;           /* vertices of the processed primitives */
 	size_t triangles;          /* triangles after strip and fan conversion */
 	size_t welded_vertices;    /* vertices merged into another one by position */
+	size_t hard_edges;         /* edges kept hard because the input's normals of
+	                              the split copies along them differ */
+	size_t split_vertices;     /* vertices added by --crease-angle splitting */
 	size_t zero_normals;       /* vertices no face contributed to: written as the
 	                              input's unit normal, or (0, 0, 1) */
 	size_t tangent_primitives; /* processed primitives with TANGENT */
 	size_t appended_accessors; /* NORMAL accessors added (none before, sparse,
 	                              unusual type, or shared with differing result) */
 	size_t draco_primitives;   /* primitives written Draco-compressed */
+	size_t draco_uncompressed; /* --draco on: primitives left uncompressed (morph
+	                              targets on more than 3 vertices per triangle) */
 	/* The angle normal quantization adds to the new normals of those, per
 	 * normal bits (index: bits; compared 0 when no primitive has them). */
 	vn_drc_normal_error draco_normal_error[VN_DRC_MAX_BITS + 1];

@@ -250,6 +250,11 @@ static int convert_gltf(args* a)
 		        "%s: warning: %zu primitives have TANGENT data, which no longer matches the new normals "
 		        "(--tangents drop removes it)\n",
 		        prog, st.tangent_primitives);
+	if (st.draco_uncompressed && !a->quiet)
+		fprintf(stderr,
+		        "%s: warning: %zu primitives left uncompressed: their morph targets keep every vertex, and Draco "
+		        "cannot store more than 3 vertices per triangle\n",
+		        prog, st.draco_uncompressed);
 	if (a->stats) {
 		printf("input:              %s (%s)\n", a->in, a->in_format->name);
 		printf("output:             %s (%s)\n", a->out, a->out_format->name);
@@ -260,10 +265,12 @@ static int convert_gltf(args* a)
 		printf("vertices:           %zu\n", st.vertices);
 		printf("triangles:          %zu\n", st.triangles);
 		printf("welded vertices:    %zu\n", st.welded_vertices);
+		printf("hard edges kept:    %zu\n", st.hard_edges);
+		printf("split vertices:     %zu\n", st.split_vertices);
 		printf("zero normals:       %zu\n", st.zero_normals);
 		printf("tangent primitives: %zu (%s)\n", st.tangent_primitives, a->gltf.drop_tangents ? "dropped" : "kept");
 		printf("appended accessors: %zu\n", st.appended_accessors);
-		printf("draco primitives:   %zu\n", st.draco_primitives);
+		printf("draco primitives:   %zu (%zu left uncompressed)\n", st.draco_primitives, st.draco_uncompressed);
 		for (int bits = 0; bits <= VN_DRC_MAX_BITS; ++bits)
 			if (st.draco_normal_error[bits].compared)
 				printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu normals)\n",
