@@ -5,7 +5,8 @@
  * and are absent, which is an error path worth fuzzing too.
  *
  * Besides the sanitizers' checks, every accepted input must give a
- * consistent triangle mesh.
+ * consistent triangle mesh, and converting it as a document (normals,
+ * Draco re-encoding, pruning, writing) must succeed or fail with one line.
  */
 #include <unistd.h>
 
@@ -19,14 +20,17 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 
 static char path[] = "/tmp/vn-fuzz-gltf-XXXXXX";
+static char out[] = "/tmp/vn-fuzz-gltf-out-XXXXXX";
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
 	static int fd = -1;
 	if (fd < 0) {
-		if ((fd = mkstemp(path)) < 0)
+		int o = mkstemp(out);
+		if ((fd = mkstemp(path)) < 0 || o < 0)
 			abort();
-		atexit([] { unlink(path); });
+		close(o);
+		atexit([] { unlink(path), unlink(out); });
 	}
 	if (ftruncate(fd, 0) != 0 || pwrite(fd, data, size, 0) != (ssize_t)size)
 		abort();
@@ -42,6 +46,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 			if (m.indices[i] >= m.vertex_count)
 				abort();
 		vn_io_mesh_free(&m);
+		vn_gltf_options o;
+		memset(&o, 0, sizeof o);
+		o.method = vn_method_mwselr;
+		o.draco_options = {-1, -1, -1, -1, -1};
+		if (vn_gltf_convert(path, out, 1, &o, nullptr, &error) != vn_io_success &&
+		    (!memchr(error.message, '\0', sizeof error.message) || strchr(error.message, '\n')))
+			abort();
 	} else if (!memchr(error.message, '\0', sizeof error.message) || strchr(error.message, '\n')) {
 		abort(); /* one line */
 	}

@@ -148,6 +148,14 @@ for f in "$GLTF/Box_Draco.glb" "$GLTF/BoxMetaDraco/BoxMetaDraco.gltf"; do
   check "$name --draco off: no Draco left" $GLTFCHECK nodraco "$T/g-$name-off.glb"
   check "$name --draco off: flat box faces" $GLTFCHECK flat "$T/g-$name-off.glb"
 done
+# The re-encoded Draco data replace the old (removed); a document using an
+# extension vn does not know (it may hold bufferView indices) keeps them,
+# with a warning naming it.
+run "$VNC" "$GLTF/Box_Draco.glb" "$T/g-box-stats.glb" --stats
+check "Box_Draco: the old Draco bufferView removed" grep -q "^removed unused: *0 accessors, 1 bufferViews$" "$T/stdout"
+run "$VNC" "$GLTF/BoxMetaDraco/BoxMetaDraco.gltf" "$T/g-meta.gltf" --stats
+check "BoxMetaDraco: nothing removed" grep -q "^removed unused: *0 accessors, 0 bufferViews$" "$T/stdout"
+check "BoxMetaDraco: warns, naming EXT_mesh_features" grep -q "warning: .*uses EXT_mesh_features" "$T/stderr"
 # Converting the output again finds the Box's hard edges again.
 run "$VNC" "$GLTF/Box_Draco.glb" "$T/g-box.glb" -q && run "$VNC" "$T/g-box.glb" "$T/g-box-off.glb" -q --draco off
 check "Box_Draco keeps its hard edges" $GLTFCHECK flat "$T/g-box-off.glb"
@@ -157,6 +165,9 @@ check "Box_Draco keeps its hard edges" $GLTFCHECK flat "$T/g-box-off.glb"
 run "$VNC" "$GLTF/Duck.glb" "$T/duck-on.glb" --draco on --stats
 check "--draco on exits 0" [ $rc -eq 0 ]
 check "--draco on: counted" grep -q "^draco primitives: *1 (0 left uncompressed)$" "$T/stdout"
+check "--draco on: the old accessors and bufferViews removed" \
+  grep -q "^removed unused: *4 accessors, 3 bufferViews$" "$T/stdout"
+check "--draco on: the file shrinks (120484 bytes in)" [ "$(stat -c %s "$T/duck-on.glb")" -lt 40000 ]
 check "--draco on: qn=10 stats line" \
   grep -q "^draco normal quantization error: median 0\.[0-9]* deg, max 0\.[0-9]* deg (qn=10, 2399 normals)$" "$T/stdout"
 check "--draco on: Draco data" $GLTFCHECK drc "$T/duck-on.glb" "$T/duck-on"

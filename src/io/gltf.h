@@ -82,6 +82,13 @@ typedef struct vn_gltf_stats {
 	size_t draco_primitives;   /* primitives written Draco-compressed */
 	size_t draco_uncompressed; /* --draco on: primitives left uncompressed (morph
 	                              targets on more than 3 vertices per triangle) */
+	/* Accessors and bufferViews the input used and vn's changes left unused
+	 * (old NORMAL data, re-encoded or newly compressed Draco primitives):
+	 * removed, with their bytes, and every reference renumbered; unless the
+	 * document uses an extension vn does not know (it may hold indices),
+	 * whose name is then in unpruned_extension ("" otherwise). */
+	size_t pruned_accessors, pruned_views;
+	char unpruned_extension[64];
 	/* The angle normal quantization adds to the new normals of those, per
 	 * normal bits (index: bits; compared 0 when no primitive has them). */
 	vn_drc_normal_error draco_normal_error[VN_DRC_MAX_BITS + 1];

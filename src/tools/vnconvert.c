@@ -43,11 +43,10 @@ static void usage(FILE* out)
 	        "      --draco D          KHR_draco_mesh_compression: keep (default: compressed primitives\n"
 	        "                         are re-encoded with their own attributes and bits), off\n"
 	        "                         (written uncompressed) or on (every triangle primitive\n"
-	        "                         without morph targets compressed, with the bits below)\n"
+	        "                         compressed, with the bits below)\n"
 	        "\n"
-	        "Draco output (.drc, and glTF primitives that --draco on compresses; a compressed glTF\n"
-	        "primitive keeps its own bits but for --draco-qn); default: a .drc input's bits, else\n"
-	        "the value in brackets:\n"
+	        "Draco output (.drc, and glTF primitives; a primitive that was compressed keeps its\n"
+	        "own bits but those given); default: a .drc input's bits, else the value in brackets:\n"
 	        "      --draco-qp BITS    position quantization, 1 to 30 bits [14]\n"
 	        "      --draco-qn BITS    normals, 2 to 30 [10] (--stats reports the angle this costs)\n"
 	        "      --draco-qt BITS    texture coordinates, 1 to 30 [12]\n"
@@ -255,6 +254,11 @@ static int convert_gltf(args* a)
 		        "%s: warning: %zu primitives left uncompressed: their morph targets keep every vertex, and Draco "
 		        "cannot store more than 3 vertices per triangle\n",
 		        prog, st.draco_uncompressed);
+	if (st.unpruned_extension[0] && !a->quiet)
+		fprintf(stderr,
+		        "%s: warning: data vn replaced stay in the file, unused: it uses %s, which may refer "
+		        "to accessors or bufferViews by index, so vn does not renumber them\n",
+		        prog, st.unpruned_extension);
 	if (a->stats) {
 		printf("input:              %s (%s)\n", a->in, a->in_format->name);
 		printf("output:             %s (%s)\n", a->out, a->out_format->name);
@@ -270,6 +274,7 @@ static int convert_gltf(args* a)
 		printf("zero normals:       %zu\n", st.zero_normals);
 		printf("tangent primitives: %zu (%s)\n", st.tangent_primitives, a->gltf.drop_tangents ? "dropped" : "kept");
 		printf("appended accessors: %zu\n", st.appended_accessors);
+		printf("removed unused:     %zu accessors, %zu bufferViews\n", st.pruned_accessors, st.pruned_views);
 		printf("draco primitives:   %zu (%zu left uncompressed)\n", st.draco_primitives, st.draco_uncompressed);
 		for (int bits = 0; bits <= VN_DRC_MAX_BITS; ++bits)
 			if (st.draco_normal_error[bits].compared)

@@ -33,6 +33,7 @@
 Exit status 0 when the check holds, 1 with one line per problem otherwise.
 """
 import base64
+import copy
 import json
 import math
 import os
@@ -138,71 +139,104 @@ def ordered(text):
     return json.loads(text, object_pairs_hook=lambda pairs: [list(p) for p in pairs])
 
 
-def strip(doc, normals, tangents_dropped):
-    """doc (order-preserving lists) without what may legitimately change."""
-    def get(obj, key):
-        for k, v in obj:
-            if k == key:
-                return v
-        return None
+def get(obj, key):
+    for k, v in obj:
+        if k == key:
+            return v
+    return None
 
-    def drop(obj, *keys):
-        obj[:] = [kv for kv in obj if kv[0] not in keys]
 
-    for k, v in doc:
-        if k == "accessors":
-            for i, acc in enumerate(v):
-                if i in normals:
-                    drop(acc, "min", "max")
-        if k == "buffers":
-            for b in v:
-                drop(b, "byteLength", "uri")
+def drop(obj, *keys):
+    obj[:] = [kv for kv in obj if kv[0] not in keys]
+
+
+def resolve(o, doc, buf, tangents_dropped):
+    """o (doc as order-preserving lists) with what may legitimately change
+    left out (NORMAL attributes, TANGENT when dropped, the Draco extension's
+    bufferView and NORMAL id), and every other accessor and bufferView index
+    replaced by what it stands for, so that vn removing unused ones and
+    renumbering the rest is not a change: an accessor by its JSON (less
+    where its data lie) and its element bytes, an image's bufferView by its
+    bytes. The accessors, bufferViews and buffers arrays themselves go."""
+    normals = normal_accessors(doc) | normal_accessors(doc, True)
+    accessors = get(o, "accessors") or []
+
+    def accessor(i):
+        if i in normals:
+            return "NORMAL"
+        acc = copy.deepcopy(accessors[i])
+        drop(acc, "bufferView", "byteOffset")
+        sparse = get(acc, "sparse")
+        for part in [get(sparse, "indices"), get(sparse, "values")] if sparse else []:
+            drop(part, "bufferView", "byteOffset")
+        return acc + [["data", accessor_bytes(doc, buf, i).hex()]]
+
+    def members(obj):
+        for kv in obj or []:
+            kv[1] = accessor(kv[1])
+
+    def key(obj, k, f):
+        for kv in obj or []:
+            if kv[0] == k:
+                kv[1] = f(kv[1])
+
+    for k, v in o:
         if k == "meshes":
             for mesh in v:
                 for prim in get(mesh, "primitives") or []:
                     for attributes in [get(prim, "attributes")] + (get(prim, "targets") or []):
                         drop(attributes, "NORMAL", *(["TANGENT"] if tangents_dropped else []))
+                        members(attributes)
+                    key(prim, "indices", accessor)
                     draco = get(get(prim, "extensions") or [], "KHR_draco_mesh_compression")
                     if draco is not None:
                         drop(draco, "bufferView")
                         drop(get(draco, "attributes") or [], "NORMAL")
-    return doc
+        if k == "skins":
+            for skin in v:
+                key(skin, "inverseBindMatrices", accessor)
+        if k == "animations":
+            for animation in v:
+                for sampler in get(animation, "samplers") or []:
+                    key(sampler, "input", accessor)
+                    key(sampler, "output", accessor)
+        if k == "nodes":
+            for node in v:
+                members(get(get(get(node, "extensions") or [], "EXT_mesh_gpu_instancing") or [], "attributes"))
+        if k == "images":
+            for image in v:
+                key(image, "bufferView", lambda i: view_bytes(doc, buf, i).hex())
+    drop(o, "accessors", "bufferViews", "buffers")
+    return o
+
+
+def first_difference(x, y, path="/"):
+    """Where resolved documents x and y first differ (None: nowhere)."""
+    if isinstance(x, list) and isinstance(y, list):
+        for i, (u, v) in enumerate(zip(x, y)):
+            pair = isinstance(u, list) and len(u) == 2 and isinstance(u[0], str)  # an object's key, value
+            if pair and isinstance(v, list) and len(v) == 2 and u[0] == v[0]:
+                d = first_difference(u[1], v[1], "%s%s/" % (path, u[0]))
+            else:
+                d = first_difference(u, v, "%s%d/" % (path, i))
+            if d is not None:
+                return d
+        return None if len(x) == len(y) else "%s (%d vs %d entries)" % (path, len(x), len(y))
+    return None if x == y else path
 
 
 def cmd_diff(a, b, tangents_dropped):
     problems = []
     text_a, in_doc, in_buf = load(a)
     text_b, out_doc, out_buf = load(b)
-    in_normals = normal_accessors(in_doc) | normal_accessors(in_doc, True)
-    out_normals = normal_accessors(out_doc) | normal_accessors(out_doc, True)
-    n_acc, n_view = len(in_doc.get("accessors", [])), len(in_doc.get("bufferViews", []))
-    for i in range(n_acc, len(out_doc.get("accessors", []))):
-        if i not in out_normals:
-            problems.append("appended accessor %d is not a NORMAL" % i)
-    oa, ob = ordered(text_a), ordered(text_b)
-    for doc in (oa, ob):
-        for kv in doc:
-            if kv[0] == "accessors":
-                kv[1] = kv[1][:n_acc]
-            if kv[0] == "bufferViews":
-                kv[1] = kv[1][:n_view]
-    if strip(oa, in_normals | out_normals, tangents_dropped) != strip(ob, in_normals | out_normals, tangents_dropped):
-        problems.append("JSON differs beyond the NORMAL data")
-    # A primitive's NORMAL points at its old accessor or an appended one.
-    for (_, _, pi), (_, _, po) in zip(primitives(in_doc), primitives(out_doc)):
-        old, new = pi["attributes"].get("NORMAL"), po["attributes"].get("NORMAL")
-        if "POSITION" in pi["attributes"] and pi.get("mode", 4) >= 4:
-            if new is None or (new != old and new < n_acc):
-                problems.append("a primitive's NORMAL is %r (was %r)" % (new, old))
-    for i in range(n_acc):
-        if i in in_normals or i in out_normals:
-            continue
-        if accessor_bytes(in_doc, in_buf, i) != accessor_bytes(out_doc, out_buf, i):
-            problems.append("accessor %d changed" % i)
-    normal_views = {in_doc["accessors"][i].get("bufferView") for i in in_normals | out_normals if i < n_acc}
-    for v in range(n_view):
-        if v not in normal_views and view_bytes(in_doc, in_buf, v) != view_bytes(out_doc, out_buf, v):
-            problems.append("bufferView %d changed" % v)
+    where = first_difference(resolve(ordered(text_a), in_doc, in_buf, tangents_dropped),
+                             resolve(ordered(text_b), out_doc, out_buf, tangents_dropped))
+    if where is not None:
+        problems.append("JSON or non-NORMAL data differ at %s" % where)
+    # A primitive's NORMAL is a unit vector per vertex.
+    for _, _, prim in primitives(out_doc):
+        if "POSITION" in prim["attributes"] and prim.get("mode", 4) >= 4 and "NORMAL" not in prim["attributes"]:
+            problems.append("a triangle primitive has no NORMAL")
     for i in normal_accessors(out_doc):
         acc = out_doc["accessors"][i]
         if "bufferView" not in acc and "sparse" not in acc:
