@@ -75,6 +75,18 @@ check "--draco-qp 20 is closer than --draco-qp 8" \
   python3 -c "import sys; a, b = (float(open(f).read()) for f in sys.argv[1:]); sys.exit(not 0 <= a < b)" \
   "$T/err20" "$T/err8"
 
+# More vertices than 3 per triangle (Draco's decoders refuse such streams):
+# the .drc keeps only the vertices faces use, with a warning; both decoders
+# read it.
+printf 'OFF\n8 1 0\n0 0 0\n1 0 0\n0 1 0\n5 5 5\n6 6 6\n7 7 7\n8 8 8\n9 9 9\n3 0 1 2\n' >"$T/isolated.off"
+run "$VNC" "$T/isolated.off" "$T/isolated.drc" --stats
+check "isolated vertices to .drc exits 0" [ $rc -eq 0 ]
+check "isolated vertices: warned" grep -q "warning: 8 vertices and 1 triangles: only the vertices faces use" "$T/stderr"
+check "isolated vertices: decoders read it" decode "$T/isolated.drc" "$T/isolated"
+check "isolated vertices: 3 points, 1 triangle" \
+  python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); sys.exit(d["points"] != 3 or d["triangles"] != 1)' "$T/isolated.json"
+check "isolated vertices: quantization error of the 3 kept normals" grep -q "(qn=10, 3 normals)$" "$T/stdout"
+
 # --stats: the normal quantization error grows as --draco-qn shrinks.
 for bits in 6 14; do
   run "$VNC" "$DATA/bunny_gltf.drc" "$T/qn$bits.drc" --draco-qn "$bits" --stats

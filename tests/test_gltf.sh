@@ -72,8 +72,9 @@ check "negative --weld-epsilon exits 2" [ $rc -eq 2 ]
 
 # Pruning: a sparse NORMAL cannot be rewritten in place, so a new accessor
 # replaces it; the old one and its 3 bufferViews (data, sparse indices and
-# values) are removed, what the input itself left unused (an accessor named
-# "unused" and its bufferView) stays, and the rest is renumbered.
+# values) are removed, what the input itself left unused (accessors "unused"
+# and "odd", whose view starts at an odd offset, which packing keeps modulo
+# 4) stays, and the rest is renumbered.
 python3 - "$T/seam.gltf" "$T/sparse-normal.gltf" <<'EOF'
 import base64, json, struct, sys
 doc = json.load(open(sys.argv[1]))
@@ -87,6 +88,10 @@ def view(payload):
     return len(doc["bufferViews"]) - 1
 unused = view(struct.pack("<4f", 1, 2, 3, 4))
 doc["accessors"].append({"bufferView": unused, "componentType": 5126, "count": 4, "type": "SCALAR", "name": "unused"})
+odd = view(bytes([0, 7, 8, 9]))  # a view at an odd offset: packing keeps offsets modulo 4
+doc["bufferViews"][odd]["byteOffset"] += 1
+doc["bufferViews"][odd]["byteLength"] = 3
+doc["accessors"].append({"bufferView": odd, "componentType": 5121, "count": 3, "type": "SCALAR", "name": "odd"})
 normal = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"]]
 normal["sparse"] = {"count": 1, "indices": {"bufferView": view(bytes([0])), "componentType": 5121},
                     "values": {"bufferView": view(struct.pack("<3f", 1, 0, 0))}}
@@ -104,8 +109,10 @@ import sys
 sys.path.insert(0, sys.argv[1])
 import gltfcheck
 _, doc, buf = gltfcheck.load(sys.argv[2])
-named = [i for i, a in enumerate(doc["accessors"]) if a.get("name") == "unused"]
-sys.exit(len(named) != 1 or gltfcheck.accessor_values(doc, buf, named[0]) != [[1], [2], [3], [4]])
+named = {a.get("name"): i for i, a in enumerate(doc["accessors"])}
+odd = doc["bufferViews"][doc["accessors"][named["odd"]]["bufferView"]]
+sys.exit(gltfcheck.accessor_values(doc, buf, named["unused"]) != [[1], [2], [3], [4]] or
+         gltfcheck.accessor_values(doc, buf, named["odd"]) != [[7], [8], [9]] or odd["byteOffset"] % 4 != 1)
 EOF
 }
 check "what the input left unused stays, data and all" kept_unused "$T/sparse-normal.glb"

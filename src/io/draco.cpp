@@ -288,6 +288,7 @@ vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const 
 struct geometry_builder {
 	vn_drc_geometry g{};
 	std::vector<uint32_t> indices;
+	std::vector<uint32_t> kept; /* the mesh vertex of each point; empty: point i is vertex i */
 	std::vector<vn_drc_attribute> attributes;
 	std::vector<std::vector<char>> storage;
 
@@ -317,34 +318,51 @@ struct geometry_builder {
 	}
 };
 
-template <typename T>
-std::vector<float> as_floats(const T* values, size_t count)
-{
-	return std::vector<float>(values, values + count);
-}
-
 /* The mesh as Draco attributes: positions, normals, texcoords, colours (bytes
- * when the source had bytes: lossless), polygons fan-triangulated. */
+ * when the source had bytes: lossless), polygons fan-triangulated. Draco's
+ * decoders refuse more points than 3 per triangle, so a mesh with that many
+ * keeps only the vertices faces use (in their order; b->kept lists them). */
 void build(const vn_io_mesh* mesh, const vn_drc_options& o, geometry_builder* b)
 {
 	const size_t n = mesh->vertex_count;
-	b->g.point_count = n;
 	for (size_t f = 0; f < mesh->face_count; ++f)
 		for (uint32_t c = mesh->face_offsets[f] + 2; c < mesh->face_offsets[f + 1]; ++c)
 			b->indices.insert(b->indices.end(),
 			                  {mesh->indices[mesh->face_offsets[f]], mesh->indices[c - 1], mesh->indices[c]});
-	b->add(vn_drc_position, vn_drc_float32, 3, 0, o.position_bits, as_floats(mesh->positions, 3 * n));
+	if (n > b->indices.size()) {
+		std::vector<uint32_t> to(n, UINT32_MAX);
+		for (uint32_t v : b->indices)
+			to[v] = 0;
+		for (size_t v = 0; v < n; ++v)
+			if (to[v] == 0)
+				to[v] = uint32_t(b->kept.size()), b->kept.push_back(uint32_t(v));
+		for (uint32_t& v : b->indices)
+			v = to[v];
+	}
+	b->g.point_count = b->kept.empty() ? n : b->kept.size();
+	/* k values per written vertex, as floats. */
+	auto rows = [&](const auto* values, size_t k) {
+		std::vector<float> out;
+		out.reserve(k * b->g.point_count);
+		for (size_t i = 0; i < b->g.point_count; ++i) {
+			const size_t v = b->kept.empty() ? i : b->kept[i];
+			out.insert(out.end(), values + k * v, values + k * v + k);
+		}
+		return out;
+	};
+	b->add(vn_drc_position, vn_drc_float32, 3, 0, o.position_bits, rows(mesh->positions, 3));
 	if (mesh->normals)
-		b->add(vn_drc_normal, vn_drc_float32, 3, 0, o.normal_bits, as_floats(mesh->normals, 3 * n));
+		b->add(vn_drc_normal, vn_drc_float32, 3, 0, o.normal_bits, rows(mesh->normals, 3));
 	if (mesh->texcoords)
-		b->add(vn_drc_texcoord, vn_drc_float32, 2, 0, o.texcoord_bits, as_floats(mesh->texcoords, 2 * n));
+		b->add(vn_drc_texcoord, vn_drc_float32, 2, 0, o.texcoord_bits, rows(mesh->texcoords, 2));
 	if (mesh->colors && mesh->colors_are_bytes) {
-		std::vector<uint8_t> bytes(4 * n);
-		for (size_t i = 0; i < 4 * n; ++i)
-			bytes[i] = uint8_t(std::lround(std::clamp(mesh->colors[i], 0.0f, 1.0f) * 255));
+		const std::vector<float> colors = rows(mesh->colors, 4);
+		std::vector<uint8_t> bytes(colors.size());
+		for (size_t i = 0; i < bytes.size(); ++i)
+			bytes[i] = uint8_t(std::lround(std::clamp(colors[i], 0.0f, 1.0f) * 255));
 		b->add(vn_drc_color, vn_drc_uint8, 4, 1, 0, bytes);
 	} else if (mesh->colors) {
-		b->add(vn_drc_color, vn_drc_float32, 4, 0, o.color_bits, as_floats(mesh->colors, 4 * n));
+		b->add(vn_drc_color, vn_drc_float32, 4, 0, o.color_bits, rows(mesh->colors, 4));
 	}
 }
 
@@ -561,9 +579,9 @@ vn_io_result vn_drc_normal_error_of(const vn_io_mesh* mesh, const vn_drc_options
 		 * back exactly as from the file written with the same options. */
 		geometry_builder b;
 		build(mesh, *options, &b);
-		std::vector<uint32_t> ids(mesh->vertex_count);
+		std::vector<uint32_t> ids(b.g.point_count);
 		for (size_t i = 0; i < ids.size(); ++i)
-			ids[i] = uint32_t(i);
+			ids[i] = b.kept.empty() ? uint32_t(i) : b.kept[i];
 		b.add(vn_drc_generic, vn_drc_uint32, 1, 0, 0, ids);
 		std::vector<char> bytes;
 		vn_io_result r = encode(b.get(), options->compression_level, false, name, &bytes, error);

@@ -1787,9 +1787,16 @@ bool prunable_with(const std::string& name)
 	       std::find_if(std::begin(known), std::end(known), [&](const char* k) { return name == k; }) != std::end(known);
 }
 
+/* A non-negative integer property, or -1 (absent or anything else). */
+long long index_or_none(const json& o, const char* key)
+{
+	auto it = o.find(key);
+	return it != o.end() && it->is_number_unsigned() ? it->get<long long>() : -1;
+}
+
 /* Packs buffer b to the bytes its bufferViews cover: overlapping views stay
  * together, each view keeps its offset modulo 4 (what accessor alignment
- * needs), gaps go. */
+ * needs), gaps go. A buffer with a malformed view is left as it is. */
 void pack_buffer(document& d, size_t b)
 {
 	json& views = d.j["bufferViews"];
@@ -1798,11 +1805,14 @@ void pack_buffer(document& d, size_t b)
 	};
 	std::vector<range> ranges;
 	for (size_t i = 0; i < views.size(); ++i) {
-		const std::string what = str("bufferViews[%zu]", i);
-		if (get_int(views[i], "buffer", -1, what) != (long long)b)
+		if (!views[i].is_object() || index_or_none(views[i], "buffer") != (long long)b)
 			continue;
-		const size_t begin = (size_t)get_int(views[i], "byteOffset", 0, what);
-		ranges.push_back({begin, begin + (size_t)get_int(views[i], "byteLength", 0, what), 0});
+		const long long begin = views[i].contains("byteOffset") ? index_or_none(views[i], "byteOffset") : 0;
+		const long long length = index_or_none(views[i], "byteLength");
+		const size_t bound = i < d.input_views ? d.buffers[b].size : d.buffers[b].total();
+		if (begin < 0 || length < 0 || (size_t)begin > bound || (size_t)length > bound - (size_t)begin)
+			return;
+		ranges.push_back({(size_t)begin, (size_t)(begin + length), 0});
 	}
 	if (ranges.empty())
 		return; /* a buffer must keep at least one byte: left as it is */
@@ -1826,10 +1836,12 @@ void pack_buffer(document& d, size_t b)
 	for (const range& m : merged)
 		memcpy(packed.base + m.to, d.buffers[b].at(m.begin), m.end - m.begin);
 	for (json& v : views) {
-		if (get_int(v, "buffer", -1, "a bufferView") != (long long)b)
+		if (!v.is_object() || index_or_none(v, "buffer") != (long long)b)
 			continue;
-		const size_t begin = (size_t)get_int(v, "byteOffset", 0, "a bufferView");
-		const range& m = *std::find_if(merged.begin(), merged.end(), [&](const range& r) { return begin >= r.begin && begin < r.end; });
+		const size_t begin = v.contains("byteOffset") ? (size_t)index_or_none(v, "byteOffset") : 0;
+		/* The last range starting at or before the view (sorted, disjoint). */
+		const range& m = *(std::upper_bound(merged.begin(), merged.end(), begin,
+		                                    [](size_t x, const range& r) { return x < r.begin; }) - 1);
 		v["byteOffset"] = m.to + (begin - m.begin);
 	}
 	d.buffers[b] = std::move(packed);
@@ -1905,7 +1917,7 @@ void prune(document& d, const usage& before, vn_gltf_stats& st, std::string* unk
 	std::vector<bool> packed(d.buffers.size(), false);
 	for (size_t i = 0; i < gone_views.size(); ++i)
 		if (gone_views[i]) {
-			const long long b = get_int(d.j["bufferViews"][i], "buffer", -1, str("bufferViews[%zu]", i));
+			const long long b = index_or_none(d.j["bufferViews"][i], "buffer");
 			if (b >= 0 && (size_t)b < packed.size())
 				packed[(size_t)b] = true;
 		}

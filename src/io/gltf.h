@@ -19,10 +19,11 @@
  *    accessor appended at the end of the arrays. Draco-compressed
  *    primitives (KHR_draco_mesh_compression) are decoded with draco.h and
  *    encoded again, written uncompressed, or (with every other triangle
- *    primitive) compressed: vn_gltf_options.draco. See README.md, "glTF".
+ *    primitive) compressed: vn_gltf_options.draco. What these changes
+ *    leave unused is removed. See README.md, "glTF".
  *
- * Implemented in C++ (gltf.cpp, on tinygltf and nlohmann json) behind this
- * C interface.
+ * Implemented in C++ (gltf.cpp, on nlohmann json, with tinygltf's data-URI
+ * decoding) behind this C interface.
  */
 #ifndef VN_IO_GLTF_H
 #define VN_IO_GLTF_H

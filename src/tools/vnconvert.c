@@ -335,6 +335,20 @@ int main(int argc, char** argv)
 		        "written as %s\n",
 		        prog, st.zero_normals, mesh.vertex_count, is_gltf(a.out_format) ? "(0, 0, 1)" : "the zero vector");
 
+	if (drc_out && !a.quiet) {
+		/* Draco's decoders refuse more points than 3 per triangle: the writer
+		 * then keeps only the vertices faces use. */
+		size_t corners = 0;
+		for (size_t f = 0; f < mesh.face_count; f++) {
+			const size_t k = mesh.face_offsets[f + 1] - mesh.face_offsets[f];
+			corners += k >= 3 ? 3 * (k - 2) : 0;
+		}
+		if (mesh.vertex_count > corners)
+			fprintf(stderr,
+			        "%s: warning: %zu vertices and %zu triangles: only the vertices faces use are written, as Draco "
+			        "cannot store more than 3 points per triangle\n",
+			        prog, mesh.vertex_count, corners / 3);
+	}
 	progress(&a, "writing", a.out);
 	if (vn_io_write_file(a.out, a.out_format, &mesh, drc_out ? &drc : NULL, &err) !=
 	    vn_io_success) {
