@@ -1809,8 +1809,10 @@ void pack_buffer(document& d, size_t b)
 			continue;
 		const long long begin = views[i].contains("byteOffset") ? index_or_none(views[i], "byteOffset") : 0;
 		const long long length = index_or_none(views[i], "byteLength");
-		const size_t bound = i < d.input_views ? d.buffers[b].size : d.buffers[b].total();
-		if (begin < 0 || length < 0 || (size_t)begin > bound || (size_t)length > bound - (size_t)begin)
+		/* Within the file's part or within vn's appended part (never across). */
+		const buffer& from = d.buffers[b];
+		const unsigned long long end = (unsigned long long)begin + (unsigned long long)length;
+		if (begin < 0 || length < 0 || !(end <= from.size || ((size_t)begin >= from.tail_start() && end <= from.total())))
 			return;
 		ranges.push_back({(size_t)begin, (size_t)(begin + length), 0});
 	}
