@@ -75,7 +75,7 @@ check "--draco-qp 20 is closer than --draco-qp 8" \
   python3 -c "import sys; a, b = (float(open(f).read()) for f in sys.argv[1:]); sys.exit(not 0 <= a < b)" \
   "$T/err20" "$T/err8"
 
-# More vertices than 3 per triangle (Draco's decoders refuse such streams):
+# More vertices than 3 per triangle (Draco 1.5.5's decoder refuses such streams):
 # the .drc keeps only the vertices faces use, with a warning; both decoders
 # read it.
 printf 'OFF\n8 1 0\n0 0 0\n1 0 0\n0 1 0\n5 5 5\n6 6 6\n7 7 7\n8 8 8\n9 9 9\n3 0 1 2\n' >"$T/isolated.off"
@@ -220,7 +220,7 @@ EOF
 check "--draco-qp 10: POSITION min/max are the decoded bounds" bounds "$T/duck-qp.glb" "$T/duck-qp.json"
 
 # --draco on with a primitive drawing part of a shared accessor (the shapes
-# strip uses 26 of the sphere's 117 vertices): Draco's decoders refuse more
+# strip uses 26 of the sphere's 117 vertices): Draco 1.5.5's decoder refuses more
 # points than 3 per triangle, so the unused vertices are left out.
 $GLTFCHECK shapes "$T/shapes.gltf"
 run "$VNC" "$T/shapes.gltf" "$T/shapes-on.glb" -q --draco on

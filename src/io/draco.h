@@ -85,7 +85,7 @@ vn_io_result vn_drc_decode(const void* data, size_t size, const char* name, vn_d
  * edgebreaker would change a count (non-manifold vertices, degenerate
  * triangles), at level 10, and with keep_order (what data kept outside the
  * stream, such as glTF morph targets, need) the sequential method, which
- * keeps points and triangles in order, is used. Draco's decoders refuse
+ * keeps points and triangles in order, is used. Draco 1.5.5's decoder refuses
  * more points than 3 per triangle: such g is unsupported. `name` starts
  * error messages. */
 vn_io_result vn_drc_encode(const vn_drc_geometry* g, int compression_level, int keep_order, const char* name,

@@ -1523,7 +1523,7 @@ void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_g
  * and the extension; POSITION's min/max are the decoded positions'.
  * Vertices no triangle uses are left out. A primitive with morph targets
  * keeps every point in order, which the targets' accessors follow; when
- * that is more than 3 points per triangle (which Draco's decoders refuse),
+ * that is more than 3 points per triangle (which Draco 1.5.5's decoder refuses),
  * it stays uncompressed (counted). The old accessors stay (unused). */
 void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_gltf_stats& st,
                     std::map<int, quantized_normals>& quantized)
@@ -1535,7 +1535,7 @@ void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, v
 	const bool targets = prim.contains("targets");
 	const corners triangles = p.split_source.empty() ? corners(p.triangles.data(), p.triangles.size())
 	                                                 : corners(p.split_triangles.data(), p.split_triangles.size());
-	/* Vertices no triangle uses are left out (Draco's decoders refuse more
+	/* Vertices no triangle uses are left out (Draco 1.5.5's decoder refuses more
 	 * points than 3 per triangle), unless morph targets follow the order. */
 	std::vector<uint32_t> kept, renumbered(n, UINT32_MAX);
 	for (uint32_t v : triangles)

@@ -336,7 +336,7 @@ int main(int argc, char** argv)
 		        prog, st.zero_normals, mesh.vertex_count, is_gltf(a.out_format) ? "(0, 0, 1)" : "the zero vector");
 
 	if (drc_out && !a.quiet) {
-		/* Draco's decoders refuse more points than 3 per triangle: the writer
+		/* Draco 1.5.5's decoder refuses more points than 3 per triangle: the writer
 		 * then keeps only the vertices faces use. */
 		size_t corners = 0;
 		for (size_t f = 0; f < mesh.face_count; f++) {
