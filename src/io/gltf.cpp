@@ -10,9 +10,11 @@
  * used for this because it copies every buffer into its model (twice the
  * file in memory, half the time of a conversion: docs/PERFORMANCE.md);
  * vn checks everything it reads itself, and takes tinygltf's data-URI
- * decoding.
+ * decoding. The document and buffer types are in gltf_document.h;
+ * gltf_prune.cpp removes what the edits leave unused.
  */
 #include "gltf.h"
+#include "gltf_document.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -35,8 +37,7 @@
 
 namespace {
 
-using json = nlohmann::ordered_json;
-using bytes = std::vector<unsigned char>;
+using namespace vn_gltf;
 
 /* Every failure is thrown as one of these and turned into a vn_io_error at
  * the C boundary. msg never names the file: the boundary prefixes it. */
@@ -108,40 +109,6 @@ std::string uri_decode(const std::string& s)
 }
 
 /* ------------------------------------------------------------------ loading */
-
-/* A buffer's bytes: `size` bytes at `base`, inside `owner` (a malloc'ed
- * block: for a GLB's BIN chunk, the whole file as read), then what vn
- * appends, from tail_start() on. No view straddles the two parts. */
-struct buffer {
-	std::shared_ptr<unsigned char> owner;
-	unsigned char* base = nullptr;
-	size_t size = 0;
-	bytes tail;
-	size_t tail_start() const { return (size + 3) / 4 * 4; }
-	size_t total() const { return tail.empty() ? size : tail_start() + tail.size(); }
-	unsigned char* at(size_t offset) const
-	{
-		return offset < size ? base + offset : const_cast<unsigned char*>(tail.data()) + (offset - tail_start());
-	}
-	/* The whole buffer in one piece (for a data URI). */
-	bytes contents() const
-	{
-		bytes out(base, base + size);
-		if (!tail.empty()) {
-			out.resize(tail_start(), 0);
-			out.insert(out.end(), tail.begin(), tail.end());
-		}
-		return out;
-	}
-};
-
-struct document {
-	bool glb = false;
-	std::string folder;
-	json j;
-	std::vector<buffer> buffers;
-	size_t input_views = 0; /* the file's bufferViews (lie in the buffers' first parts) */
-};
 
 /* Integer property `key` of o, or def when absent; anything but a
  * non-negative integer is malformed. */
@@ -342,15 +309,6 @@ std::vector<double> read_accessor(const document& d, const accessor& a)
 	return out;
 }
 
-/* A malloc'ed block of n bytes, freed with the last shared_ptr to it. */
-std::shared_ptr<unsigned char> block(size_t n)
-{
-	unsigned char* p = (unsigned char*)malloc(n ? n : 1);
-	if (!p)
-		throw std::bad_alloc();
-	return std::shared_ptr<unsigned char>(p, free);
-}
-
 /* Buffer i's bytes: the GLB's BIN chunk (bin: its first byte, null when the
  * file has none), a data URI or an external file. */
 buffer load_buffer(const document& d, size_t i, const std::shared_ptr<unsigned char>& file, const unsigned char* bin,
@@ -464,18 +422,6 @@ document load(const std::string& path)
 }
 
 /* ------------------------------------------------------------------ Draco */
-
-const char* const draco_name = "KHR_draco_mesh_compression";
-
-/* A primitive's KHR_draco_mesh_compression object, or null. */
-const json* draco_extension(const json& prim)
-{
-	auto e = prim.find("extensions");
-	if (e == prim.end() || !e->is_object())
-		return nullptr;
-	auto k = e->find(draco_name);
-	return k == e->end() ? nullptr : &*k;
-}
 
 /* A Draco-compressed primitive decoded: its geometry and, per glTF
  * attribute name, the Draco attribute the extension maps it to. */
@@ -1671,269 +1617,6 @@ void write_normals(document& d, std::vector<primitive>& prims, const vn_gltf_opt
 	}
 	if (o.draco_normal_error)
 		normal_errors(quantized, o, st);
-}
-
-/* ------------------------------------------------------------------ pruning */
-
-/* Calls on_accessor(ref) for every place in the document that holds an
- * accessor index outside the accessors array (primitive attributes,
- * indices and targets, skins, animation samplers, GPU instancing), and
- * on_view(ref) for every bufferView index outside it (images, Draco). */
-template <typename A, typename V> void visit_references(json& j, A on_accessor, V on_view)
-{
-	auto each = [&](const char* array, auto&& f) {
-		auto it = j.find(array);
-		if (it != j.end() && it->is_array())
-			for (json& e : *it)
-				if (e.is_object())
-					f(e);
-	};
-	auto members = [&](json& o) {
-		if (o.is_object())
-			for (auto& kv : o.items())
-				if (kv.value().is_number_integer())
-					on_accessor(kv.value());
-	};
-	auto key = [](json& o, const char* k, auto&& f) {
-		auto it = o.find(k);
-		if (it != o.end() && it->is_number_integer())
-			f(*it);
-	};
-	each("meshes", [&](json& mesh) {
-		auto prims = mesh.find("primitives");
-		if (prims == mesh.end() || !prims->is_array())
-			return;
-		for (json& prim : *prims) {
-			if (!prim.is_object())
-				continue;
-			if (prim.contains("attributes"))
-				members(prim["attributes"]);
-			key(prim, "indices", on_accessor);
-			if (prim.contains("targets") && prim["targets"].is_array())
-				for (json& target : prim["targets"])
-					members(target);
-			if (const json* ext = draco_extension(prim))
-				if (ext->is_object())
-					key(prim["extensions"][draco_name], "bufferView", on_view);
-		}
-	});
-	each("skins", [&](json& skin) { key(skin, "inverseBindMatrices", on_accessor); });
-	each("animations", [&](json& animation) {
-		if (animation.contains("samplers") && animation["samplers"].is_array())
-			for (json& sampler : animation["samplers"])
-				if (sampler.is_object()) {
-					key(sampler, "input", on_accessor);
-					key(sampler, "output", on_accessor);
-				}
-	});
-	each("nodes", [&](json& node) {
-		auto ext = node.find("extensions");
-		if (ext != node.end() && ext->is_object() && ext->contains("EXT_mesh_gpu_instancing") &&
-		    (*ext)["EXT_mesh_gpu_instancing"].is_object() && (*ext)["EXT_mesh_gpu_instancing"].contains("attributes"))
-			members((*ext)["EXT_mesh_gpu_instancing"]["attributes"]);
-	});
-	each("images", [&](json& image) { key(image, "bufferView", on_view); });
-}
-
-/* The bufferView indices an accessor holds: its data and sparse parts. */
-template <typename V> void accessor_views(json& a, V on_view)
-{
-	if (!a.is_object())
-		return;
-	if (a.contains("bufferView") && a["bufferView"].is_number_integer())
-		on_view(a["bufferView"]);
-	auto sp = a.find("sparse");
-	if (sp != a.end() && sp->is_object())
-		for (const char* part : {"indices", "values"})
-			if (sp->contains(part) && (*sp)[part].is_object() && (*sp)[part].contains("bufferView") &&
-			    (*sp)[part]["bufferView"].is_number_integer())
-				on_view((*sp)[part]["bufferView"]);
-}
-
-/* Which accessors and bufferViews the document uses (directly, or through
- * a used accessor). */
-struct usage {
-	std::vector<bool> accessors, views;
-};
-
-usage used(json& j)
-{
-	usage u;
-	auto size = [&](const char* array) { return j.contains(array) && j[array].is_array() ? j[array].size() : 0; };
-	u.accessors.assign(size("accessors"), false);
-	u.views.assign(size("bufferViews"), false);
-	auto mark = [](std::vector<bool>& v) {
-		return [&v](json& ref) {
-			const long long i = ref.get<long long>();
-			if (i >= 0 && (size_t)i < v.size())
-				v[(size_t)i] = true;
-		};
-	};
-	visit_references(j, mark(u.accessors), mark(u.views));
-	for (size_t i = 0; i < u.accessors.size(); ++i)
-		if (u.accessors[i])
-			accessor_views(j["accessors"][i], mark(u.views));
-	return u;
-}
-
-/* Extensions whose data hold no accessor or bufferView index beyond those
- * visit_references knows (prefix match for KHR_materials_). */
-bool prunable_with(const std::string& name)
-{
-	static const char* const known[] = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
-	                                    "KHR_lights_punctual", "KHR_texture_basisu", "EXT_texture_webp",
-	                                    "EXT_texture_avif", "EXT_mesh_gpu_instancing", "KHR_xmp_json_ld"};
-	return name.rfind("KHR_materials_", 0) == 0 ||
-	       std::find_if(std::begin(known), std::end(known), [&](const char* k) { return name == k; }) != std::end(known);
-}
-
-/* A non-negative integer property, or -1 (absent or anything else). */
-long long index_or_none(const json& o, const char* key)
-{
-	auto it = o.find(key);
-	return it != o.end() && it->is_number_unsigned() ? it->get<long long>() : -1;
-}
-
-/* Packs buffer b to the bytes its bufferViews cover: overlapping views stay
- * together, each view keeps its offset modulo 4 (what accessor alignment
- * needs), gaps go. A buffer with a malformed view is left as it is. */
-void pack_buffer(document& d, size_t b)
-{
-	json& views = d.j["bufferViews"];
-	struct range {
-		size_t begin, end, to;
-	};
-	std::vector<range> ranges;
-	for (size_t i = 0; i < views.size(); ++i) {
-		if (!views[i].is_object() || index_or_none(views[i], "buffer") != (long long)b)
-			continue;
-		const long long begin = views[i].contains("byteOffset") ? index_or_none(views[i], "byteOffset") : 0;
-		const long long length = index_or_none(views[i], "byteLength");
-		/* Within the file's part or within vn's appended part (never across). */
-		const buffer& from = d.buffers[b];
-		const unsigned long long end = (unsigned long long)begin + (unsigned long long)length;
-		if (begin < 0 || length < 0 || !(end <= from.size || ((size_t)begin >= from.tail_start() && end <= from.total())))
-			return;
-		ranges.push_back({(size_t)begin, (size_t)(begin + length), 0});
-	}
-	if (ranges.empty())
-		return; /* a buffer must keep at least one byte: left as it is */
-	std::sort(ranges.begin(), ranges.end(), [](const range& x, const range& y) { return x.begin < y.begin; });
-	std::vector<range> merged;
-	for (const range& r : ranges)
-		if (!merged.empty() && r.begin < merged.back().end)
-			merged.back().end = std::max(merged.back().end, r.end);
-		else
-			merged.push_back(r);
-	size_t size = 0;
-	for (range& m : merged) {
-		m.to = (size + 3) / 4 * 4 + m.begin % 4;
-		size = m.to + (m.end - m.begin);
-	}
-	buffer packed;
-	packed.owner = block(size);
-	packed.base = packed.owner.get();
-	packed.size = size;
-	memset(packed.base, 0, size);
-	for (const range& m : merged)
-		memcpy(packed.base + m.to, d.buffers[b].at(m.begin), m.end - m.begin);
-	for (json& v : views) {
-		if (!v.is_object() || index_or_none(v, "buffer") != (long long)b)
-			continue;
-		const size_t begin = v.contains("byteOffset") ? (size_t)index_or_none(v, "byteOffset") : 0;
-		/* The last range starting at or before the view (sorted, disjoint). */
-		const range& m = *(std::upper_bound(merged.begin(), merged.end(), begin,
-		                                    [](size_t x, const range& r) { return x < r.begin; }) - 1);
-		v["byteOffset"] = m.to + (begin - m.begin);
-	}
-	d.buffers[b] = std::move(packed);
-	d.j["buffers"][b]["byteLength"] = size;
-}
-
-/* Removes what vn's changes left unused: accessors and bufferViews the
- * input used and the output does not (old NORMAL data, re-encoded Draco
- * data, primitives --draco on compressed), renumbering every reference,
- * and their bytes, packing each such buffer (other views keep their
- * offsets modulo 4). What the input itself left unused stays. A document
- * using an extension vn does not know (it may hold indices) is left as
- * is, and *unknown names it. */
-void prune(document& d, const usage& before, vn_gltf_stats& st, std::string* unknown)
-{
-	usage after = used(d.j);
-	auto orphaned = [](const std::vector<bool>& was, const std::vector<bool>& is) {
-		std::vector<bool> out(is.size(), false);
-		for (size_t i = 0; i < was.size() && i < is.size(); ++i)
-			out[i] = was[i] && !is[i];
-		return out;
-	};
-	std::vector<bool> gone_accessors = orphaned(before.accessors, after.accessors);
-	if (std::find(gone_accessors.begin(), gone_accessors.end(), true) == gone_accessors.end() &&
-	    orphaned(before.views, after.views) == std::vector<bool>(after.views.size(), false))
-		return;
-	for (const char* list : {"extensionsUsed", "extensionsRequired"})
-		if (d.j.contains(list) && d.j[list].is_array())
-			for (const json& name : d.j[list])
-				if (!name.is_string() || !prunable_with(name.get<std::string>())) {
-					*unknown = name.is_string() ? name.get<std::string>() : name.dump();
-					return;
-				}
-	/* New index of each kept element; removal of the others. */
-	auto renumber = [](json& array, const std::vector<bool>& gone) {
-		std::vector<long long> to(gone.size());
-		long long next = 0;
-		for (size_t i = 0; i < gone.size(); ++i)
-			to[i] = gone[i] ? -1 : next++;
-		json kept = json::array();
-		for (size_t i = 0; i < array.size(); ++i)
-			if (i >= gone.size() || !gone[i])
-				kept.push_back(std::move(array[i]));
-		array = std::move(kept);
-		return [to](json& ref) {
-			const long long i = ref.get<long long>();
-			if (i >= 0 && (size_t)i < to.size())
-				ref = to[(size_t)i];
-		};
-	};
-	auto nothing = [](json&) {};
-	if (d.j.contains("accessors")) {
-		const auto to = renumber(d.j["accessors"], gone_accessors);
-		visit_references(d.j, to, nothing);
-		st.pruned_accessors += (size_t)std::count(gone_accessors.begin(), gone_accessors.end(), true);
-	}
-	after = used(d.j);
-	/* Views no accessor points at any more (used or not: an accessor the
-	 * input left unused keeps its view). */
-	std::vector<bool> pointed(after.views.size(), false);
-	if (d.j.contains("accessors"))
-		for (json& a : d.j["accessors"])
-			accessor_views(a, [&](json& ref) {
-				const long long i = ref.get<long long>();
-				if (i >= 0 && (size_t)i < pointed.size())
-					pointed[(size_t)i] = true;
-			});
-	std::vector<bool> gone_views = orphaned(before.views, after.views);
-	for (size_t i = 0; i < gone_views.size(); ++i)
-		gone_views[i] = gone_views[i] && !pointed[i];
-	if (std::find(gone_views.begin(), gone_views.end(), true) == gone_views.end())
-		return;
-	std::vector<bool> packed(d.buffers.size(), false);
-	for (size_t i = 0; i < gone_views.size(); ++i)
-		if (gone_views[i]) {
-			const long long b = index_or_none(d.j["bufferViews"][i], "buffer");
-			if (b >= 0 && (size_t)b < packed.size())
-				packed[(size_t)b] = true;
-		}
-	{
-		const auto to = renumber(d.j["bufferViews"], gone_views);
-		visit_references(d.j, nothing, to);
-		if (d.j.contains("accessors"))
-			for (json& a : d.j["accessors"])
-				accessor_views(a, to);
-		st.pruned_views += (size_t)std::count(gone_views.begin(), gone_views.end(), true);
-	}
-	for (size_t b = 0; b < d.buffers.size(); ++b)
-		if (packed[b])
-			pack_buffer(d, b);
 }
 
 /* ------------------------------------------------------------------ writing */
