@@ -82,12 +82,6 @@ uint32_t le32(const unsigned char* p)
 	return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
 
-void put32(bytes& out, uint32_t v)
-{
-	for (int i = 0; i < 4; ++i)
-		out.push_back((unsigned char)(v >> (8 * i)));
-}
-
 std::string folder_of(const std::string& path)
 {
 	size_t slash = path.rfind('/');
@@ -487,6 +481,18 @@ std::shared_ptr<draco_mesh> decode_draco(const document& d, const json& prim, co
 	return m;
 }
 
+/* Replaces accessor a's min and max, where it has them, with lo and hi
+ * (integers unless the component type is float). */
+void set_bounds(json& a, const std::vector<double>& lo, const std::vector<double>& hi, long long component)
+{
+	for (auto bound : {std::make_pair("min", &lo), std::make_pair("max", &hi)})
+		if (a.contains(bound.first)) {
+			a[bound.first] = json::array();
+			for (double v : *bound.second)
+				a[bound.first].push_back(component == 5126 ? json(v) : json((long long)v));
+		}
+}
+
 /* A Draco attribute's values in a new bufferView, in the component type of
  * accessor `index`, which is pointed at it (its min/max recomputed). */
 void store_decoded(document& d, long long index, const vn_drc_attribute& a, size_t points, int target)
@@ -508,12 +514,7 @@ void store_decoded(document& d, long long index, const vn_drc_attribute& a, size
 	j.erase("byteOffset");
 	j.erase("sparse");
 	j["bufferView"] = append_view(d, data, stride == info.element ? 0 : stride, target);
-	for (auto bound : {std::make_pair("min", &lo), std::make_pair("max", &hi)})
-		if (j.contains(bound.first)) {
-			j[bound.first] = json::array();
-			for (double v : *bound.second)
-				j[bound.first].push_back(info.component == 5126 ? json(v) : json((long long)v));
-		}
+	set_bounds(j, lo, hi, info.component);
 }
 
 /* --draco off: every Draco-compressed primitive's decoded data go into new
@@ -663,6 +664,12 @@ struct primitive {
 	std::shared_ptr<const draco_mesh> draco;
 	size_t vertices() const { return positions.size(); }
 	size_t output_vertices() const { return vertices() + split_source.size(); }
+	/* The triangles on the output vertices. */
+	corners output_triangles() const
+	{
+		return split_source.empty() ? corners(triangles.data(), triangles.size())
+		                            : corners(split_triangles.data(), split_triangles.size());
+	}
 };
 
 /* The vertex order of indices accessor ia (each checked < n). */
@@ -1374,23 +1381,35 @@ size_t append_draco(document& d, const vn_drc_geometry& g, int level, bool keep_
 	return append_view(d, encoded, 0, 0);
 }
 
+/* The vertices of [0, n) that triangles use (every one when `all`), in
+ * order; renumbered[v] becomes v's index among them. */
+std::vector<uint32_t> kept_vertices(const corners& triangles, size_t n, bool all, std::vector<uint32_t>& renumbered)
+{
+	std::vector<uint32_t> kept;
+	renumbered.assign(n, UINT32_MAX);
+	for (uint32_t v : triangles)
+		renumbered[v] = 0;
+	for (size_t v = 0; v < n; ++v)
+		if (all || renumbered[v] == 0)
+			renumbered[v] = (uint32_t)kept.size(), kept.push_back((uint32_t)v);
+	return kept;
+}
+
 /* Adds p's output vertices that triangles use (positions, new normals) and
  * its triangles. */
 void record_normals(quantized_normals& q, const primitive& p)
 {
-	const corners triangles = p.split_source.empty() ? corners(p.triangles.data(), p.triangles.size())
-	                                                 : corners(p.split_triangles.data(), p.split_triangles.size());
-	std::vector<uint32_t> renumbered(p.output_vertices(), UINT32_MAX);
-	for (uint32_t v : triangles) {
-		if (renumbered[v] == UINT32_MAX) {
-			renumbered[v] = (uint32_t)(q.positions.size() / 3);
-			double x[3];
-			p.positions.load(v < p.vertices() ? v : p.split_source[v - p.vertices()], x);
-			q.positions.insert(q.positions.end(), x, x + 3);
-			q.normals.insert(q.normals.end(), &p.normals[3 * v], &p.normals[3 * v] + 3);
-		}
-		q.indices.push_back(renumbered[v]);
+	const corners triangles = p.output_triangles();
+	std::vector<uint32_t> renumbered;
+	const uint32_t first = (uint32_t)(q.positions.size() / 3);
+	for (uint32_t v : kept_vertices(triangles, p.output_vertices(), false, renumbered)) {
+		double x[3];
+		p.positions.load(v < p.vertices() ? v : p.split_source[v - p.vertices()], x);
+		q.positions.insert(q.positions.end(), x, x + 3);
+		q.normals.insert(q.normals.end(), &p.normals[3 * v], &p.normals[3 * v] + 3);
 	}
+	for (uint32_t v : triangles)
+		q.indices.push_back(first + renumbered[v]);
 }
 
 /* The bits --draco-qp/qn/qt/qc gave for attribute a (by semantic), or -1. */
@@ -1423,6 +1442,7 @@ void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_g
 		         "do inside Draco data (--draco off writes it uncompressed)", what.c_str(), p.split_source.size()));
 	json& prim = mesh_primitive(d, p);
 	json& ext = prim["extensions"][draco_name];
+	const vn_drc_options bits = draco_bits(o);
 	const vn_drc_geometry& in = p.draco->g;
 	const auto& by_name = p.draco->by_name;
 	std::vector<vn_drc_attribute> attributes;
@@ -1435,7 +1455,7 @@ void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_g
 		return by_name.count("NORMAL") && a.unique_id == by_name.at("NORMAL")->unique_id;
 	});
 	if (normal == attributes.end()) {
-		vn_drc_attribute a = {0, vn_drc_normal, vn_drc_float32, 3, 0, draco_bits(o).normal_bits, nullptr};
+		vn_drc_attribute a = {0, vn_drc_normal, vn_drc_float32, 3, 0, bits.normal_bits, nullptr};
 		for (const vn_drc_attribute& b : attributes)
 			a.unique_id = std::max(a.unique_id, b.unique_id + 1);
 		ext["attributes"]["NORMAL"] = a.unique_id;
@@ -1447,16 +1467,16 @@ void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_g
 	normal->data = const_cast<float*>(p.normals.data());
 	bool moved = false; /* positions quantized with other bits than the stream's */
 	for (vn_drc_attribute& a : attributes) {
-		const int bits = given_bits(o, a);
-		if (bits >= 0 && bits != a.quantization_bits) {
+		const int given = given_bits(o, a);
+		if (given >= 0 && given != a.quantization_bits) {
 			moved = moved || a.semantic == vn_drc_position;
-			a.quantization_bits = bits;
+			a.quantization_bits = given;
 		}
 	}
 	vn_drc_geometry g = in;
 	g.attributes = attributes.data();
 	g.attribute_count = attributes.size();
-	ext["bufferView"] = append_draco(d, g, draco_bits(o).compression_level, keep_order, moved ? p.position : -1,
+	ext["bufferView"] = append_draco(d, g, bits.compression_level, keep_order, moved ? p.position : -1,
 	                                 by_name.at("POSITION")->unique_id, what);
 	++st.draco_primitives;
 	record_normals(quantized[normal->quantization_bits], p);
@@ -1470,7 +1490,8 @@ void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_g
  * Vertices no triangle uses are left out. A primitive with morph targets
  * keeps every point in order, which the targets' accessors follow; when
  * that is more than 3 points per triangle (which Draco 1.5.5's decoder refuses),
- * it stays uncompressed (counted). The old accessors stay (unused). */
+ * it stays uncompressed (counted). The old accessors become unused, for
+ * prune() to remove. */
 void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_gltf_stats& st,
                     std::map<int, quantized_normals>& quantized)
 {
@@ -1479,16 +1500,11 @@ void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, v
 	const vn_drc_options bits = draco_bits(o);
 	const size_t n = p.output_vertices();
 	const bool targets = prim.contains("targets");
-	const corners triangles = p.split_source.empty() ? corners(p.triangles.data(), p.triangles.size())
-	                                                 : corners(p.split_triangles.data(), p.split_triangles.size());
+	const corners triangles = p.output_triangles();
 	/* Vertices no triangle uses are left out (Draco 1.5.5's decoder refuses more
 	 * points than 3 per triangle), unless morph targets follow the order. */
-	std::vector<uint32_t> kept, renumbered(n, UINT32_MAX);
-	for (uint32_t v : triangles)
-		renumbered[v] = 0;
-	for (size_t v = 0; v < n; ++v)
-		if (targets || renumbered[v] == 0)
-			renumbered[v] = (uint32_t)kept.size(), kept.push_back((uint32_t)v);
+	std::vector<uint32_t> renumbered;
+	const std::vector<uint32_t> kept = kept_vertices(triangles, n, targets, renumbered);
 	if (kept.size() > triangles.size()) {
 		++st.draco_uncompressed;
 		return;
@@ -1532,12 +1548,7 @@ void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, v
 		copy.erase("byteOffset");
 		copy.erase("sparse");
 		copy["count"] = kept.size();
-		for (auto bound : {std::make_pair("min", &lo), std::make_pair("max", &hi)})
-			if (copy.contains(bound.first)) {
-				copy[bound.first] = json::array();
-				for (double v : *bound.second)
-					copy[bound.first].push_back(a.component == 5126 ? json(v) : json((long long)v));
-			}
+		set_bounds(copy, lo, hi, a.component);
 		kv.value() = append_accessor(d, copy);
 		if (name == "POSITION")
 			position = kv.value().get<long long>();
@@ -1701,10 +1712,11 @@ struct pieces {
 
 std::string le32_text(std::initializer_list<size_t> values)
 {
-	bytes out;
+	std::string out;
 	for (size_t v : values)
-		put32(out, (uint32_t)v);
-	return std::string(out.begin(), out.end());
+		for (int i = 0; i < 4; ++i)
+			out.push_back((char)(v >> (8 * i) & 0xff));
+	return out;
 }
 
 /* A GLB of JSON j and the BIN chunk bin (null: none). */
