@@ -1686,11 +1686,10 @@ std::string data_uri(const json& buffer, const bytes& data)
 struct pieces {
 	std::vector<std::pair<const unsigned char*, size_t>> list;
 	std::vector<std::unique_ptr<std::string>> owned;
-	size_t size = 0;
 	void add(const void* data, size_t n)
 	{
 		if (n)
-			list.emplace_back((const unsigned char*)data, n), size += n;
+			list.emplace_back((const unsigned char*)data, n);
 	}
 	void add(std::string text)
 	{
@@ -1707,6 +1706,14 @@ struct pieces {
 		}
 		if (pad)
 			add(std::string((4 - b.total() % 4) % 4, '\0'));
+	}
+	/* The pieces in one block (for a data URI). */
+	bytes joined() const
+	{
+		bytes out;
+		for (const auto& piece : list)
+			out.insert(out.end(), piece.first, piece.first + piece.second);
+		return out;
 	}
 };
 
@@ -1810,6 +1817,11 @@ bool same_folder(const std::string& a, const std::string& b)
 
 void save(document& d, const std::string& path, bool glb)
 {
+	auto whole = [](const buffer& b) {
+		pieces p;
+		p.add(b, false);
+		return p.joined();
+	};
 	file_set files;
 	const std::string folder = folder_of(path);
 	json& jb = d.j["buffers"];
@@ -1820,7 +1832,7 @@ void save(document& d, const std::string& path, bool glb)
 			if (i == 0)
 				jb[i].erase("uri");
 			else
-				jb[i]["uri"] = data_uri(jb[i], d.buffers[i].contents());
+				jb[i]["uri"] = data_uri(jb[i], whole(d.buffers[i]));
 		}
 	} else {
 		std::string stem = path.substr(folder.size());
@@ -1830,7 +1842,7 @@ void save(document& d, const std::string& path, bool glb)
 		size_t k = 0;
 		for (size_t i = 0; i < d.buffers.size(); ++i) {
 			if (is_data_uri(jb[i])) {
-				jb[i]["uri"] = data_uri(jb[i], d.buffers[i].contents());
+				jb[i]["uri"] = data_uri(jb[i], whole(d.buffers[i]));
 				continue;
 			}
 			std::string name = stem + (k ? str("_%zu", k) : "") + ".bin";

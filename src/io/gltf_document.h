@@ -43,16 +43,6 @@ struct buffer {
 	{
 		return offset < size ? base + offset : const_cast<unsigned char*>(tail.data()) + (offset - tail_start());
 	}
-	/* The whole buffer in one piece (for a data URI). */
-	bytes contents() const
-	{
-		bytes out(base, base + size);
-		if (!tail.empty()) {
-			out.resize(tail_start(), 0);
-			out.insert(out.end(), tail.begin(), tail.end());
-		}
-		return out;
-	}
 };
 
 struct document {
