@@ -87,6 +87,21 @@ template <typename V> void accessor_views(json& a, V on_view)
 				on_view((*sp)[part]["bufferView"]);
 }
 
+/* A reference visitor that flags v[index] for every index within v. */
+auto marker(std::vector<bool>& v)
+{
+	return [&v](json& ref) {
+		const long long i = ref.get<long long>();
+		if (i >= 0 && (size_t)i < v.size())
+			v[(size_t)i] = true;
+	};
+}
+
+bool none(const std::vector<bool>& v)
+{
+	return std::find(v.begin(), v.end(), true) == v.end();
+}
+
 } // namespace
 
 usage used(json& j)
@@ -95,17 +110,10 @@ usage used(json& j)
 	auto size = [&](const char* array) { return j.contains(array) && j[array].is_array() ? j[array].size() : 0; };
 	u.accessors.assign(size("accessors"), false);
 	u.views.assign(size("bufferViews"), false);
-	auto mark = [](std::vector<bool>& v) {
-		return [&v](json& ref) {
-			const long long i = ref.get<long long>();
-			if (i >= 0 && (size_t)i < v.size())
-				v[(size_t)i] = true;
-		};
-	};
-	visit_references(j, mark(u.accessors), mark(u.views));
+	visit_references(j, marker(u.accessors), marker(u.views));
 	for (size_t i = 0; i < u.accessors.size(); ++i)
 		if (u.accessors[i])
-			accessor_views(j["accessors"][i], mark(u.views));
+			accessor_views(j["accessors"][i], marker(u.views));
 	return u;
 }
 
@@ -204,8 +212,7 @@ void prune(document& d, const usage& before, vn_gltf_stats& st, std::string* unk
 		return out;
 	};
 	std::vector<bool> gone_accessors = orphaned(before.accessors, after.accessors);
-	if (std::find(gone_accessors.begin(), gone_accessors.end(), true) == gone_accessors.end() &&
-	    orphaned(before.views, after.views) == std::vector<bool>(after.views.size(), false))
+	if (none(gone_accessors) && none(orphaned(before.views, after.views)))
 		return;
 	for (const char* list : {"extensionsUsed", "extensionsRequired"})
 		if (d.j.contains(list) && d.j[list].is_array())
@@ -243,15 +250,11 @@ void prune(document& d, const usage& before, vn_gltf_stats& st, std::string* unk
 	std::vector<bool> pointed(after.views.size(), false);
 	if (d.j.contains("accessors"))
 		for (json& a : d.j["accessors"])
-			accessor_views(a, [&](json& ref) {
-				const long long i = ref.get<long long>();
-				if (i >= 0 && (size_t)i < pointed.size())
-					pointed[(size_t)i] = true;
-			});
+			accessor_views(a, marker(pointed));
 	std::vector<bool> gone_views = orphaned(before.views, after.views);
 	for (size_t i = 0; i < gone_views.size(); ++i)
 		gone_views[i] = gone_views[i] && !pointed[i];
-	if (std::find(gone_views.begin(), gone_views.end(), true) == gone_views.end())
+	if (none(gone_views))
 		return;
 	std::vector<bool> packed(d.buffers.size(), false);
 	for (size_t i = 0; i < gone_views.size(); ++i)
