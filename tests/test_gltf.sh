@@ -51,11 +51,13 @@ check "a different existing image is an error" [ $rc -eq 1 ]; check "image clash
 check "image clash: no output" [ ! -e "$T/clash/Duck.gltf" ] && check "image clash: nothing replaced" grep -q "not the duck" "$T/clash/DuckCM.png"
 check "image clash: no temporaries" [ "$(ls -A "$T/clash")" = "DuckCM.png" ]
 
-# TANGENT: a warning by default; --tangents drop removes the attribute.
+# TANGENT: a warning by default; --tangents drop removes the attribute and its data.
 run "$VNC" "$DATA/sphere/sphere.gltf" "$T/sp.glb"
 check "TANGENT warning" grep -q "warning: 1 primitives have TANGENT" "$T/stderr"
-run "$VNC" "$DATA/sphere/sphere.gltf" "$T/spd.glb" --tangents drop
+run "$VNC" "$DATA/sphere/sphere.gltf" "$T/spd.glb" --tangents drop --stats
 check "--tangents drop: no warning" [ ! -s "$T/stderr" ]
+check "--tangents drop: its accessor and bufferView removed" \
+  grep -q "^removed unused: *1 accessors, 1 bufferViews$" "$T/stdout"
 check "--tangents drop: structure" $CHECK diff "$DATA/sphere/sphere.gltf" "$T/spd.glb" --tangents-dropped
 check "--tangents drop: TANGENT gone" no_tangent "$T/spd.glb"
 
