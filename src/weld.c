@@ -264,7 +264,7 @@ static void weld_one(uint64_t* table, size_t mask, uint64_t h, uint32_t v, const
  * half, so that only equal hashes load the other vertex's position; slots
  * are prefetched `ahead` vertices early. Both matter because the table and
  * the positions are far larger than the caches on big meshes (500k
- * vertices: 52 -> 20 ns a vertex, docs/PERFORMANCE.md). */
+ * vertices: 52 -> 21 ns a vertex, docs/PERFORMANCE.md). */
 static vn_result weld_exact(uint32_t* remap, const vn_work* reader, size_t n, vn_allocator heap)
 {
 	enum { ahead = 16 };

@@ -957,12 +957,9 @@ size_t flag_hard_edges(group_plan& g, double angle)
 	 * with different input normals: the others need no search (on a file
 	 * without split vertices, that is every edge). */
 	std::vector<uint8_t> merged(g.n, 0);
-	bool any = false;
 	for (size_t i = 0; i < g.n; ++i)
 		if (g.remap[i] != i)
-			merged[g.remap[i]] = 1, any = true;
-	if (!any)
-		return 0;
+			merged[g.remap[i]] = 1;
 	auto candidate = [&](size_t k) { return merged[g.triangles[k]] || merged[g.triangles[next(k)]]; };
 	std::vector<std::pair<uint64_t, uint32_t>> edges;
 	for (size_t k = 0; k < g.corners; ++k)
@@ -1081,7 +1078,8 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 			g.welded_corners[k] = g.remap[g.corner_input[k]];
 		g.triangles = g.welded_corners.data();
 	}
-	const size_t hard = o.no_weld ? 0 : flag_hard_edges(g, o.crease ? o.crease_angle : default_hard_edge_angle);
+	/* Hard edges join welded copies: none without welding. */
+	const size_t hard = welded ? flag_hard_edges(g, o.crease ? o.crease_angle : default_hard_edge_angle) : 0;
 	if (!hard)
 		g.sharp.clear();
 	st.hard_edges += hard;
