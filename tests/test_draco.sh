@@ -204,13 +204,12 @@ check "--draco-qp 10: decoders read it" decode "$T/duck-qp_0.drc" "$T/duck-qp"
 check "--draco-qp 10: within 10 bits" $COMPARE "$T/duck.off" "$T/duck-qp.json" 10
 check "--draco-qp 10: re-quantized (not within 14 bits)" not $COMPARE "$T/duck.off" "$T/duck-qp.json" 14
 bounds() {
-  python3 - "$@" <<'EOF'
+  python3 - "$HERE/gltf" "$@" <<'EOF'
 import json, struct, sys
-glb, decoded = sys.argv[1:]
-data = open(glb, "rb").read()
-n = struct.unpack_from("<I", data, 12)[0]
-doc = json.loads(data[20:20 + n])
-p = json.load(open(decoded))["positions"]
+sys.path.insert(0, sys.argv[1])
+import gltfcheck
+_, doc, _ = gltfcheck.load(sys.argv[2])
+p = json.load(open(sys.argv[3]))["positions"]
 a = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
 f32 = lambda v: struct.unpack("<f", struct.pack("<f", v))[0]
 want = [[f32(min(p[k::3])) for k in range(3)], [f32(max(p[k::3])) for k in range(3)]]
@@ -243,15 +242,15 @@ check "AnimatedMorphCube --draco on: Draco data" $GLTFCHECK drc "$T/amc-on.glb" 
 check "AnimatedMorphCube --draco on: decoders read it" decode "$T/amc-on_0.drc" "$T/amc-on"
 run "$VNC" "$AMC" "$T/amc.glb" -q -m mwa
 in_order() {
-  python3 - "$@" <<'EOF'
-import json, struct, sys
-p = json.load(open(sys.argv[1]))["positions"]
-data = open(sys.argv[2], "rb").read()
-n = struct.unpack_from("<I", data, 12)[0]
-doc = json.loads(data[20:20 + n])
-a = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
-v = doc["bufferViews"][a["bufferView"]]
-q = struct.unpack_from("<%df" % (3 * a["count"]), data, 28 + n + v.get("byteOffset", 0) + a.get("byteOffset", 0))
+  python3 - "$HERE/gltf" "$@" <<'EOF'
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import gltfcheck
+p = json.load(open(sys.argv[2]))["positions"]
+_, doc, buf = gltfcheck.load(sys.argv[3])
+index = doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]
+a = doc["accessors"][index]
+q = [c for v in gltfcheck.accessor_values(doc, buf, index) for c in v]
 step = max(a["max"][k] - a["min"][k] for k in range(3)) / (2 ** 14 - 1)
 sys.exit(len(p) != len(q) or max(abs(x - y) for x, y in zip(p, q)) > step)
 EOF
