@@ -7,8 +7,8 @@
 # --draco off and on; a primitive without NORMAL; refusals.
 #   test_draco.sh PATH/TO/vnconvert NODE_MODULES DRACO_SAMPLE_DIR GLTF_SAMPLE_DIR
 # NODE_MODULES holds draco3d (build-node/node_modules, from .ci/setup);
-# DRACO_SAMPLE_DIR the .drc files (../shared/data/draco from the repository),
-# GLTF_SAMPLE_DIR the glTF ones (../shared/data/gltf).
+# DRACO_SAMPLE_DIR the .drc files (tests/data/models/draco),
+# GLTF_SAMPLE_DIR the glTF ones (tests/data/models/gltf).
 set -u
 VNC=$1
 NODE_MODULES=$2

@@ -2,7 +2,7 @@
 # glTF in vnconvert: fidelity (structural diff, untouched accessors bit for
 # bit), seams, shared accessors, primitive modes, errors, OFF round trip.
 #   test_gltf.sh PATH/TO/vnconvert GLTF_SAMPLE_DIR PATH/TO/tinygltf_load
-# GLTF_SAMPLE_DIR holds the Khronos sample models (../shared/data/gltf from the repository);
+# GLTF_SAMPLE_DIR holds the Khronos sample models (tests/data/models/gltf);
 # tinygltf_load (tests/gltf/tinygltf_load.cpp) reads files with Debian's tinygltf.
 set -u
 VNC=$1
