@@ -12,12 +12,13 @@
 
 static const vn_io_format formats[] = {
 	{"off", ".off", "Geomview Object File Format (reads ASCII and binary, writes ASCII)", vn_io_off_read,
-	 vn_io_off_write},
+	 vn_io_off_write, vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_face_colors | vn_io_holds_polygons},
 	{"gltf", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)", vn_io_gltf_read,
-	 vn_io_gltf_write},
-	{"glb", ".glb", "glTF 2.0 binary (as gltf)", vn_io_gltf_read, vn_io_glb_write},
+	 vn_io_gltf_write, vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes},
+	{"glb", ".glb", "glTF 2.0 binary (as gltf)", vn_io_gltf_read, vn_io_glb_write,
+	 vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes},
 	{"drc", ".drc", "Draco mesh (triangles; positions, normals, texcoords, colours; quantized)", vn_io_drc_read,
-	 vn_io_drc_write},
+	 vn_io_drc_write, vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes},
 };
 
 #define FORMAT_COUNT (sizeof formats / sizeof formats[0])

@@ -4,6 +4,7 @@
 #include "vn_io.h"
 
 #include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -45,7 +46,79 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 	free(mesh->face_offsets);
 	free(mesh->indices);
 	free(mesh->face_colors);
+	for (size_t i = 0; i < mesh->attribute_count; i++)
+		free(mesh->attributes[i].data);
+	free(mesh->attributes);
 	memset(mesh, 0, sizeof *mesh);
+}
+
+size_t vn_io_component_size(int component_type)
+{
+	switch (component_type) {
+	case 5120: case 5121: return 1;
+	case 5122: case 5123: return 2;
+	case 5124: case 5125: case 5126: return 4;
+	default: return 0;
+	}
+}
+
+vn_io_attribute* vn_io_mesh_add_attribute(vn_io_mesh* mesh, const char* name, int semantic, int component_type,
+                                          int components, int normalized)
+{
+	const size_t size = vn_io_component_size(component_type);
+	if (!size || components < 1 || components > 4)
+		return NULL;
+	vn_io_attribute* grown = realloc(mesh->attributes, (mesh->attribute_count + 1) * sizeof *grown);
+	if (!grown)
+		return NULL;
+	mesh->attributes = grown;
+	vn_io_attribute* a = &grown[mesh->attribute_count];
+	memset(a, 0, sizeof *a);
+	a->data = calloc(mesh->vertex_count ? mesh->vertex_count : 1, size * (size_t)components);
+	if (!a->data)
+		return NULL;
+	snprintf(a->name, sizeof a->name, "%s", name);
+	a->semantic = semantic;
+	a->component_type = component_type;
+	a->components = components;
+	a->normalized = normalized;
+	mesh->attribute_count++;
+	return a;
+}
+
+size_t vn_io_mesh_first_nonfinite(const vn_io_mesh* mesh)
+{
+	for (size_t i = 0; i < mesh->vertex_count; i++) {
+		const double* p = mesh->positions + 3 * i;
+		/* x - x is 0 for finite x and NaN for NaN and infinities. */
+		if (p[0] - p[0] != 0 || p[1] - p[1] != 0 || p[2] - p[2] != 0)
+			return i;
+	}
+	return mesh->vertex_count;
+}
+
+size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, char* text, size_t size)
+{
+	size_t lost = 0, used = 0;
+	if (size)
+		text[0] = '\0';
+	const unsigned holds = format ? format->holds : 0;
+	const char* names[3] = {
+	    mesh->colors && !(holds & vn_io_holds_colors) ? "vertex colours" : NULL,
+	    mesh->texcoords && !(holds & vn_io_holds_texcoords) ? "texture coordinates" : NULL,
+	    mesh->face_colors && !(holds & vn_io_holds_face_colors) ? "face colours" : NULL,
+	};
+	for (size_t i = 0; i < mesh->attribute_count + 3; i++) {
+		const char* name = i < 3 ? names[i] : !(holds & vn_io_holds_attributes) ? mesh->attributes[i - 3].name : NULL;
+		if (!name)
+			continue;
+		if (used < size) {
+			int n = snprintf(text + used, size - used, "%s%s", lost ? ", " : "", name);
+			used += n > 0 ? (size_t)n : 0;
+		}
+		lost++;
+	}
+	return lost;
 }
 
 int vn_io_mesh_is_triangles(const vn_io_mesh* mesh)

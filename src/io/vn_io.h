@@ -43,8 +43,34 @@ typedef struct vn_io_error {
 	char message[512];
 } vn_io_error;
 
+/* What an attribute beyond positions, normals, `colors` and `texcoords`
+ * means; the values are Draco's GeometryAttribute::Type. */
+typedef enum vn_io_semantic {
+	vn_io_semantic_color = 2,
+	vn_io_semantic_texcoord = 3,
+	vn_io_semantic_generic = 4 /* application-specific */
+} vn_io_semantic;
+
+/* One more per-vertex attribute: a second texture coordinate or colour set,
+ * or application-specific data (glTF `_NAME`, Draco GENERIC). */
+typedef struct vn_io_attribute {
+	/* As glTF names it: "TEXCOORD_1", "COLOR_1", or "_NAME" (application-
+	 * specific: an underscore, then upper case letters, digits and '_'). */
+	char name[64];
+	int semantic;       /* a vn_io_semantic */
+	int component_type; /* glTF numbering: 5120 int8, 5121 uint8, 5122 int16, 5123 uint16,
+	                       5124 int32 (Draco only), 5125 uint32, 5126 float32 */
+	int components;     /* 1 to 4 */
+	int normalized;     /* integers stand for [0, 1] (unsigned) or [-1, 1] (signed) */
+	void* data;         /* vertex_count * components values, packed, vertex by vertex */
+} vn_io_attribute;
+
 /* A polygon mesh as files carry it. Arrays are owned by the mesh and freed by
- * vn_io_mesh_free; optional arrays are NULL when the file has none. */
+ * vn_io_mesh_free; optional arrays are NULL when the file has none. Readers
+ * put the first colour set in `colors`, the first 2-component texture
+ * coordinate set in `texcoords` and every other per-vertex attribute in
+ * `attributes`; writers keep what their format can hold
+ * (vn_io_format.holds). */
 typedef struct vn_io_mesh {
 	size_t vertex_count;
 	double* positions; /* 3 per vertex */
@@ -61,6 +87,9 @@ typedef struct vn_io_mesh {
 	 * both); writers that have the choice reproduce the source's style. */
 	int colors_are_bytes;
 	int face_colors_are_bytes;
+
+	size_t attribute_count;
+	vn_io_attribute* attributes; /* NULL or attribute_count entries, each owning its data */
 } vn_io_mesh;
 
 /* Frees every array and zeroes the struct; NULL or a zeroed mesh is fine. */
@@ -69,7 +98,31 @@ void vn_io_mesh_free(vn_io_mesh* mesh);
 /* True when every face has exactly 3 corners (a mesh with no faces is not). */
 int vn_io_mesh_is_triangles(const vn_io_mesh* mesh);
 
+/* Appends an attribute with room for vertex_count * components values of
+ * component_type (zeroed) and returns it, or NULL when out of memory or the
+ * type is unknown. name is copied (truncated to fit). */
+vn_io_attribute* vn_io_mesh_add_attribute(vn_io_mesh* mesh, const char* name, int semantic, int component_type,
+                                          int components, int normalized);
+
+/* Bytes of one component of a glTF component type (5120 ... 5126); 0 when unknown. */
+size_t vn_io_component_size(int component_type);
+
+/* The first vertex with a non-finite position coordinate, or vertex_count
+ * when every position is finite. Every writer refuses such a mesh: no file
+ * format vn writes can hold NaN or infinite positions. */
+size_t vn_io_mesh_first_nonfinite(const vn_io_mesh* mesh);
+
 /* ------------------------------------------------------------------ formats */
+
+/* What a format's writer keeps of a vn_io_mesh besides positions, normals
+ * and triangles (vn_io_format.holds). */
+enum {
+	vn_io_holds_colors = 1,      /* `colors`, RGBA */
+	vn_io_holds_texcoords = 2,   /* `texcoords` */
+	vn_io_holds_attributes = 4,  /* `attributes` */
+	vn_io_holds_face_colors = 8, /* `face_colors` */
+	vn_io_holds_polygons = 16    /* faces of more than 3 corners (else fan-triangulated) */
+};
 
 typedef struct vn_io_format {
 	const char* name;       /* "off" */
@@ -83,7 +136,13 @@ typedef struct vn_io_format {
 	 * (vn_io_write_file) takes care of atomicity. */
 	vn_io_result (*write)(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings,
 	                      vn_io_error* error);
+	unsigned holds; /* vn_io_holds_* bits */
 } vn_io_format;
+
+/* Names what writing mesh as `format` leaves out ("face colours, TEXCOORD_1,
+ * _ID"), comma-separated, into text (truncated to size); returns how many
+ * things that is (0: nothing is lost, text ""). */
+size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, char* text, size_t size);
 
 /* The format whose extension `path` ends with (case-insensitive), or NULL. */
 const vn_io_format* vn_io_format_for_path(const char* path);
