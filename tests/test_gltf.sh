@@ -53,11 +53,11 @@ check "image clash: no temporaries" [ "$(ls -A "$T/clash")" = "DuckCM.png" ]
 
 # TANGENT: a warning by default; --tangents drop removes the attribute and its data.
 run "$VNC" "$DATA/sphere/sphere.gltf" "$T/sp.glb"
-check "TANGENT warning" grep -q "warning: 1 primitives have TANGENT" "$T/stderr"
+check "TANGENT warning" grep -q "warning: 1 primitive has TANGENT" "$T/stderr"
 run "$VNC" "$DATA/sphere/sphere.gltf" "$T/spd.glb" --tangents drop --stats
 check "--tangents drop: no warning" [ ! -s "$T/stderr" ]
 check "--tangents drop: its accessor and bufferView removed" \
-  grep -q "^removed unused: *1 accessors, 1 bufferViews$" "$T/stdout"
+  grep -q "^removed unused: *1 accessor, 1 bufferView$" "$T/stdout"
 check "--tangents drop: structure" $CHECK diff "$DATA/sphere/sphere.gltf" "$T/spd.glb" --tangents-dropped
 check "--tangents drop: TANGENT gone" no_tangent "$T/spd.glb"
 
@@ -103,7 +103,7 @@ EOF
 run "$VNC" "$T/sparse-normal.gltf" "$T/sparse-normal.glb" --stats
 check "sparse NORMAL replaced" grep -q "^appended accessors: *1$" "$T/stdout"
 check "sparse NORMAL: the old accessor and its 3 bufferViews removed" \
-  grep -q "^removed unused: *1 accessors, 3 bufferViews$" "$T/stdout"
+  grep -q "^removed unused: *1 accessor, 3 bufferViews$" "$T/stdout"
 check "sparse NORMAL: structure" $CHECK diff "$T/sparse-normal.gltf" "$T/sparse-normal.glb"
 kept_unused() {
   python3 - "$HERE/gltf" "$1" <<'EOF'
@@ -132,7 +132,7 @@ check "quantized: welded seams agree" $CHECK seams "$T/quantized.glb" same
 $CHECK shapes "$T/shapes.gltf"
 run "$VNC" "$T/shapes.gltf" "$T/shapes.glb" --stats
 check "shapes exits 0" [ $rc -eq 0 ]
-check "shapes: 4 triangle primitives, POINTS skipped" grep -q "^primitives: *4 processed, 1 skipped (1 points, 0 lines" "$T/stdout"
+check "shapes: 4 triangle primitives, POINTS skipped" grep -q "^primitives: *4 processed, 1 skipped (1 point, 0 lines" "$T/stdout"
 check "shapes: shared NORMAL split, missing NORMAL added" grep -q "^appended accessors: *3$" "$T/stdout"
 check "shapes: unused vertices counted" grep -q "^zero normals: *[1-9]" "$T/stdout"
 check "shapes: structure" $CHECK diff "$T/shapes.gltf" "$T/shapes.glb"

@@ -28,6 +28,7 @@
 #include <cstdio>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -268,6 +269,18 @@ double read_component(const unsigned char* p, long long type, bool normalized)
 	}
 }
 
+/* What a normalized integer component stored as v stands for. */
+double normalized_value(double v, long long type)
+{
+	switch (type) {
+	case 5120: return std::max(v / 127.0, -1.0);
+	case 5121: return v / 255.0;
+	case 5122: return std::max(v / 32767.0, -1.0);
+	case 5123: return v / 65535.0;
+	default: return v;
+	}
+}
+
 /* v (not normalized: integers are rounded) as a component of type. */
 void write_component(unsigned char* p, long long type, double v)
 {
@@ -398,10 +411,27 @@ document load(const std::string& path)
 				bin = u + at + 8, bin_length = chunk_length;
 		}
 	}
+	if (size == 0)
+		fail(vn_io_error_parse, "the file is empty, not glTF");
+	if (!d.glb) {
+		size_t at = size >= 3 && memcmp(raw, "\xef\xbb\xbf", 3) == 0 ? 3 : 0; /* a UTF-8 byte order mark */
+		while (at < size && isspace((unsigned char)raw[at]))
+			++at;
+		if (at == size || raw[at] != '{')
+			fail(vn_io_error_parse, "neither a GLB (which starts with the bytes 'glTF') nor glTF JSON (which starts with "
+			                        "'{'): not a glTF file, or a damaged one");
+	}
 	try {
 		d.j = json::parse(text, text + text_length);
+	} catch (const json::parse_error& x) {
+		/* nlohmann's text starts with its own error id and position. */
+		const std::string why = x.what();
+		const size_t dash = why.find(" - ");
+		fail(vn_io_error_parse, str("the glTF JSON is malformed at byte %zu%s: %s", (size_t)x.byte,
+		                            d.glb ? " of the JSON chunk" : "",
+		                            dash == std::string::npos ? why.c_str() : why.c_str() + dash + 3));
 	} catch (const json::exception& x) {
-		fail(vn_io_error_parse, std::string("invalid JSON: ") + x.what());
+		fail(vn_io_error_parse, std::string("the glTF JSON is malformed: ") + x.what());
 	}
 	if (!d.j.is_object())
 		fail(vn_io_error_parse, "invalid JSON: the document is not an object");
@@ -493,6 +523,21 @@ void set_bounds(json& a, const std::vector<double>& lo, const std::vector<double
 		}
 }
 
+/* Sets accessor j's min and max, where it has them, to those of count
+ * elements of a's type at stride bytes in data. */
+void set_bounds(json& j, const bytes& data, size_t stride, const accessor& a, size_t count)
+{
+	std::vector<double> lo(a.components, INFINITY), hi(a.components, -INFINITY);
+	const size_t csize = component_size(a.component);
+	for (size_t i = 0; i < count; ++i)
+		for (size_t c = 0; c < a.components; ++c) {
+			const double v = read_component(&data[i * stride + c * csize], a.component, false);
+			lo[c] = std::min(lo[c], v);
+			hi[c] = std::max(hi[c], v);
+		}
+	set_bounds(j, lo, hi, a.component);
+}
+
 /* A Draco attribute's values in a new bufferView, in the component type of
  * accessor `index`, which is pointed at it (its min/max recomputed). */
 void store_decoded(document& d, long long index, const vn_drc_attribute& a, size_t points, int target)
@@ -501,20 +546,16 @@ void store_decoded(document& d, long long index, const vn_drc_attribute& a, size
 	const size_t csize = component_size(info.component), stride = target == 34962 ? (info.element + 3) / 4 * 4 : info.element;
 	const size_t dsize = (size_t)component_size(a.component_type == 5124 ? 5125 : a.component_type);
 	bytes data(stride * points, 0);
-	std::vector<double> lo(info.components, INFINITY), hi(info.components, -INFINITY);
 	for (size_t i = 0; i < points; ++i)
 		for (size_t c = 0; c < info.components; ++c) {
 			const double v = read_component((const unsigned char*)a.data + dsize * (i * info.components + c), a.component_type, false);
 			write_component(&data[i * stride + c * csize], info.component, v);
-			const double stored = read_component(&data[i * stride + c * csize], info.component, false);
-			lo[c] = std::min(lo[c], stored);
-			hi[c] = std::max(hi[c], stored);
 		}
 	json& j = d.j["accessors"][(size_t)index];
 	j.erase("byteOffset");
 	j.erase("sparse");
 	j["bufferView"] = append_view(d, data, stride == info.element ? 0 : stride, target);
-	set_bounds(j, lo, hi, info.component);
+	set_bounds(j, data, stride, info, points);
 }
 
 /* --draco off: every Draco-compressed primitive's decoded data go into new
@@ -551,7 +592,10 @@ void decompress_draco(document& d)
 			json& indices = d.j["accessors"][(size_t)accessors[0]];
 			if (dm->g.point_count > (get_int(indices, "componentType", 0, what) == 5121 ? 256u : 65536u))
 				indices["componentType"] = 5125;
-			const vn_drc_attribute corners = {0, 0, 5125, 1, 0, 0, dm->g.indices};
+			vn_drc_attribute corners{};
+			corners.component_type = 5125;
+			corners.components = 1;
+			corners.data = dm->g.indices;
 			store_decoded(d, accessors[0], corners, 3 * dm->g.triangle_count, 34963);
 			prim["extensions"].erase(draco_name);
 			if (prim["extensions"].empty())
@@ -708,6 +752,19 @@ corners read_indices(const document& d, const accessor& ia, size_t n, bool whole
 	return corners(std::move(order));
 }
 
+/* Fails on the first non-finite position: no file vn writes may hold one
+ * (glTF's validator rejects them, Draco's encoder crashes on them). */
+void check_finite(const vec3s& positions, const std::string& what)
+{
+	for (size_t i = 0; i < positions.size(); ++i) {
+		double p[3];
+		positions.load(i, p);
+		if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+			fail(vn_io_error_parse, str("%s of vertex %zu is not finite (%g, %g, %g); vn does not write meshes with NaN or "
+			                            "infinite positions: fix or remove that vertex", what.c_str(), i, p[0], p[1], p[2]));
+	}
+}
+
 /* Reads the triangle primitives; counts the others. */
 std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 {
@@ -757,6 +814,7 @@ std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 				r.positions = read_vec3(d, pa);
 			}
 			const size_t n = r.vertices();
+			check_finite(r.positions, what + ": POSITION");
 			if (attributes.contains("NORMAL")) {
 				r.normal = get_int(attributes, "NORMAL", 0, what + ".attributes");
 				const vn_drc_attribute* compressed = nullptr;
@@ -791,6 +849,7 @@ std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 							for (int c = 0; c < 3; ++c)
 								morphed[3 * i + c] += q[c];
 						}
+						check_finite(vec3s(morphed.data(), n, 0, vn_scalar_float64), tw + ": POSITION");
 					}
 					long long normal = target.contains("NORMAL") ? get_int(target, "NORMAL", 0, tw) : -1;
 					if (normal >= 0) {
@@ -1284,6 +1343,7 @@ long long split_accessor(document& d, long long index, const primitive& p)
 	for (size_t e = 0; e < p.split_source.size(); ++e)
 		memcpy(&data[(p.vertices() + e) * stride], &data[p.split_source[e] * stride], a.element);
 	json j = d.j["accessors"][(size_t)index];
+	set_bounds(j, data, stride, a, p.output_vertices());
 	j.erase("sparse");
 	j.erase("byteOffset");
 	j["bufferView"] = append_view(d, data, stride == a.element ? 0 : stride, 34962);
@@ -1292,14 +1352,17 @@ long long split_accessor(document& d, long long index, const primitive& p)
 }
 
 /* Points a split primitive's every attribute (and its morph targets') at
- * copies with the split vertices, and its indices at the new triangles. */
+ * copies with the split vertices, and its indices at the new triangles.
+ * A Draco-compressed primitive's attributes in the Draco data and its
+ * indices are the Draco encoder's (write_draco): only the others are
+ * copied here. */
 void write_split(document& d, const primitive& p)
 {
 	json& prim = mesh_primitive(d, p);
 	std::map<long long, long long> copies;
 	auto copy_all = [&](json& attributes) {
 		for (auto& kv : attributes.items()) {
-			if (kv.key() == "NORMAL")
+			if (kv.key() == "NORMAL" || (p.draco && p.draco->by_name.count(kv.key()) && &attributes == &prim["attributes"]))
 				continue;
 			const long long old = get_int(attributes, kv.key().c_str(), 0, "attributes");
 			if (!copies.count(old))
@@ -1311,6 +1374,8 @@ void write_split(document& d, const primitive& p)
 	if (prim.contains("targets"))
 		for (json& target : prim["targets"])
 			copy_all(target);
+	if (p.draco)
+		return;
 	bytes data(p.split_triangles.size() * 4);
 	memcpy(data.data(), p.split_triangles.data(), data.size());
 	prim["indices"] = append_accessor(d, json{{"bufferView", append_view(d, data, 0, 34963)},
@@ -1434,30 +1499,58 @@ void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_g
                  std::map<int, quantized_normals>& quantized)
 {
 	const std::string what = str("meshes[%zu].primitives[%zu]", p.mesh, p.index);
-	if (!p.split_source.empty())
-		fail(vn_io_error_unsupported,
-		     str("%s: --crease-angle would split %zu vertices of this Draco-compressed primitive, which vn does not "
-		         "do inside Draco data (--draco off writes it uncompressed)", what.c_str(), p.split_source.size()));
 	json& prim = mesh_primitive(d, p);
 	json& ext = prim["extensions"][draco_name];
 	const vn_drc_options bits = draco_bits(o);
 	const vn_drc_geometry& in = p.draco->g;
 	const auto& by_name = p.draco->by_name;
+	const size_t n = p.output_vertices();
 	std::vector<vn_drc_attribute> attributes;
+	std::vector<bytes> grown; /* split: each attribute with the split vertices' copies */
+	grown.reserve(in.attribute_count);
 	for (size_t i = 0; i < in.attribute_count; ++i)
-		if (!o.drop_tangents || !by_name.count("TANGENT") || by_name.at("TANGENT") != &in.attributes[i])
+		if (!o.drop_tangents || !by_name.count("TANGENT") || by_name.at("TANGENT") != &in.attributes[i]) {
 			attributes.push_back(in.attributes[i]);
+			if (p.split_source.empty())
+				continue;
+			const vn_drc_attribute& a = in.attributes[i];
+			const size_t size = (size_t)a.components * vn_io_component_size(a.component_type);
+			grown.emplace_back(size * n);
+			memcpy(grown.back().data(), a.data, size * in.point_count);
+			for (size_t e = 0; e < p.split_source.size(); ++e)
+				memcpy(&grown.back()[size * (in.point_count + e)], (const unsigned char*)a.data + size * p.split_source[e], size);
+			attributes.back().data = grown.back().data();
+		}
+	if (!p.split_source.empty()) {
+		/* The accessors of the Draco data get the new count (a copy: the
+		 * old one may be shared); the indices a type that holds it. */
+		for (auto& kv : prim["attributes"].items())
+			if (by_name.count(kv.key())) {
+				json copy = d.j["accessors"][(size_t)get_int(prim["attributes"], kv.key().c_str(), 0, what)];
+				copy["count"] = n;
+				kv.value() = append_accessor(d, copy);
+			}
+		json indices = d.j["accessors"][(size_t)get_int(prim, "indices", 0, what)];
+		if (n > (get_int(indices, "componentType", 0, what) == 5121 ? 256u : 65536u)) {
+			indices["componentType"] = 5125;
+			prim["indices"] = append_accessor(d, indices);
+		}
+	}
 	const bool keep_order = prim.contains("targets") || prim["attributes"].size() > by_name.size() -
 	                        (o.drop_tangents && by_name.count("TANGENT"));
 	auto normal = std::find_if(attributes.begin(), attributes.end(), [&](const vn_drc_attribute& a) {
 		return by_name.count("NORMAL") && a.unique_id == by_name.at("NORMAL")->unique_id;
 	});
 	if (normal == attributes.end()) {
-		vn_drc_attribute a = {0, vn_drc_normal, vn_drc_float32, 3, 0, bits.normal_bits, nullptr};
+		vn_drc_attribute a{};
+		a.semantic = vn_drc_normal;
+		a.component_type = vn_drc_float32;
+		a.components = 3;
+		a.quantization_bits = bits.normal_bits;
 		for (const vn_drc_attribute& b : attributes)
 			a.unique_id = std::max(a.unique_id, b.unique_id + 1);
 		ext["attributes"]["NORMAL"] = a.unique_id;
-		prim["attributes"]["NORMAL"] = append_accessor(d, json{{"componentType", 5126}, {"count", in.point_count}, {"type", "VEC3"}});
+		prim["attributes"]["NORMAL"] = append_accessor(d, json{{"componentType", 5126}, {"count", n}, {"type", "VEC3"}});
 		++st.appended_accessors;
 		attributes.push_back(a);
 		normal = attributes.end() - 1;
@@ -1474,6 +1567,8 @@ void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_g
 	vn_drc_geometry g = in;
 	g.attributes = attributes.data();
 	g.attribute_count = attributes.size();
+	g.point_count = n;
+	g.indices = const_cast<uint32_t*>(p.output_triangles().data());
 	ext["bufferView"] = append_draco(d, g, bits.compression_level, keep_order, moved ? p.position : -1,
 	                                 by_name.at("POSITION")->unique_id, what);
 	++st.draco_primitives;
@@ -1533,10 +1628,13 @@ void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, v
 				lo[c] = std::min(lo[c], v), hi[c] = std::max(hi[c], v);
 			}
 		const bool texcoord = name.rfind("TEXCOORD_", 0) == 0, color = name.rfind("COLOR_", 0) == 0;
-		vn_drc_attribute da = {(uint32_t)attributes.size(),
-		                       name == "POSITION" ? vn_drc_position : name == "NORMAL" ? vn_drc_normal
-		                       : texcoord ? vn_drc_texcoord : color ? vn_drc_color : vn_drc_generic,
-		                       (int)a.component, (int)a.components, get_accessor(d, index).normalized, 0, nullptr};
+		vn_drc_attribute da{};
+		da.unique_id = (uint32_t)attributes.size();
+		da.semantic = name == "POSITION" ? vn_drc_position : name == "NORMAL" ? vn_drc_normal
+		              : texcoord ? vn_drc_texcoord : color ? vn_drc_color : vn_drc_generic;
+		da.component_type = (int)a.component;
+		da.components = (int)a.components;
+		da.normalized = get_accessor(d, index).normalized;
 		da.quantization_bits = da.semantic == vn_drc_position ? bits.position_bits : da.semantic == vn_drc_normal ? bits.normal_bits
 		                       : texcoord ? bits.texcoord_bits : color ? bits.color_bits : 0;
 		attributes.push_back(da);
@@ -1553,7 +1651,12 @@ void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, v
 	}
 	for (size_t i = 0; i < attributes.size(); ++i)
 		attributes[i].data = storage[i].data();
-	vn_drc_geometry g = {kept.size(), corners_kept.size() / 3, corners_kept.data(), attributes.size(), attributes.data()};
+	vn_drc_geometry g{};
+	g.point_count = kept.size();
+	g.triangle_count = corners_kept.size() / 3;
+	g.indices = corners_kept.data();
+	g.attribute_count = attributes.size();
+	g.attributes = attributes.data();
 	const size_t view = append_draco(d, g, bits.compression_level, targets, position,
 	                                 ext_attributes["POSITION"].get<uint32_t>(), what);
 	const size_t points = kept.size();
@@ -1607,11 +1710,11 @@ void write_normals(document& d, std::vector<primitive>& prims, const vn_gltf_opt
 	std::map<int, quantized_normals> quantized;
 	for (primitive& p : prims) {
 		const bool split = !p.split_source.empty();
+		if (split)
+			write_split(d, p);
 		if (p.draco) {
 			write_draco(d, p, o, st, quantized);
 		} else {
-			if (split)
-				write_split(d, p);
 			const long long normal = put_vec3(d, split ? -1 : p.normal, p.normals, written, st);
 			mesh_primitive(d, p)["attributes"]["NORMAL"] = normal;
 		}
@@ -1744,38 +1847,39 @@ pieces glb_file(const json& j, const buffer* bin)
 }
 
 /* Output files written as temporaries beside their final paths, then all
- * renamed; the temporaries of an unfinished set are removed. */
+ * renamed; the temporaries of an unfinished set are removed. vn_io_output
+ * does what every output file needs: links followed, devices refused, mode
+ * and owner kept, temporaries removed on a fatal signal too. */
 struct file_set {
-	std::vector<std::pair<std::string, std::string>> files; /* temporary, final */
+	std::vector<vn_io_output> files;
 	~file_set()
 	{
-		for (auto& f : files)
-			unlink(f.first.c_str());
+		for (vn_io_output& f : files)
+			vn_io_output_discard(&f);
 	}
 	void add(const std::string& path, const pieces& contents)
 	{
-		const size_t slash = path.rfind('/') == std::string::npos ? 0 : path.rfind('/') + 1;
-		std::string temporary = path.substr(0, slash) + "." + path.substr(slash) + ".XXXXXX";
-		int fd = mkstemp(&temporary[0]);
-		if (fd < 0)
-			fail_named(vn_io_error_write,
-			     str("%s: cannot create a temporary file next to it: %s", path.c_str(), strerror(errno)));
-		files.emplace_back(temporary, path);
-		mode_t mask = umask(0);
-		umask(mask);
-		bool ok = fchmod(fd, 0644 & ~mask) == 0;
+		files.reserve(files.size() + 1); /* push_back below cannot throw with the temporary open */
+		vn_io_output output;
+		vn_io_error e;
+		vn_io_result r = vn_io_output_open(&output, path.c_str(), &e);
+		if (r != vn_io_success)
+			fail_named(r, e.message);
+		files.push_back(output);
+		vn_io_output& f = files.back();
+		bool ok = true;
 		for (const auto& piece : contents.list)
 			for (size_t done = 0; ok && done < piece.second;) {
-				ssize_t n = write(fd, piece.first + done, piece.second - done);
+				ssize_t n = write(f.fd, piece.first + done, piece.second - done);
 				if (n < 0 && errno == EINTR)
 					continue;
 				ok = n > 0;
 				done += ok ? (size_t)n : 0;
 			}
-		ok = ok && fsync(fd) == 0;
-		ok = close(fd) == 0 && ok;
 		if (!ok)
 			fail_named(vn_io_error_write, str("%s: cannot write: %s", path.c_str(), strerror(errno)));
+		if ((r = vn_io_output_close(&f, &e)) != vn_io_success)
+			fail_named(r, e.message);
 	}
 	void add(const std::string& path, const std::string& text)
 	{
@@ -1785,10 +1889,11 @@ struct file_set {
 	}
 	void commit()
 	{
-		for (auto& f : files) {
-			if (rename(f.first.c_str(), f.second.c_str()) != 0)
-				fail_named(vn_io_error_write, str("%s: cannot replace the file: %s", f.second.c_str(), strerror(errno)));
-			f.first.clear();
+		for (vn_io_output& f : files) {
+			vn_io_error e;
+			vn_io_result r = vn_io_output_commit(&f, &e);
+			if (r != vn_io_success)
+				fail_named(r, e.message);
 		}
 		files.clear();
 	}
@@ -1813,71 +1918,302 @@ bool same_folder(const std::string& a, const std::string& b)
 	       sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
-void save(document& d, const std::string& path, bool glb)
+/* An external resource's URI (not a data URI, not another scheme's URL such
+ * as https://, which vn neither reads nor copies), decoded; "" otherwise. */
+std::string file_uri(const json& o)
 {
+	auto it = o.find("uri");
+	if (it == o.end() || !it->is_string() || is_data_uri(o))
+		return "";
+	const std::string& uri = it->get_ref<const std::string&>();
+	const size_t colon = uri.find(':'), slash = uri.find('/');
+	if (colon != std::string::npos && (slash == std::string::npos || colon < slash))
+		return ""; /* a scheme */
+	return uri_decode(uri);
+}
+
+/* True when relative path `name` stays inside its folder: not absolute, no
+ * ".." component. */
+bool stays_inside(const std::string& name)
+{
+	if (name.empty() || name[0] == '/')
+		return false;
+	for (size_t at = 0; at <= name.size();) {
+		size_t end = name.find('/', at);
+		if (end == std::string::npos)
+			end = name.size();
+		if (name.compare(at, end - at, "..") == 0)
+			return false;
+		at = end + 1;
+	}
+	return true;
+}
+
+/* An image's media type from its first bytes, "" when not one glTF uses. */
+std::string image_type(const bytes& data)
+{
+	auto starts = [&](const char* magic, size_t n, size_t at = 0) {
+		return data.size() >= at + n && memcmp(data.data() + at, magic, n) == 0;
+	};
+	if (starts("\x89PNG\r\n\x1a\n", 8))
+		return "image/png";
+	if (starts("\xff\xd8\xff", 3))
+		return "image/jpeg";
+	if (starts("RIFF", 4) && starts("WEBP", 4, 8))
+		return "image/webp";
+	if (starts("\xabKTX 20\xbb\r\n\x1a\n", 12))
+		return "image/ktx2";
+	if (starts("ftypavif", 8, 4))
+		return "image/avif";
+	if (starts("DDS ", 4))
+		return "image/vnd-ms.dds";
+	return "";
+}
+
+/* A GLB holds its data in the BIN chunk: every buffer is appended to it
+ * (each at a multiple of 4, so views keep their alignment) and every image
+ * the GLB can hold goes into a bufferView with its mimeType. A document
+ * using an extension that may refer to buffers (e.g. EXT_meshopt_compression)
+ * keeps its buffers apart, the others as data URIs. */
+void merge_for_glb(document& d, const std::string& unknown)
+{
+	json& jb = d.j["buffers"];
 	auto whole = [](const buffer& b) {
 		pieces p;
 		p.add(b, false);
 		return p.joined();
 	};
-	file_set files;
-	const std::string folder = folder_of(path);
-	json& jb = d.j["buffers"];
-	if (glb) {
-		/* Buffer 0 becomes the BIN chunk; any other buffer with an external
-		 * file becomes a data URI, so that the GLB stands alone. */
+	if (!unknown.empty()) {
 		for (size_t i = 0; i < d.buffers.size(); ++i) {
 			if (i == 0)
 				jb[i].erase("uri");
 			else
 				jb[i]["uri"] = data_uri(jb[i], whole(d.buffers[i]));
 		}
-	} else {
-		std::string stem = path.substr(folder.size());
-		size_t dot = stem.rfind('.');
-		if (dot != std::string::npos && dot > 0)
-			stem.resize(dot);
-		size_t k = 0;
-		for (size_t i = 0; i < d.buffers.size(); ++i) {
-			if (is_data_uri(jb[i])) {
-				jb[i]["uri"] = data_uri(jb[i], whole(d.buffers[i]));
-				continue;
-			}
-			std::string name = stem + (k ? str("_%zu", k) : "") + ".bin";
-			++k;
-			jb[i]["uri"] = uri_encode(name);
-			pieces contents;
-			contents.add(d.buffers[i], false);
-			files.add(folder + name, contents);
+		return;
+	}
+	std::vector<size_t> start(d.buffers.size());
+	size_t size = 0;
+	for (size_t b = 0; b < d.buffers.size(); ++b) {
+		start[b] = (size + 3) / 4 * 4;
+		size = start[b] + d.buffers[b].total();
+	}
+	/* Images: read first, so the block is allocated once. */
+	std::vector<std::pair<size_t, bytes>> images;
+	auto ji = d.j.find("images");
+	for (size_t i = 0; ji != d.j.end() && ji->is_array() && i < ji->size(); ++i) {
+		json& image = (*ji)[i];
+		if (!image.is_object() || !image.contains("uri"))
+			continue;
+		bytes data;
+		std::string type;
+		if (is_data_uri(image)) {
+			const std::string& text = image["uri"].get_ref<const std::string&>();
+			std::vector<unsigned char> decoded;
+			if (!tinygltf::DecodeDataURI(&decoded, type, text, 0, false))
+				fail(vn_io_error_parse, str("images[%zu]: cannot decode its data URI", i));
+			data.assign(decoded.begin(), decoded.end());
+			const size_t semicolon = text.find(';');
+			type = text.substr(5, semicolon == std::string::npos ? 0 : semicolon - 5);
+		} else {
+			const std::string name = file_uri(image);
+			if (name.empty())
+				continue; /* a URL: stays one */
+			if (!read_file(d.folder + name, data))
+				fail_named(vn_io_error_open, str("%s: cannot read images[%zu] ('%s') to put it into the GLB",
+				                                 (d.folder + name).c_str(), i, name.c_str()));
+		}
+		if (type.empty() || type == "application/octet-stream")
+			type = image_type(data);
+		if (type.empty() && image.contains("mimeType") && image["mimeType"].is_string())
+			type = image["mimeType"].get<std::string>();
+		if (type.empty())
+			fail(vn_io_error_unsupported,
+			     str("images[%zu] is neither PNG, JPEG, WebP, KTX2, AVIF nor DDS and has no mimeType, which a GLB "
+			         "needs to hold it (write .gltf instead)", i));
+		image["mimeType"] = type;
+		images.emplace_back(i, std::move(data));
+	}
+	std::vector<size_t> image_start;
+	for (const auto& im : images) {
+		image_start.push_back((size + 3) / 4 * 4);
+		size = image_start.back() + im.second.size();
+	}
+	if (d.buffers.size() <= 1 && images.empty()) {
+		if (!d.buffers.empty())
+			jb[0].erase("uri");
+		return;
+	}
+	buffer merged;
+	merged.owner = block(size);
+	merged.base = merged.owner.get();
+	merged.size = size;
+	memset(merged.base, 0, size);
+	for (size_t b = 0; b < d.buffers.size(); ++b) {
+		const buffer& from = d.buffers[b];
+		memcpy(merged.base + start[b], from.base, from.size);
+		if (!from.tail.empty())
+			memcpy(merged.base + start[b] + from.tail_start(), from.tail.data(), from.tail.size());
+	}
+	auto views = d.j.find("bufferViews");
+	for (size_t v = 0; views != d.j.end() && views->is_array() && v < views->size(); ++v) {
+		json& view = (*views)[v];
+		const long long b = get_int(view, "buffer", -1, str("bufferViews[%zu]", v));
+		if (b >= 0 && (size_t)b < start.size()) {
+			view["buffer"] = 0;
+			view["byteOffset"] = start[(size_t)b] + (size_t)get_int(view, "byteOffset", 0, "bufferView");
 		}
 	}
-	/* External images: same URIs, so the files go next to the output. */
-	if (d.j.contains("images") && d.j["images"].is_array() && !same_folder(d.folder, folder)) {
-		for (const json& image : d.j["images"]) {
-			if (!image.is_object() || !image.contains("uri") || !image["uri"].is_string() || is_data_uri(image))
+	json first = d.buffers.empty() ? json::object() : jb[0];
+	first.erase("uri");
+	first["byteLength"] = size;
+	d.j["buffers"] = json::array({first});
+	d.buffers.assign(1, std::move(merged));
+	for (size_t k = 0; k < images.size(); ++k) {
+		memcpy(d.buffers[0].base + image_start[k], images[k].second.data(), images[k].second.size());
+		if (!d.j.contains("bufferViews"))
+			d.j["bufferViews"] = json::array();
+		d.j["bufferViews"].push_back(json{{"buffer", 0}, {"byteOffset", image_start[k]}, {"byteLength", images[k].second.size()}});
+		json& image = d.j["images"][images[k].first];
+		image.erase("uri");
+		image["bufferView"] = d.j["bufferViews"].size() - 1;
+	}
+}
+
+/* Creates the folders of relative path `name` below `folder` that are
+ * missing. */
+void make_folders(const std::string& folder, const std::string& name)
+{
+	for (size_t slash = name.find('/'); slash != std::string::npos; slash = name.find('/', slash + 1)) {
+		const std::string sub = folder + name.substr(0, slash);
+		if (mkdir(sub.c_str(), 0777) != 0 && errno != EEXIST)
+			fail_named(vn_io_error_write, str("%s: cannot create the folder: %s", sub.c_str(), strerror(errno)));
+	}
+}
+
+/* Writes the document to path: a GLB with everything in its BIN chunk, or a
+ * .gltf with its buffers in files beside it (the input's own names when
+ * writing in place, else OUTSTEM.bin, OUTSTEM_1.bin, ...) and its external
+ * images copied next to it when the folder differs, never outside path's
+ * folder. unknown: an extension vn does not know, or "". */
+void save(document& d, const std::string& path, bool glb, bool in_place, const std::string& unknown)
+{
+	file_set files;
+	const std::string folder = folder_of(path);
+	if (glb) {
+		merge_for_glb(d, unknown);
+		files.add(path, glb_file(d.j, d.buffers.empty() ? nullptr : &d.buffers[0]));
+		files.commit();
+		return;
+	}
+	json& jb = d.j["buffers"];
+	/* The input's files, which a new buffer file must not replace. */
+	std::vector<std::string> inputs;
+	for (size_t i = 0; i < d.buffers.size(); ++i)
+		if (!file_uri(jb[i]).empty())
+			inputs.push_back(d.folder + file_uri(jb[i]));
+	auto is_input = [&](const std::string& p) {
+		return std::any_of(inputs.begin(), inputs.end(), [&](const std::string& q) { return vn_io_same_file(p.c_str(), q.c_str()); });
+	};
+	std::string stem = path.substr(folder.size());
+	size_t dot = stem.rfind('.');
+	if (dot != std::string::npos && dot > 0)
+		stem.resize(dot);
+	size_t k = 0;
+	for (size_t i = 0; i < d.buffers.size(); ++i) {
+		if (is_data_uri(jb[i])) {
+			pieces p;
+			p.add(d.buffers[i], false);
+			jb[i]["uri"] = data_uri(jb[i], p.joined());
+			continue;
+		}
+		std::string name = in_place ? file_uri(jb[i]) : "";
+		while (name.empty() || (!in_place && is_input(folder + name)))
+			name = stem + (k ? str("_%zu", k) : "") + ".bin", ++k;
+		if (!in_place)
+			jb[i]["uri"] = uri_encode(name);
+		pieces contents;
+		contents.add(d.buffers[i], false);
+		files.add(folder + name, contents);
+	}
+	/* External images keep their URIs when they stay inside the output's
+	 * folder (copied there, folders made as needed); one that would land
+	 * outside it ("../tex/a.png") is copied into it under its own name. */
+	auto images = d.j.find("images");
+	if (images != d.j.end() && images->is_array() && !same_folder(d.folder, folder)) {
+		std::map<std::string, bytes> placed; /* name in the output folder -> contents */
+		for (json& image : *images) {
+			const std::string name = image.is_object() ? file_uri(image) : "";
+			if (name.empty())
 				continue;
-			const std::string name = uri_decode(image["uri"].get<std::string>());
 			bytes data, existing;
 			if (!read_file(d.folder + name, data))
 				fail_named(vn_io_error_open, str("%s: cannot read the image '%s'", (d.folder + name).c_str(), name.c_str()));
-			if (read_file(folder + name, existing)) {
+			std::string to = name;
+			if (!stays_inside(name)) {
+				const std::string base = name.substr(name.rfind('/') == std::string::npos ? 0 : name.rfind('/') + 1);
+				const size_t ext = base.rfind('.');
+				to = base;
+				for (size_t n = 1; placed.count(to) && placed[to] != data; ++n)
+					to = (ext == std::string::npos || ext == 0 ? base : base.substr(0, ext)) + str("_%zu", n) +
+					     (ext == std::string::npos || ext == 0 ? "" : base.substr(ext));
+				image["uri"] = uri_encode(to);
+			}
+			if (placed.count(to))
+				continue;
+			placed[to] = data;
+			if (read_file(folder + to, existing)) {
 				if (existing != data)
 					fail_named(vn_io_error_write, str("%s exists and differs from the input's image; not overwritten",
-					                            (folder + name).c_str()));
+					                                  (folder + to).c_str()));
 				continue;
 			}
-			files.add(folder + name, std::string(data.begin(), data.end()));
+			make_folders(folder, to);
+			files.add(folder + to, std::string(data.begin(), data.end()));
 		}
 	}
-	if (glb)
-		files.add(path, glb_file(d.j, d.buffers.empty() ? nullptr : &d.buffers[0]));
-	else
-		files.add(path, d.j.dump(2) + "\n");
+	files.add(path, d.j.dump(2) + "\n");
 	files.commit();
 }
 
 /* ------------------------------------------------------------------ vn_io_mesh */
 
+/* The values of attribute `name` of primitive p (decoded Draco data or its
+ * accessor), as doubles, with its type; false when p lacks it. */
+bool attribute_values(const document& d, const primitive& p, const std::string& name, std::vector<double>& values,
+                      accessor& type)
+{
+	const json& attributes = d.j["meshes"][p.mesh]["primitives"][p.index]["attributes"];
+	if (!attributes.contains(name))
+		return false;
+	if (p.draco && p.draco->by_name.count(name)) {
+		const vn_drc_attribute& a = *p.draco->by_name.at(name);
+		type = accessor{};
+		type.count = (long long)p.vertices();
+		type.component = a.component_type;
+		type.components = (size_t)a.components;
+		type.normalized = a.normalized != 0;
+		const size_t csize = vn_io_component_size(a.component_type);
+		values.resize(p.vertices() * type.components);
+		for (size_t i = 0; i < values.size(); ++i)
+			values[i] = read_component((const unsigned char*)a.data + i * csize, a.component_type, false);
+		return true;
+	}
+	type = get_accessor(d, get_int(attributes, name.c_str(), 0, "attributes"));
+	if ((size_t)type.count != p.vertices() || type.components > 4)
+		return false;
+	const bool normalized = type.normalized;
+	type.normalized = false; /* the stored values */
+	values = read_accessor(d, type);
+	type.normalized = normalized;
+	return true;
+}
+
+/* Every triangle primitive merged into one mesh: positions, triangles, the
+ * first colour set (COLOR_0) into colors, TEXCOORD_0 into texcoords, every
+ * other vertex attribute (TEXCOORD_n, COLOR_n, JOINTS_n, WEIGHTS_n,
+ * TANGENT, _NAME) into attributes in its own type; a primitive without an
+ * attribute another one has gets zeros there. */
 void mesh_from_document(const document& d, vn_io_mesh* mesh)
 {
 	std::vector<primitive> prims = triangle_primitives(d, nullptr);
@@ -1905,9 +2241,98 @@ void mesh_from_document(const document& d, vn_io_mesh* mesh)
 	}
 	for (size_t f = 0; f <= triangles; ++f)
 		mesh->face_offsets[f] = (uint32_t)(3 * f);
+
+	/* Attribute names in first-seen order, with the first primitive's type. */
+	std::vector<std::pair<std::string, accessor>> names;
+	for (const primitive& p : prims)
+		for (auto& kv : d.j["meshes"][p.mesh]["primitives"][p.index]["attributes"].items()) {
+			std::vector<double> values;
+			accessor type;
+			if (kv.key() == "POSITION" || kv.key() == "NORMAL" ||
+			    std::any_of(names.begin(), names.end(), [&](const auto& n) { return n.first == kv.key(); }) ||
+			    !attribute_values(d, p, kv.key(), values, type))
+				continue;
+			names.emplace_back(kv.key(), type);
+		}
+	/* Primitives disagreeing on an attribute's type: floats, as they stand for. */
+	for (auto& name : names)
+		for (const primitive& p : prims) {
+			std::vector<double> values;
+			accessor here;
+			if (attribute_values(d, p, name.first, values, here) &&
+			    (here.component != name.second.component || here.normalized != name.second.normalized ||
+			     here.components > name.second.components)) {
+				name.second.component = 5126;
+				name.second.normalized = false;
+				name.second.components = std::max(here.components, name.second.components);
+			}
+		}
+	for (const auto& name : names) {
+		const accessor& type = name.second;
+		const bool color = name.first == "COLOR_0" && (type.components == 3 || type.components == 4);
+		const bool texcoord = name.first == "TEXCOORD_0" && type.components == 2;
+		const int semantic = name.first.rfind("TEXCOORD_", 0) == 0 ? vn_io_semantic_texcoord
+		                     : name.first.rfind("COLOR_", 0) == 0  ? vn_io_semantic_color
+		                                                           : vn_io_semantic_generic;
+		float* floats = nullptr;
+		vn_io_attribute* a = nullptr;
+		if (color) {
+			floats = mesh->colors = (float*)calloc(4 * (vertices ? vertices : 1), sizeof(float));
+			mesh->colors_are_bytes = type.component == 5121;
+		} else if (texcoord) {
+			floats = mesh->texcoords = (float*)calloc(2 * (vertices ? vertices : 1), sizeof(float));
+		} else {
+			a = vn_io_mesh_add_attribute(mesh, name.first.c_str(), semantic, (int)type.component, (int)type.components,
+			                             type.normalized);
+		}
+		if (!floats && !a)
+			fail(vn_io_error_memory, "out of memory");
+		const size_t k = color ? 4 : texcoord ? 2 : type.components, csize = component_size(type.component);
+		v = 0;
+		for (const primitive& p : prims) {
+			std::vector<double> values;
+			accessor here;
+			if (attribute_values(d, p, name.first, values, here))
+				for (size_t i = 0; i < p.vertices(); ++i)
+					for (size_t c = 0; c < k; ++c) {
+						/* Colours and texture coordinates as the floats they
+						 * stand for; other attributes in their own type. */
+						const bool have = c < here.components;
+						double x = have ? values[i * here.components + c] : 1.0; /* missing alpha: opaque */
+						if ((floats || type.component == 5126) && have && here.normalized)
+							x = normalized_value(x, here.component);
+						if (floats)
+							floats[(v + i) * k + c] = (float)x;
+						else if (have)
+							write_component((unsigned char*)a->data + ((v + i) * k + c) * csize, type.component, x);
+					}
+			else if (color)
+				for (size_t i = 0; i < p.vertices(); ++i)
+					std::fill_n(&floats[(v + i) * 4], 4, 1.0f); /* white where a primitive has no colours */
+			v += p.vertices();
+		}
+	}
 }
 
-/* A minimal document for mesh: one node, one mesh, one primitive. */
+/* glTF's name for mesh attribute a, given the TEXCOORD_n and COLOR_n sets
+ * already written (numbered on from them: glTF wants them consecutive), or
+ * "" when glTF cannot hold it as such: TEXCOORD is VEC2, COLOR VEC3/VEC4,
+ * of float or normalized unsigned byte/short; an application-specific name
+ * starts with '_'. */
+std::string gltf_name(const vn_io_attribute& a, int* texcoords, int* colors)
+{
+	const bool allowed = a.component_type == 5126 || (a.normalized && (a.component_type == 5121 || a.component_type == 5123));
+	if (a.semantic == vn_io_semantic_texcoord && a.components == 2 && allowed)
+		return str("TEXCOORD_%d", (*texcoords)++);
+	if (a.semantic == vn_io_semantic_color && (a.components == 3 || a.components == 4) && allowed)
+		return str("COLOR_%d", (*colors)++);
+	return a.name[0] == '_' ? std::string(a.name) : "_" + std::string(a.name);
+}
+
+/* A minimal document for mesh: one node, one mesh, one primitive with
+ * POSITION, NORMAL, COLOR_0 (vertex colours), TEXCOORD_0 and every other
+ * attribute (in its type; 32-bit integers, which glTF allows only for
+ * indices, as floats). */
 bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 {
 	if (mesh->vertex_count == 0 || mesh->face_count == 0)
@@ -1919,41 +2344,79 @@ bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 	if (indices.empty())
 		fail(vn_io_error_unsupported, "glTF needs at least one face with 3 or more corners");
 	const size_t n = mesh->vertex_count;
-	std::vector<float> positions(3 * n), normals(3 * n);
-	std::vector<double> lo(3, INFINITY), hi(3, -INFINITY);
-	for (size_t i = 0; i < 3 * n; ++i) {
-		positions[i] = (float)mesh->positions[i];
-		lo[i % 3] = std::min(lo[i % 3], (double)positions[i]);
-		hi[i % 3] = std::max(hi[i % 3], (double)positions[i]);
-	}
-	for (size_t i = 0; i < n; ++i) {
+	bytes bin;
+	json accessors = json::array(), views = json::array(), attributes = json::object();
+	/* One bufferView per accessor, each element padded to 4 bytes (vertex
+	 * attributes need it). */
+	auto add = [&](const std::string& name, int component, size_t components, bool normalized, size_t count,
+	               const std::function<double(size_t, size_t)>& value, bool bounds, int target) {
+		const size_t csize = component_size(component), element = csize * components;
+		const size_t stride = target == 34962 ? (element + 3) / 4 * 4 : element;
+		bin.resize((bin.size() + 3) / 4 * 4, 0);
+		const size_t offset = bin.size();
+		bin.resize(offset + stride * count, 0);
+		for (size_t i = 0; i < count; ++i)
+			for (size_t c = 0; c < components; ++c)
+				write_component(&bin[offset + i * stride + c * csize], component, value(i, c));
+		json view = {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", stride * count}};
+		if (stride != element)
+			view["byteStride"] = stride;
+		view["target"] = target;
+		views.push_back(view);
+		json a = {{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count},
+		          {"type", components == 1 ? "SCALAR" : str("VEC%zu", components)}};
+		if (normalized)
+			a["normalized"] = true;
+		if (bounds) {
+			a["min"] = json::array(), a["max"] = json::array();
+			accessor info;
+			info.component = component;
+			info.components = components;
+			set_bounds(a, bytes(bin.begin() + (long)offset, bin.end()), stride, info, count);
+		}
+		accessors.push_back(a);
+		if (!name.empty())
+			attributes[name] = accessors.size() - 1;
+	};
+	add("POSITION", 5126, 3, false, n, [&](size_t i, size_t c) { return mesh->positions[3 * i + c]; }, true, 34962);
+	add("NORMAL", 5126, 3, false, n, [&](size_t i, size_t c) {
 		const double* v = mesh->normals ? &mesh->normals[3 * i] : nullptr;
-		bool zero = !v || (v[0] == 0 && v[1] == 0 && v[2] == 0);
-		for (size_t c = 0; c < 3; ++c)
-			normals[3 * i + c] = zero ? (c == 2 ? 1.0f : 0.0f) : (float)v[c];
+		const bool zero = !v || (v[0] == 0 && v[1] == 0 && v[2] == 0);
+		return zero ? (c == 2 ? 1.0 : 0.0) : v[c]; }, false, 34962);
+	int texcoords = 0, colors = 0;
+	if (mesh->texcoords)
+		add(str("TEXCOORD_%d", texcoords++), 5126, 2, false, n, [&](size_t i, size_t c) { return mesh->texcoords[2 * i + c]; },
+		    false, 34962);
+	if (mesh->colors) {
+		bool alpha = false;
+		for (size_t i = 0; i < n && !alpha; ++i)
+			alpha = mesh->colors[4 * i + 3] != 1.0f;
+		add(str("COLOR_%d", colors++), mesh->colors_are_bytes ? 5121 : 5126, alpha ? 4 : 3, mesh->colors_are_bytes != 0, n,
+		    [&](size_t i, size_t c) {
+			    const double v = mesh->colors[4 * i + c];
+			    return mesh->colors_are_bytes ? std::lround(std::min(1.0, std::max(0.0, v)) * 255) : v; },
+		    false, 34962);
 	}
-	bytes bin(12 * n * 2 + 4 * indices.size());
-	memcpy(bin.data(), positions.data(), 12 * n);
-	memcpy(bin.data() + 12 * n, normals.data(), 12 * n);
-	memcpy(bin.data() + 24 * n, indices.data(), 4 * indices.size());
+	for (size_t k = 0; k < mesh->attribute_count; ++k) {
+		const vn_io_attribute& a = mesh->attributes[k];
+		const size_t csize = vn_io_component_size(a.component_type);
+		const bool wide = a.component_type == 5124 || a.component_type == 5125; /* glTF: indices only */
+		add(gltf_name(a, &texcoords, &colors), wide ? 5126 : a.component_type, (size_t)a.components,
+		    a.normalized && !wide, n, [&](size_t i, size_t c) {
+			    return read_component((const unsigned char*)a.data + (i * a.components + c) * csize, a.component_type, false); },
+		    false, 34962);
+	}
+	add("", 5125, 1, false, indices.size(), [&](size_t i, size_t) { return (double)indices[i]; }, false, 34963);
 	j = json{{"asset", {{"version", "2.0"}, {"generator", "vn"}}},
 	         {"scene", 0},
 	         {"scenes", json::array({json{{"nodes", {0}}}})},
 	         {"nodes", json::array({json{{"mesh", 0}}})},
 	         {"meshes", json::array({json{{"primitives", json::array({json{
-	                                           {"attributes", {{"POSITION", 0}, {"NORMAL", 1}}},
-	                                           {"indices", 2},
+	                                           {"attributes", attributes},
+	                                           {"indices", accessors.size() - 1},
 	                                           {"mode", 4}}})}}})},
-	         {"accessors", json::array({json{{"bufferView", 0}, {"componentType", 5126}, {"count", n},
-	                                          {"type", "VEC3"}, {"min", lo}, {"max", hi}},
-	                                     json{{"bufferView", 1}, {"componentType", 5126}, {"count", n},
-	                                          {"type", "VEC3"}},
-	                                     json{{"bufferView", 2}, {"componentType", 5125},
-	                                          {"count", indices.size()}, {"type", "SCALAR"}}})},
-	         {"bufferViews", json::array({json{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 12 * n}, {"target", 34962}},
-	                                       json{{"buffer", 0}, {"byteOffset", 12 * n}, {"byteLength", 12 * n}, {"target", 34962}},
-	                                       json{{"buffer", 0}, {"byteOffset", 24 * n}, {"byteLength", 4 * indices.size()},
-	                                            {"target", 34963}}})},
+	         {"accessors", accessors},
+	         {"bufferViews", views},
 	         {"buffers", json::array({json{{"byteLength", bin.size()}}})}};
 	return bin;
 }
@@ -2045,7 +2508,7 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 		std::string unknown;
 		prune(d, before, st, &unknown);
 		snprintf(st.unpruned_extension, sizeof st.unpruned_extension, "%s", unknown.c_str());
-		save(d, out, out_glb != 0);
+		save(d, out, out_glb != 0, vn_io_same_file(in, out), unknown_extension(d.j));
 	});
 	if (stats)
 		*stats = st;

@@ -73,6 +73,11 @@ struct usage {
 
 usage used(json& j);
 
+/* The first extension the document uses whose data may hold accessor,
+ * bufferView or buffer indices that vn does not know of (so vn must not
+ * renumber or merge them), or "". */
+std::string unknown_extension(const json& j);
+
 /* Removes what vn's changes left unused: accessors and bufferViews the
  * input used (before: used() of the document as loaded) and the output
  * does not, with their bytes; see gltf_prune.cpp. */

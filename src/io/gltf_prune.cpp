@@ -119,16 +119,38 @@ usage used(json& j)
 
 namespace {
 
-/* Extensions whose data hold no accessor or bufferView index beyond those
- * visit_references knows (prefix match for KHR_materials_). */
+/* Extensions whose data hold no accessor, bufferView or buffer index beyond
+ * those visit_references knows (prefix match for KHR_materials_):
+ * EXT_mesh_features names feature-ID attributes by set number and
+ * textures by index, CESIUM_RTC holds a centre, KHR_animation_pointer JSON
+ * pointers to nodes and materials. */
 bool prunable_with(const std::string& name)
 {
 	static const char* const known[] = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
 	                                    "KHR_lights_punctual", "KHR_texture_basisu", "EXT_texture_webp",
-	                                    "EXT_texture_avif", "EXT_mesh_gpu_instancing", "KHR_xmp_json_ld"};
+	                                    "EXT_texture_avif", "EXT_mesh_gpu_instancing", "KHR_xmp_json_ld",
+	                                    "KHR_xmp", "EXT_mesh_features", "CESIUM_RTC", "KHR_animation_pointer",
+	                                    "KHR_node_visibility", "EXT_lights_image_based", "MSFT_lod",
+	                                    "MSFT_texture_dds"};
 	return name.rfind("KHR_materials_", 0) == 0 ||
 	       std::find_if(std::begin(known), std::end(known), [&](const char* k) { return name == k; }) != std::end(known);
 }
+
+} // namespace
+
+std::string unknown_extension(const json& j)
+{
+	for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
+		auto it = j.find(list);
+		if (it != j.end() && it->is_array())
+			for (const json& name : *it)
+				if (!name.is_string() || !prunable_with(name.get<std::string>()))
+					return name.is_string() ? name.get<std::string>() : name.dump();
+	}
+	return "";
+}
+
+namespace {
 
 /* A non-negative integer property, or -1 (absent or anything else). */
 long long index_or_none(const json& o, const char* key)
@@ -139,8 +161,9 @@ long long index_or_none(const json& o, const char* key)
 
 /* Packs buffer b to the bytes its bufferViews cover: overlapping views stay
  * together, each view keeps its offset modulo 4 (what accessor alignment
- * needs), gaps go. A buffer with a malformed view is left as it is. */
-void pack_buffer(document& d, size_t b)
+ * needs), gaps go. A buffer with a malformed view is left as it is. Returns
+ * false when no view is left in b (it can go). */
+bool pack_buffer(document& d, size_t b)
 {
 	json& views = d.j["bufferViews"];
 	struct range {
@@ -156,11 +179,11 @@ void pack_buffer(document& d, size_t b)
 		const buffer& from = d.buffers[b];
 		const unsigned long long end = (unsigned long long)begin + (unsigned long long)length;
 		if (begin < 0 || length < 0 || !(end <= from.size || ((size_t)begin >= from.tail_start() && end <= from.total())))
-			return;
+			return true;
 		ranges.push_back({(size_t)begin, (size_t)(begin + length), 0});
 	}
 	if (ranges.empty())
-		return; /* a buffer must keep at least one byte: left as it is */
+		return false;
 	std::sort(ranges.begin(), ranges.end(), [](const range& x, const range& y) { return x.begin < y.begin; });
 	std::vector<range> merged;
 	for (const range& r : ranges)
@@ -191,6 +214,35 @@ void pack_buffer(document& d, size_t b)
 	}
 	d.buffers[b] = std::move(packed);
 	d.j["buffers"][b]["byteLength"] = size;
+	return true;
+}
+
+/* Removes the buffers flagged in gone (no bufferView refers to them) and
+ * renumbers the bufferViews' references to the others. */
+void remove_buffers(document& d, const std::vector<bool>& gone)
+{
+	if (none(gone))
+		return;
+	std::vector<long long> to(gone.size());
+	std::vector<buffer> kept;
+	json kept_json = json::array();
+	for (size_t b = 0; b < gone.size(); ++b) {
+		to[b] = gone[b] ? -1 : (long long)kept.size();
+		if (!gone[b]) {
+			kept.push_back(std::move(d.buffers[b]));
+			kept_json.push_back(std::move(d.j["buffers"][b]));
+		}
+	}
+	d.buffers = std::move(kept);
+	if (kept_json.empty())
+		d.j.erase("buffers");
+	else
+		d.j["buffers"] = std::move(kept_json);
+	for (json& v : d.j["bufferViews"]) {
+		const long long b = v.is_object() ? index_or_none(v, "buffer") : -1;
+		if (b >= 0 && (size_t)b < to.size())
+			v["buffer"] = to[(size_t)b];
+	}
 }
 
 } // namespace
@@ -205,22 +257,19 @@ void pack_buffer(document& d, size_t b)
 void prune(document& d, const usage& before, vn_gltf_stats& st, std::string* unknown)
 {
 	usage after = used(d.j);
+	/* Used by the input, or appended by vn (past the input's arrays), and
+	 * unused now. */
 	auto orphaned = [](const std::vector<bool>& was, const std::vector<bool>& is) {
 		std::vector<bool> out(is.size(), false);
-		for (size_t i = 0; i < was.size() && i < is.size(); ++i)
-			out[i] = was[i] && !is[i];
+		for (size_t i = 0; i < is.size(); ++i)
+			out[i] = (i >= was.size() || was[i]) && !is[i];
 		return out;
 	};
 	std::vector<bool> gone_accessors = orphaned(before.accessors, after.accessors);
 	if (none(gone_accessors) && none(orphaned(before.views, after.views)))
 		return;
-	for (const char* list : {"extensionsUsed", "extensionsRequired"})
-		if (d.j.contains(list) && d.j[list].is_array())
-			for (const json& name : d.j[list])
-				if (!name.is_string() || !prunable_with(name.get<std::string>())) {
-					*unknown = name.is_string() ? name.get<std::string>() : name.dump();
-					return;
-				}
+	if (!(*unknown = unknown_extension(d.j)).empty())
+		return;
 	/* New index of each kept element; removal of the others. */
 	auto renumber = [](json& array, const std::vector<bool>& gone) {
 		std::vector<long long> to(gone.size());
@@ -271,9 +320,11 @@ void prune(document& d, const usage& before, vn_gltf_stats& st, std::string* unk
 				accessor_views(a, to);
 		st.pruned_views += (size_t)std::count(gone_views.begin(), gone_views.end(), true);
 	}
+	std::vector<bool> gone_buffers(d.buffers.size(), false);
 	for (size_t b = 0; b < d.buffers.size(); ++b)
 		if (packed[b])
-			pack_buffer(d, b);
+			gone_buffers[b] = !pack_buffer(d, b);
+	remove_buffers(d, gone_buffers);
 }
 
 } // namespace vn_gltf

@@ -150,14 +150,27 @@ def drop(obj, *keys):
     obj[:] = [kv for kv in obj if kv[0] not in keys]
 
 
-def resolve(o, doc, buf, tangents_dropped):
+def image_bytes(doc, buffers, image, folder):
+    """An image's bytes, wherever they are: a bufferView, a data URI or a file."""
+    if "bufferView" in image:
+        return view_bytes(doc, buffers, image["bufferView"])
+    uri = image.get("uri", "")
+    if uri.startswith("data:"):
+        return base64.b64decode(uri.split(",", 1)[1])
+    with open(os.path.join(folder, urllib.parse.unquote(uri)), "rb") as f:
+        return f.read()
+
+
+def resolve(o, doc, buf, tangents_dropped, folder="."):
     """o (doc as order-preserving lists) with what may legitimately change
     left out (NORMAL attributes, TANGENT when dropped, the Draco extension's
     bufferView and NORMAL id), and every other accessor and bufferView index
     replaced by what it stands for, so that vn removing unused ones and
     renumbering the rest is not a change: an accessor by its JSON (less
-    where its data lie) and its element bytes, an image's bufferView by its
-    bytes. The accessors, bufferViews and buffers arrays themselves go."""
+    where its data lie) and its element bytes, an image by its bytes (be
+    they in a bufferView, a data URI or a file: a GLB embeds what a .gltf
+    refers to) and the rest of its JSON. The accessors, bufferViews and
+    buffers arrays themselves go."""
     normals = normal_accessors(doc) | normal_accessors(doc, True)
     accessors = get(o, "accessors") or []
 
@@ -204,8 +217,10 @@ def resolve(o, doc, buf, tangents_dropped):
             for node in v:
                 members(get(get(get(node, "extensions") or [], "EXT_mesh_gpu_instancing") or [], "attributes"))
         if k == "images":
-            for image in v:
-                key(image, "bufferView", lambda i: view_bytes(doc, buf, i).hex())
+            for n, image in enumerate(v):
+                data = image_bytes(doc, buf, doc["images"][n], folder).hex()
+                drop(image, "bufferView", "uri", "mimeType")
+                image.append(["data", data])
     drop(o, "accessors", "bufferViews", "buffers")
     return o
 
@@ -229,8 +244,8 @@ def cmd_diff(a, b, tangents_dropped):
     problems = []
     text_a, in_doc, in_buf = load(a)
     text_b, out_doc, out_buf = load(b)
-    where = first_difference(resolve(ordered(text_a), in_doc, in_buf, tangents_dropped),
-                             resolve(ordered(text_b), out_doc, out_buf, tangents_dropped))
+    where = first_difference(resolve(ordered(text_a), in_doc, in_buf, tangents_dropped, os.path.dirname(a)),
+                             resolve(ordered(text_b), out_doc, out_buf, tangents_dropped, os.path.dirname(b)))
     if where is not None:
         problems.append("JSON or non-NORMAL data differ at %s" % where)
     # A primitive's NORMAL is a unit vector per vertex.
