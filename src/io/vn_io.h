@@ -154,12 +154,67 @@ const vn_io_format* vn_io_format_at(size_t i);
 /* Reads path with `format`, or the format its extension names when NULL. */
 vn_io_result vn_io_read_file(const char* path, const vn_io_format* format, vn_io_mesh* mesh, vn_io_error* error);
 
-/* Writes mesh to path atomically: a temporary file in the same folder is
- * written, flushed, synced and renamed over path; on any failure the
- * temporary file is removed and path is untouched. format NULL: the one
+/* Writes mesh to path atomically, through vn_io_output: on any failure
+ * path is untouched and no temporary file is left. format NULL: the one
  * path's extension names; settings go to its writer (NULL: defaults). */
 vn_io_result vn_io_write_file(const char* path, const vn_io_format* format, const vn_io_mesh* mesh,
                               const void* settings, vn_io_error* error);
+
+/* ------------------------------------------------------------------ output files
+ *
+ * Every output file (vn_io_write_file, and each file of a glTF) is written as
+ * a temporary ".NAME.XXXXXX" in the folder of the file it replaces, synced,
+ * then renamed over it, so that the file is either complete or as it was.
+ * - A symbolic link is written through: its target (followed along a chain
+ *   of links, relative ones from their own folder) is replaced and the link
+ *   stays; a dangling link's target is created.
+ * - Only regular files are written: a folder, device, FIFO or socket is
+ *   refused (so are links to one, like /dev/stdout or /dev/null).
+ * - A replaced file keeps its mode and, where permitted, its owner and
+ *   group; a new file gets 0666 less the umask, like any created file. */
+
+/* Checks that path can be written as an output: its folder exists and path
+ * (through its links) is a regular file or absent. The error names path and
+ * says what to do. When target is not NULL, *target is the file an output
+ * replaces (path with its links followed; malloc'd, the caller frees it). */
+vn_io_result vn_io_output_check(const char* path, char** target, vn_io_error* error);
+
+/* An output being written: the temporary, open, beside `target`. */
+typedef struct vn_io_output {
+	char* path;      /* as the caller named it, for messages */
+	char* target;    /* the file the temporary replaces (see vn_io_output_check) */
+	char* temporary; /* registered for removal on a fatal signal until committed or discarded */
+	int fd;          /* the temporary, open for writing; -1 once closed */
+	int slot;        /* its entry in the temporary-file registry */
+} vn_io_output;
+
+/* Checks path as vn_io_output_check does and creates the temporary with the
+ * mode, owner and group described above. On failure nothing is created and
+ * *output needs no discard. */
+vn_io_result vn_io_output_open(vn_io_output* output, const char* path, vn_io_error* error);
+
+/* Syncs the temporary to disk and closes it (fd becomes -1); commit does it
+ * too. On failure the caller discards the output. */
+vn_io_result vn_io_output_close(vn_io_output* output, vn_io_error* error);
+
+/* Closes the temporary if open and renames it over the target, then frees
+ * the output; on failure the temporary is removed instead. */
+vn_io_result vn_io_output_commit(vn_io_output* output, vn_io_error* error);
+
+/* Removes the temporary and frees the output; nothing for an output already
+ * committed or discarded. */
+void vn_io_output_discard(vn_io_output* output);
+
+/* Process-wide state, for programs (the vn tools call it first thing): makes
+ * SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT (a crash, also in a library),
+ * SIGINT, SIGTERM and SIGHUP remove every open output's temporary before the
+ * signal takes the action it had before (the default: the process ends, with
+ * a core dump where that applies; a sanitizer's report). Signals the process
+ * ignores stay ignored; a second call changes nothing. The registry of
+ * temporaries it uses is fixed-size (vn_io_output_open fails when 1024 are
+ * open at once) and filled by every vn_io_output, with or without this
+ * call; a library that installs its own handlers need not call it. */
+void vn_io_remove_temporaries_on_signal(void);
 
 /* Reads a whole file into a NUL-terminated buffer the caller frees. */
 vn_io_result vn_io_read_all(const char* path, char** data, size_t* size, vn_io_error* error);
