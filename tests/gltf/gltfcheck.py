@@ -30,6 +30,16 @@
   gltfcheck.py quantized FILE
       The sphere under KHR_mesh_quantization: POSITION as SHORT (not
       normalized, byteStride 8), NORMAL as normalized BYTE (byteStride 4).
+  gltfcheck.py scattered FOLDER
+      Writes the sphere as files are spread in practice: FOLDER/a/model.gltf
+      with three buffers (a file, a data URI, a file in a subfolder),
+      TEXCOORD_0, COLOR_0, _TEMPERATURE, an image outside the model's folder
+      (../tex/checker.png) and one in a subfolder, rounded POSITION bounds.
+  gltfcheck.py packed FILE
+      No unused accessor or bufferView, and no buffer bytes outside every
+      bufferView (but padding).
+  gltfcheck.py bounds FILE
+      Every accessor's min/max are its values' exact bounds.
 Exit status 0 when the check holds, 1 with one line per problem otherwise.
 """
 import base64
@@ -40,6 +50,7 @@ import os
 import struct
 import sys
 import urllib.parse
+import zlib
 
 SIZES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
 FORMATS = {5120: "b", 5121: "B", 5122: "h", 5123: "H", 5125: "I", 5126: "f"}
@@ -646,6 +657,129 @@ def cmd_nodraco(path):
     return 0
 
 
+def png(width, height, rgb):
+    """A valid PNG of one colour (the validator reads image headers)."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+    rows = b"".join(b"\0" + bytes(rgb) * width for _ in range(height))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def cmd_scattered(folder):
+    """The seam sphere spread as real files are: FOLDER/a/model.gltf with
+    three buffers (geometry.bin, a data URI, sub/extra.bin), TEXCOORD_0,
+    COLOR_0 (normalized bytes), an application-specific _TEMPERATURE, and
+    two images, one outside the model's folder (../tex/checker.png) and one
+    in a subfolder (img/inside.png); POSITION's min/max are wider than its
+    values, as some exporters write them."""
+    tmp = os.path.join(folder, "sphere.gltf")
+    os.makedirs(os.path.join(folder, "a", "sub"), exist_ok=True)
+    os.makedirs(os.path.join(folder, "a", "img"), exist_ok=True)
+    os.makedirs(os.path.join(folder, "tex"), exist_ok=True)
+    cmd_sphere(tmp)
+    _, doc, buf = load(tmp)
+    os.remove(tmp)
+    n = doc["accessors"][0]["count"]
+    positions, normals, uvs, indices = (accessor_bytes(doc, buf, i) for i in range(4))
+    colours = b"".join(bytes((i * 7 % 256, i * 13 % 256, i * 29 % 256, 255 - i % 64)) for i in range(n))
+    temperature = b"".join(struct.pack("<f", 20 + 0.25 * i) for i in range(n))
+    geometry = positions + indices + b"\0" * (-len(indices) % 4)
+    extra = uvs + colours + temperature
+    doc["accessors"] += [{"bufferView": 4, "componentType": 5121, "normalized": True, "count": n, "type": "VEC4"},
+                         {"bufferView": 5, "componentType": 5126, "count": n, "type": "SCALAR"}]
+    doc["accessors"][0]["min"] = [round(v - 0.05, 1) for v in doc["accessors"][0]["min"]]
+    doc["accessors"][0]["max"] = [round(v + 0.05, 1) for v in doc["accessors"][0]["max"]]
+    doc["bufferViews"] = [
+        {"buffer": 0, "byteOffset": 0, "byteLength": 12 * n, "target": 34962},
+        {"buffer": 1, "byteOffset": 0, "byteLength": 12 * n, "target": 34962},
+        {"buffer": 2, "byteOffset": 0, "byteLength": 8 * n, "target": 34962},
+        {"buffer": 0, "byteOffset": 12 * n, "byteLength": len(indices), "target": 34963},
+        {"buffer": 2, "byteOffset": 8 * n, "byteLength": 4 * n, "target": 34962},
+        {"buffer": 2, "byteOffset": 12 * n, "byteLength": 4 * n, "target": 34962}]
+    doc["meshes"][0]["primitives"][0]["attributes"].update({"COLOR_0": 4, "_TEMPERATURE": 5})
+    doc["meshes"][0]["primitives"][0]["material"] = 0
+    doc["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}, "emissiveTexture": {"index": 1},
+                         "emissiveFactor": [1, 1, 1]}]
+    doc["textures"] = [{"source": 0}, {"source": 1}]
+    doc["images"] = [{"uri": "../tex/checker.png"}, {"uri": "img/inside.png"}]
+    doc["buffers"] = [{"byteLength": len(geometry), "uri": "geometry.bin"},
+                      {"byteLength": len(normals),
+                       "uri": "data:application/octet-stream;base64," + base64.b64encode(normals).decode()},
+                      {"byteLength": len(extra), "uri": "sub/extra.bin"}]
+    for name, data in [("a/geometry.bin", geometry), ("a/sub/extra.bin", extra),
+                       ("tex/checker.png", png(4, 4, (200, 30, 30))), ("a/img/inside.png", png(2, 2, (0, 90, 200)))]:
+        with open(os.path.join(folder, name), "wb") as f:
+            f.write(data)
+    with open(os.path.join(folder, "a", "model.gltf"), "w") as f:
+        json.dump(doc, f, indent=1)
+    return 0
+
+
+def cmd_packed(path):
+    """Every byte of every buffer lies in a bufferView but for padding (fewer
+    than 4 bytes between views), and every accessor and bufferView is used:
+    nothing unused was left behind."""
+    _, doc, buf = load(path)
+    problems = []
+    for b, data in enumerate(buf):
+        spans = sorted((v.get("byteOffset", 0), v.get("byteOffset", 0) + v["byteLength"])
+                       for v in doc.get("bufferViews", []) if v["buffer"] == b)
+        end = 0
+        for start, stop in spans:
+            if start - end >= 4:
+                problems.append("buffer %d: bytes %d to %d are in no bufferView" % (b, end, start))
+            end = max(end, stop)
+        if len(data) - end >= 4:
+            problems.append("buffer %d: its last %d bytes are in no bufferView" % (b, len(data) - end))
+    used_accessors, used_views = set(), set()
+    for _, _, prim in primitives(doc):
+        for attributes in [prim["attributes"]] + prim.get("targets", []):
+            used_accessors.update(attributes.values())
+        if "indices" in prim:
+            used_accessors.add(prim["indices"])
+        draco = prim.get("extensions", {}).get("KHR_draco_mesh_compression")
+        if draco:
+            used_views.add(draco["bufferView"])
+    for skin in doc.get("skins", []):
+        used_accessors.add(skin.get("inverseBindMatrices"))
+    for animation in doc.get("animations", []):
+        for sampler in animation.get("samplers", []):
+            used_accessors.update((sampler["input"], sampler["output"]))
+    for image in doc.get("images", []):
+        used_views.add(image.get("bufferView"))
+    for i, a in enumerate(doc.get("accessors", [])):
+        if i not in used_accessors:
+            problems.append("accessors[%d] is unused" % i)
+        used_views.add(a.get("bufferView"))
+        for part in ("indices", "values"):
+            used_views.add(a.get("sparse", {}).get(part, {}).get("bufferView"))
+    for i in range(len(doc.get("bufferViews", []))):
+        if i not in used_views:
+            problems.append("bufferViews[%d] is unused" % i)
+    for p in problems:
+        print("%s: %s" % (path, p))
+    return 1 if problems else 0
+
+
+def cmd_bounds(path):
+    """Every accessor with min/max declares its values' exact bounds."""
+    _, doc, buf = load(path)
+    bad = 0
+    for i, a in enumerate(doc.get("accessors", [])):
+        if "min" not in a or ("bufferView" not in a and "sparse" not in a):
+            continue
+        doc["accessors"][i] = {k: v for k, v in a.items() if k != "normalized"}  # bounds are of the stored values
+        values = accessor_values(doc, buf, i)
+        for c in range(len(a["min"])):
+            lo, hi = min(v[c] for v in values), max(v[c] for v in values)
+            if a["min"][c] != lo or a["max"][c] != hi:
+                print("%s: accessors[%d] component %d declares [%r, %r], its values span [%r, %r]"
+                      % (path, i, c, a["min"][c], a["max"][c], lo, hi))
+                bad += 1
+    return 1 if bad else 0
+
+
 def main(argv):
     if len(argv) == 4 and argv[1] == "drc":
         return cmd_drc(argv[2], argv[3])
@@ -663,6 +797,8 @@ def main(argv):
         return cmd_morph(argv[2], argv[3], argv[4], argv[5] == "weld")
     if len(argv) == 3 and argv[1] in ("flat", "morphsphere", "cylinder"):
         return {"flat": cmd_flat, "morphsphere": cmd_morphsphere, "cylinder": cmd_cylinder}[argv[1]](argv[2])
+    if len(argv) == 3 and argv[1] in ("scattered", "packed", "bounds"):
+        return {"scattered": cmd_scattered, "packed": cmd_packed, "bounds": cmd_bounds}[argv[1]](argv[2])
     if len(argv) == 3 and argv[1] in ("sphere", "shapes"):
         return cmd_sphere(argv[2], shapes=argv[1] == "shapes")
     print(__doc__, file=sys.stderr)

@@ -1,7 +1,7 @@
 // Validates glTF files with the Khronos glTF-Validator (npm gltf-validator).
 //   node validate.mjs NODE_MODULES_DIR FILE            prints FILE's issues as JSON
 //   node validate.mjs NODE_MODULES_DIR INPUT OUTPUT... also checks that no OUTPUT has an
-//       error or warning code that INPUT does not have; exit status 1 when one does.
+//       error, warning or information code that INPUT does not have; exit status 1 when one does.
 //   --allow CODE (before INPUT, repeatable): CODE is expected in the outputs.
 // NODE_MODULES_DIR holds gltf-validator (.ci/setup installs it into build-node/).
 import { readFile } from 'node:fs/promises';
@@ -22,12 +22,13 @@ async function validate(file) {
     externalResourceFunction: async (uri) =>
       new Uint8Array(await readFile(path.join(folder, decodeURIComponent(uri)))),
   });
-  const messages = report.issues.messages.filter((m) => m.severity <= 1); // 0 error, 1 warning
+  const messages = report.issues.messages.filter((m) => m.severity <= 2); // 0 error, 1 warning, 2 information
   const codes = (severity) => [...new Set(messages.filter((m) => m.severity === severity).map((m) => m.code))].sort();
   return {
     file,
     errors: codes(0),
     warnings: codes(1),
+    infos: codes(2),
     messages: messages.map((m) => `${m.code} ${m.pointer || ''} ${m.message}`),
   };
 }
@@ -37,8 +38,8 @@ console.log(JSON.stringify(before));
 let failed = false;
 for (const output of outputs) {
   const after = await validate(output);
-  const known = new Set([...before.errors, ...before.warnings, ...allowed]);
-  const added = [...after.errors, ...after.warnings].filter((c) => !known.has(c));
+  const known = new Set([...before.errors, ...before.warnings, ...before.infos, ...allowed]);
+  const added = [...after.errors, ...after.warnings, ...after.infos].filter((c) => !known.has(c));
   if (added.length) {
     failed = true;
     console.log(`FAIL ${output}: new issues ${added.join(' ')} (not in ${input})`);
