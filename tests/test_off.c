@@ -989,7 +989,7 @@ static void test_write_colours_in_source_style(void** state)
 	                          "2 1 0\n"
 	                          "0 0 0 255 0 51 255 0.5 0.25\n"
 	                          "1 0 0 0 255 0 102 1 0\n"
-	                          "2 0 1 0.5 0.25 1\n");
+	                          "2 0 1 0.5 0.25 1 1\n");
 	free(text);
 }
 
@@ -1050,10 +1050,10 @@ static void test_round_trip_keeps_byte_colours(void** state)
 	                          "1 0 0 0 255 0 255\n"
 	                          "0 1 0 0 0 255 128\n"
 	                          "0 0 1 255 255 255 255\n"
-	                          "3 0 2 1 255 0 0\n"
-	                          "3 0 1 3 0 255 0\n"
-	                          "3 1 2 3 170 170 170\n"
-	                          "3 0 3 2 170 170 170\n");
+	                          "3 0 2 1 255 0 0 255\n"
+	                          "3 0 1 3 0 255 0 255\n"
+	                          "3 1 2 3 170 170 170 255\n"
+	                          "3 0 3 2 170 170 170 255\n");
 	free(text);
 	vn_io_mesh back;
 	read_path_ok(path, &back);
@@ -1063,6 +1063,67 @@ static void test_round_trip_keeps_byte_colours(void** state)
 	assert_int_equal(back.face_colors_are_bytes, 1);
 	vn_io_mesh_free(&back);
 	vn_io_mesh_free(&m);
+}
+
+/* Reads text as OFF, writes it and requires exactly `expected` back. */
+static void rewrite_exactly(const char* name, const char* text, const char* expected)
+{
+	vn_io_mesh m;
+	char path[256];
+	vn_io_error error;
+	read_bytes_ok(name, text, strlen(text), &m);
+	assert_int_equal(write_to_folder(name, &m, &error), vn_io_success);
+	vn_io_mesh_free(&m);
+	path_in_folder(path, sizeof path, name);
+	char* written = slurp(path);
+	assert_string_equal(written, expected);
+	free(written);
+}
+
+/* OFF -> OFF keeps every colour's alpha, also when all are opaque (255 or
+ * 1), and writes RGB as Geomview's RGBA. */
+static void test_write_keeps_alpha(void** state)
+{
+	(void)state;
+	rewrite_exactly("opaque_bytes.off",
+	                "COFF\n2 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n2 0 1 0 0 255 255\n",
+	                "COFF\n2 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n2 0 1 0 0 255 255\n");
+	rewrite_exactly("opaque_fractions.off",
+	                "COFF\n2 1 0\n0 0 0 1 0 0.5 1\n1 0 0 0 1 0 1\n2 0 1 0 0 1 1\n",
+	                "COFF\n2 1 0\n0 0 0 1 0 0.5 1\n1 0 0 0 1 0 1\n2 0 1 0 0 1 1\n");
+	rewrite_exactly("translucent.off",
+	                "COFF\n2 1 0\n0 0 0 255 0 0 128\n1 0 0 0 255 0 0\n2 0 1 0 0 255 1\n",
+	                "COFF\n2 1 0\n0 0 0 255 0 0 128\n1 0 0 0 255 0 0\n2 0 1 0 0 255 1\n");
+	/* RGB only: Geomview would read the next line's first number as alpha. */
+	rewrite_exactly("rgb.off", "COFF\n2 1 0\n0 0 0 255 0 0\n1 0 0 0 255 0\n2 0 1 0 0 255\n",
+	                "COFF\n2 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n2 0 1 0 0 255 255\n");
+	/* Float colours and texture coordinates are written as the shortest text
+	 * that reads back as the same float. */
+	rewrite_exactly("st.off", "STCOFF\n1 0 0\n0 0 0 0.2 0.3 0.4 0.9 0.1 0.7\n",
+	                "STCOFF\n1 0 0\n0 0 0 0.2 0.3 0.4 0.9 0.1 0.7\n");
+}
+
+/* Binary OFF colours (always RGBA floats) come out as ASCII with the same alphas. */
+static void test_write_keeps_binary_alpha(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "COFF BINARY\n");
+	ADD_INTS(&b, 2, 1, 0);
+	ADD_FLOATS(&b, 0, 0, 0, 1, 0, 0, 1);
+	ADD_FLOATS(&b, 1, 0, 0, 0, 1, 0, 0.25f);
+	ADD_INTS(&b, 2, 0, 1, 4);
+	ADD_FLOATS(&b, 0, 0, 1, 1);
+	vn_io_mesh m;
+	read_bytes_ok("alpha_binary.off", b.data, b.size, &m);
+	vn_io_error error;
+	assert_int_equal(write_to_folder("alpha_binary_out.off", &m, &error), vn_io_success);
+	vn_io_mesh_free(&m);
+	char path[256];
+	path_in_folder(path, sizeof path, "alpha_binary_out.off");
+	char* text = slurp(path);
+	assert_string_equal(text, "COFF\n2 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 0.25\n2 0 1 0 0 1 1\n");
+	free(text);
 }
 
 static void test_writer_reports_stream_errors(void** state)
@@ -1196,8 +1257,8 @@ static void test_write_into_missing_folder(void** state)
 	vn_io_mesh m = {0};
 	vn_io_error error;
 	assert_int_equal(vn_io_write_file(path, NULL, &m, NULL, &error), vn_io_error_write);
-	snprintf(expected, sizeof expected, "%s: cannot create a temporary file next to it: No such file or directory",
-	         path);
+	snprintf(expected, sizeof expected, "%s: the folder '%s/no/such/folder' does not exist: create it first", path,
+	         folder);
 	assert_string_equal(error.message, expected);
 }
 
@@ -1458,6 +1519,8 @@ int main(void)
 	    cmocka_unit_test(test_write_colours_in_source_style),
 	    cmocka_unit_test(test_round_trip_is_exact),
 	    cmocka_unit_test(test_round_trip_keeps_byte_colours),
+	    cmocka_unit_test(test_write_keeps_alpha),
+	    cmocka_unit_test(test_write_keeps_binary_alpha),
 	    cmocka_unit_test(test_writer_reports_stream_errors),
 	    cmocka_unit_test(test_failed_write_leaves_destination_untouched),
 	    cmocka_unit_test(test_write_replaces_existing_file),

@@ -81,6 +81,85 @@ check "input unchanged after refusals" [ "$(md5sum <"$T/self.off")" = "$before" 
 run "$VNC" "$T/self.off" "$T/self.off" --in-place -q
 check "--in-place works" [ $rc -eq 0 ] && check "--in-place rewrote the file as NOFF" [ "$(head -1 "$T/self.off")" = "NOFF" ]
 
+# ---- messages: each one line that names what is wrong and what to do.
+GLTF=$(cd "$(dirname "$0")/data/models/gltf" && pwd)
+# Formats vn does not read or write: --input-format/--format cannot help.
+for ext in ply obj stl; do
+  touch "$T/mesh.$ext"
+  run "$VNC" "$T/mesh.$ext" "$T/x.off"
+  check ".$ext input exits 2" [ $rc -eq 2 ]; check ".$ext input: one line" one_line_err
+  check ".$ext input: what vn reads, and to convert" grep -q "mesh.$ext' is an\? [A-Z]* file, and vn reads only OFF, glTF, GLB and Draco files: convert it to one of these first (e.g. with meshlabserver or Blender)" "$T/stderr"
+  check ".$ext input: no --input-format advice" not grep -q -- "--input-format" "$T/stderr"
+  run "$VNC" "$SAMPLES/torus.off" "$T/out.$ext"
+  check ".$ext output exits 2" [ $rc -eq 2 ]
+  check ".$ext output: what vn writes" grep -q "vn writes only OFF, glTF, GLB and Draco files: write one of these and convert that" "$T/stderr"
+done
+run "$VNC" "$T/mesh.xyz" "$T/x.off"
+check "unknown extension: names --input-format" grep -q "cannot tell the format of '$T/mesh.xyz' from its extension: vn reads OFF (.off), glTF (.gltf, .glb) and Draco (.drc); name the format with --input-format" "$T/stderr"
+# Option errors name the option and what it accepts.
+expect_usage() {  # expect_usage MESSAGE ARGS...: exit 2, one line, MESSAGE in it
+  local message=$1; shift
+  run "$VNC" "$@"
+  check "$* exits 2" [ $rc -eq 2 ]; check "$*: one line" one_line_err
+  check "$*: says '$message'" grep -qF -- "$message" "$T/stderr"
+}
+expect_usage "--draco-qp needs a whole number of bits from 1 to 30, not '31'" "$SAMPLES/torus.off" "$T/u.drc" --draco-qp 31
+expect_usage "--draco-qt needs a whole number of bits from 1 to 30, not '0'" "$SAMPLES/torus.off" "$T/u.drc" --draco-qt 0
+expect_usage "--draco-qc needs a whole number of bits from 1 to 30, not 'x'" "$SAMPLES/torus.off" "$T/u.drc" --draco-qc x
+expect_usage "--draco-qn needs a whole number of bits from 2 to 30, not '1'" "$SAMPLES/torus.off" "$T/u.drc" --draco-qn 1
+expect_usage "--draco-cl needs a whole number from 0 to 10, not '11'" "$SAMPLES/torus.off" "$T/u.drc" --draco-cl 11
+expect_usage "--threads needs a whole number from 1 to 256, not '0'" "$SAMPLES/torus.off" "$T/u.off" --threads 0
+expect_usage "--method is one of mwe, mwa, mwselr, mwaat, mwelr, mwrelr, mewcsa, not 'nope'" "$SAMPLES/torus.off" "$T/u.off" --method nope
+expect_usage "--format is one of off, gltf, glb, drc, not 'ply'" "$SAMPLES/torus.off" "$T/u.off" --format ply
+expect_usage "--input-format is one of off, gltf, glb, drc, not 'obj'" "$SAMPLES/torus.off" "$T/u.off" --input-format obj
+expect_usage "--draco-qp applies to Draco (.drc) output and to glTF to glTF conversions, and this one is off to off: leave it out" "$SAMPLES/torus.off" "$T/u.off" --draco-qp 12
+# glTF-only options are refused for other conversions rather than ignored.
+for option in --no-weld "--weld-epsilon 0.1" "--weld-scope mesh" "--tangents drop" "--crease-angle 30" "--draco off"; do
+  expect_usage "${option%% *} applies only to glTF to glTF conversions (.gltf or .glb in and out), and this one is off to glb: leave it out" "$SAMPLES/torus.off" "$T/u.glb" $option
+  expect_usage "${option%% *} applies only to glTF to glTF conversions (.gltf or .glb in and out), and this one is glb to off: leave it out" "$GLTF/Duck.glb" "$T/u.off" $option
+done
+check "usage errors write nothing" [ -z "$(ls "$T" | grep '^u\.')" ]
+# Singular and plural.
+printf 'OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n5 5 5\n3 0 1 2\n' >"$T/one-isolated.off"
+run "$VNC" "$T/one-isolated.off" "$T/one.off"
+check "1 of 4 vertices has no normal" grep -q "warning: 1 of 4 vertices has no normal" "$T/stderr"
+run "$VNC" "$T/one-isolated.off" "$T/one.drc"
+check "Draco: 1 triangle" grep -q "warning: 4 vertices and 1 triangle: only" "$T/stderr"
+printf 'OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n' >"$T/no-faces.off"
+run "$VNC" "$T/no-faces.off" "$T/no-faces.off.off"
+check "3 of 3 vertices have no normal" grep -q "warning: 3 of 3 vertices have no normal" "$T/stderr"
+run "$VNC" "$GLTF/sphere/sphere.gltf" "$T/sp.glb"
+check "1 primitive has TANGENT data" grep -q "warning: 1 primitive has TANGENT data" "$T/stderr"
+run "$VNC" "$GLTF/sphere/sphere.gltf" "$T/spd.glb" --tangents drop --stats
+check "--stats: 1 accessor, 1 bufferView" grep -q "^removed unused: *1 accessor, 1 bufferView$" "$T/stdout"
+check "--stats: 0 points, 0 lines" grep -q "^primitives: *1 processed, 0 skipped (0 points, 0 lines, 0 without POSITION)$" "$T/stdout"
+run "$VNC" "$T/one-isolated.off" "$T/one-stats.drc" --stats -q
+check "--stats: 3 normals" grep -q "(qn=10, 3 normals)$" "$T/stdout"
+# What OUT's format cannot hold is named.
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 255 0 0\n' >"$T/face-colour.off"
+for ext in drc glb; do
+  run "$VNC" "$T/face-colour.off" "$T/face-colour.$ext"
+  check "face colours -> .$ext: exits 0" [ $rc -eq 0 ]
+  check "face colours -> .$ext: one warning" [ "$(cat "$T/stderr")" = "vnconvert: warning: $T/face-colour.$ext cannot hold face colours: not written" ]
+done
+run "$VNC" "$T/face-colour.off" "$T/face-colour-q.drc" -q
+check "-q: no loss warning" [ ! -s "$T/stderr" ]
+run "$VNC" "$T/face-colour.off" "$T/face-colour.off.off"
+check "OFF holds face colours: no warning" [ ! -s "$T/stderr" ]
+# A glTF with an extension vn does not know keeps the data vn replaced; the
+# warning says which extension, that the data stay unused, why, and that
+# the file is otherwise fine.
+cp -r "$GLTF/BoxMetaDraco" "$T/meta"
+python3 - "$T/meta/BoxMetaDraco.gltf" <<'EOF'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+doc["extensionsUsed"].append("EXT_vn_test_unknown")
+json.dump(doc, open(sys.argv[1], "w"))
+EOF
+run "$VNC" "$T/meta/BoxMetaDraco.gltf" "$T/meta-out.glb"
+check "unknown extension: exits 0" [ $rc -eq 0 ]
+check "unknown extension: one clear warning" [ "$(cat "$T/stderr")" = "vnconvert: warning: $T/meta-out.glb uses EXT_vn_test_unknown, an extension vn does not know that may refer to accessors or bufferViews by their index, so the data vn replaced stay in the file, unused, rather than being removed and the rest renumbered; the file is otherwise complete and correct" ]
+
 # ---- vnbench
 run "$VNB" "$SAMPLES/torus.off" --csv --repeat 3
 check "vnbench exits 0" [ $rc -eq 0 ]

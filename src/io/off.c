@@ -9,7 +9,7 @@
  * starts a comment anywhere, blank lines are skipped, and a line ends at
  * "\n", "\r\n" or a lone "\r".
  *
- * Writer: ASCII [ST][C][N]OFF (Geomview's prefix order).
+ * Writer: ASCII [ST][C][N]OFF (Geomview's prefix order), colours as RGBA.
  */
 #define _POSIX_C_SOURCE 200809L /* newlocale, uselocale */
 
@@ -820,6 +820,20 @@ static void put_float9(off_writer* w, double v)
 	put(w, text);
 }
 
+/* Colours and texture coordinates are floats: the shortest of 6 to 9
+ * significant digits that reads back as the same float, so that 0.2 stays
+ * "0.2" rather than "0.200000003". */
+static void put_float(off_writer* w, float v)
+{
+	char text[40];
+	for (int digits = 6;; digits++) {
+		snprintf(text, sizeof text, " %.*g", digits, (double)v);
+		if (digits == 9 || (float)strtod(text, NULL) == v)
+			break;
+	}
+	put(w, text);
+}
+
 /* Positions are doubles: the shortest of 15, 16 or 17 significant digits that
  * reads back as the same double, so that 0.1 stays "0.1" and every double
  * survives a round trip exactly. */
@@ -839,26 +853,20 @@ static int colour_byte(float c)
 	return !(c > 0.0f) ? 0 : c >= 1.0f ? 255 : (int)(c * 255.0f + 0.5f);
 }
 
-static void put_colour(off_writer* w, const float* rgba, int bytes, int alpha)
+/* Always RGBA: Geomview defines a vertex colour as 4 numbers (it reads the
+ * 4th from the next line when a line has 3), and a file whose alphas are all
+ * opaque keeps them. */
+static void put_colour(off_writer* w, const float* rgba, int bytes)
 {
-	for (size_t k = 0; k < (alpha ? 4u : 3u); k++) {
+	for (size_t k = 0; k < 4; k++) {
 		if (bytes) {
 			char text[16];
 			snprintf(text, sizeof text, " %d", colour_byte(rgba[k]));
 			put(w, text);
 		} else {
-			put_float9(w, rgba[k]);
+			put_float(w, rgba[k]);
 		}
 	}
-}
-
-/* RGBA is written only when some alpha is not 1, as most files have RGB. */
-static int any_alpha(const float* colours, size_t count)
-{
-	for (size_t i = 0; i < count; i++)
-		if (colours[4 * i + 3] != 1.0f)
-			return 1;
-	return 0;
 }
 
 vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error)
@@ -868,8 +876,6 @@ vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	if (!c_locale_enter(&locale))
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);
 	off_writer w = {out, 0, 0};
-	int vertex_alpha = mesh->colors && any_alpha(mesh->colors, mesh->vertex_count);
-	int face_alpha = mesh->face_colors && any_alpha(mesh->face_colors, mesh->face_count);
 
 	char text[64];
 	/* The edge count is not used by anyone; 0 is what most writers put. */
@@ -884,10 +890,10 @@ vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh
 			for (size_t k = 0; k < 3; k++)
 				put_float9(&w, mesh->normals[3 * i + k]);
 		if (mesh->colors)
-			put_colour(&w, mesh->colors + 4 * i, mesh->colors_are_bytes, vertex_alpha);
+			put_colour(&w, mesh->colors + 4 * i, mesh->colors_are_bytes);
 		if (mesh->texcoords)
 			for (size_t k = 0; k < 2; k++)
-				put_float9(&w, mesh->texcoords[2 * i + k]);
+				put_float(&w, mesh->texcoords[2 * i + k]);
 		put(&w, "\n");
 	}
 	for (size_t f = 0; f < mesh->face_count && !w.failed; f++) {
@@ -899,7 +905,7 @@ vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh
 			put(&w, text);
 		}
 		if (mesh->face_colors)
-			put_colour(&w, mesh->face_colors + 4 * f, mesh->face_colors_are_bytes, face_alpha);
+			put_colour(&w, mesh->face_colors + 4 * f, mesh->face_colors_are_bytes);
 		put(&w, "\n");
 	}
 	c_locale_leave(&locale);

@@ -6,6 +6,10 @@
  * malformed input, unwritable output), 2 on a usage error. Every failure
  * prints exactly one line on stderr and leaves OUT as it was. */
 #include "common.h"
+
+#include <stdarg.h>
+#include <strings.h> /* strcasecmp */
+
 #include "draco.h"
 #include "gltf.h"
 
@@ -61,7 +65,10 @@ static void usage(FILE* out)
 	}
 	fprintf(out,
 	        "\n"
-	        "OUT is written atomically: a temporary file beside it is renamed over it once complete.\n"
+	        "OUT is written atomically: a temporary file beside it is renamed over it once complete\n"
+	        "(also when vnconvert is interrupted or crashes, no temporary file is left). A symbolic\n"
+	        "link is written through to its target; a replaced file keeps its mode, owner and group.\n"
+	        "OUT must be a regular file (not a device, FIFO or folder). Positions must be finite.\n"
 	        "A vertex that no face contributes to (isolated, or only degenerate faces) gets the zero\n"
 	        "normal in OFF, and a warning.\n"
 	        "\n"
@@ -73,7 +80,26 @@ static void usage(FILE* out)
 	        "indices (polygons fan-triangulated).\n");
 }
 
-#define die(status, fmt, arg) tool_die(prog, status, fmt, arg)
+/* One line on stderr, "vnconvert: error: ...", then exit(status). */
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3), noreturn))
+#endif
+static void die(int status, const char* fmt, ...)
+{
+	va_list args;
+	va_start(args, fmt);
+	fprintf(stderr, "%s: error: ", prog);
+	vfprintf(stderr, fmt, args);
+	fputc('\n', stderr);
+	va_end(args);
+	exit(status);
+}
+
+/* "1 primitive", "2 primitives": the noun for a count. */
+static const char* noun(size_t count, const char* one, const char* many)
+{
+	return count == 1 ? one : many;
+}
 
 typedef struct args {
 	const char* in;
@@ -96,12 +122,46 @@ static const char* need_value(int argc, char** argv, int* i)
 	return argv[++*i];
 }
 
-static const vn_io_format* need_format(const char* name)
+static const vn_io_format* need_format(const char* flag, const char* name)
 {
 	const vn_io_format* f = vn_io_format_by_name(name);
-	if (!f)
-		die(2, "unknown format '%s' (see --help)", name);
+	if (!f) {
+		char names[64] = "";
+		for (size_t i = 0; vn_io_format_at(i); ++i) {
+			const size_t used = strlen(names);
+			snprintf(names + used, sizeof names - used, "%s%s", i ? ", " : "", vn_io_format_at(i)->name);
+		}
+		die(2, "%s is one of %s, not '%s'", flag, names, name);
+	}
 	return f;
+}
+
+/* Other mesh formats people try: vn cannot read or write them, and naming
+ * a format with --input-format or --format cannot help. */
+static const char* foreign_format(const char* path)
+{
+	static const char* const formats[][2] = {{".ply", "a PLY"}, {".obj", "an OBJ"}, {".stl", "an STL"},
+	                                         {".fbx", "an FBX"}, {".dae", "a COLLADA"}, {".3ds", "a 3DS"}};
+	const size_t length = strlen(path);
+	for (size_t i = 0; i < sizeof formats / sizeof formats[0]; ++i)
+		if (length >= 4 && !strcasecmp(path + length - 4, formats[i][0]))
+			return formats[i][1];
+	return NULL;
+}
+
+/* IN or OUT whose extension names no format vn knows. */
+static void unknown_extension(const char* path, int input)
+{
+	const char* foreign = foreign_format(path);
+	const char* advice = input ? "convert it to one of these first (e.g. with meshlabserver or Blender)"
+	                           : "write one of these and convert that (e.g. with meshlabserver or Blender)";
+	if (foreign)
+		die(2, "'%s' is %s file, and vn %s only OFF, glTF, GLB and Draco files: %s", path, foreign,
+		    input ? "reads" : "writes", advice);
+	die(2,
+	    "cannot tell the format of '%s' from its extension: vn %s OFF (.off), glTF (.gltf, .glb) and Draco (.drc); "
+	    "name the format with %s if the file is one of these, else %s",
+	    path, input ? "reads" : "writes", input ? "--input-format" : "--format", advice);
 }
 
 static int is_gltf(const vn_io_format* f)
@@ -116,7 +176,8 @@ static args parse(int argc, char** argv)
 	a.method = vn_method_mwa;
 	a.threads = tool_cpu_count();
 	a.drc = (vn_drc_options){-1, -1, -1, -1, -1};
-	int drc_given = 0, gltf_given = 0;
+	/* The first option given that applies only to some conversions. */
+	const char *drc_given = NULL, *gltf_only = NULL;
 	for (int i = 1; i < argc; ++i) {
 		const char* s = argv[i];
 		if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
@@ -130,36 +191,46 @@ static args parse(int argc, char** argv)
 			exit(0);
 		} else if (!strcmp(s, "-m") || !strcmp(s, "--method")) {
 			const char* v = need_value(argc, argv, &i);
-			if (vn_method_from_name(v, &a.method) != vn_result_success)
-				die(2, "unknown method '%s' (see --list-methods)", v);
+			if (vn_method_from_name(v, &a.method) != vn_result_success) {
+				char names[128] = "";
+				for (unsigned m = 0; m < vn_method_count; ++m) {
+					const size_t used = strlen(names);
+					snprintf(names + used, sizeof names - used, "%s%s", m ? ", " : "", vn_method_name((vn_method)m));
+				}
+				die(2, "%s is one of %s, not '%s' (see --list-methods)", s, names, v);
+			}
 		} else if (!strcmp(s, "-f") || !strcmp(s, "--format")) {
-			a.out_format = need_format(need_value(argc, argv, &i));
+			a.out_format = need_format(s, need_value(argc, argv, &i));
 		} else if (!strcmp(s, "--input-format")) {
-			a.in_format = need_format(need_value(argc, argv, &i));
+			a.in_format = need_format(s, need_value(argc, argv, &i));
 		} else if (!strcmp(s, "-j") || !strcmp(s, "--threads")) {
 			const char* v = need_value(argc, argv, &i);
 			unsigned long n;
 			if (!tool_parse_uint(v, 1, 256, &n))
-				die(2, "--threads needs a whole number from 1 to 256, not '%s'", v);
+				die(2, "%s needs a whole number from 1 to 256, not '%s'", s, v);
 			a.threads = (unsigned)n;
 		} else if (!strcmp(s, "--no-weld")) {
 			a.gltf.no_weld = 1;
+			gltf_only = gltf_only ? gltf_only : s;
 		} else if (!strcmp(s, "--weld-epsilon")) {
 			const char* v = need_value(argc, argv, &i);
 			char* end;
 			a.gltf.weld_epsilon = strtod(v, &end);
 			if (!*v || *end || !(a.gltf.weld_epsilon >= 0) || a.gltf.weld_epsilon > 1e300)
 				die(2, "--weld-epsilon needs a finite number >= 0, not '%s'", v);
+			gltf_only = gltf_only ? gltf_only : s;
 		} else if (!strcmp(s, "--weld-scope")) {
 			const char* v = need_value(argc, argv, &i);
 			if (strcmp(v, "primitive") && strcmp(v, "mesh"))
 				die(2, "--weld-scope is primitive or mesh, not '%s'", v);
 			a.gltf.weld_mesh = !strcmp(v, "mesh");
+			gltf_only = gltf_only ? gltf_only : s;
 		} else if (!strcmp(s, "--tangents")) {
 			const char* v = need_value(argc, argv, &i);
 			if (strcmp(v, "keep") && strcmp(v, "drop"))
 				die(2, "--tangents is keep or drop, not '%s'", v);
 			a.gltf.drop_tangents = !strcmp(v, "drop");
+			gltf_only = gltf_only ? gltf_only : s;
 		} else if (!strcmp(s, "--crease-angle")) {
 			const char* v = need_value(argc, argv, &i);
 			char* end;
@@ -168,27 +239,27 @@ static args parse(int argc, char** argv)
 				die(2, "--crease-angle needs a number of degrees from 0 to 180, not '%s'", v);
 			a.gltf.crease = 1;
 			a.gltf.crease_angle = degrees * 3.14159265358979323846 / 180;
+			gltf_only = gltf_only ? gltf_only : s;
 		} else if (!strcmp(s, "--draco")) {
 			const char* v = need_value(argc, argv, &i);
 			if (strcmp(v, "keep") && strcmp(v, "off") && strcmp(v, "on"))
 				die(2, "--draco is keep, off or on, not '%s'", v);
 			a.gltf.draco = !strcmp(v, "off") ? vn_gltf_draco_off : !strcmp(v, "on") ? vn_gltf_draco_on : vn_gltf_draco_keep;
-			gltf_given = 1;
+			gltf_only = gltf_only ? gltf_only : s;
 		} else if (!strcmp(s, "--draco-qp") || !strcmp(s, "--draco-qn") || !strcmp(s, "--draco-qt") ||
 		           !strcmp(s, "--draco-qc") || !strcmp(s, "--draco-cl")) {
 			const int level = !strcmp(s, "--draco-cl"), normal = !strcmp(s, "--draco-qn");
 			const char* v = need_value(argc, argv, &i);
 			unsigned long n;
 			/* Draco's octahedral normal coding needs 2 bits at least. */
-			if (!tool_parse_uint(v, level ? 0 : normal ? 2 : 1, level ? 10 : VN_DRC_MAX_BITS, &n))
-				die(2, level    ? "--draco-cl needs a whole number from 0 to 10, not '%s'"
-				       : normal ? "--draco-qn needs a whole number of bits from 2 to 30, not '%s'"
-				                : "Draco quantization needs a whole number of bits from 1 to 30, not '%s'",
-				    v);
+			const unsigned long lowest = level ? 0 : normal ? 2 : 1, highest = level ? 10 : VN_DRC_MAX_BITS;
+			if (!tool_parse_uint(v, lowest, highest, &n))
+				die(2, "%s needs a whole number%s from %lu to %lu, not '%s'", s, level ? "" : " of bits", lowest,
+				    highest, v);
 			int* field[] = {&a.drc.position_bits, &a.drc.normal_bits, &a.drc.texcoord_bits, &a.drc.color_bits,
 			                &a.drc.compression_level};
 			*field[strchr("pntcl", s[9]) - "pntcl"] = (int)n;
-			drc_given = 1;
+			drc_given = drc_given ? drc_given : s;
 		} else if (!strcmp(s, "--in-place")) {
 			a.in_place = 1;
 		} else if (!strcmp(s, "--stats")) {
@@ -208,13 +279,16 @@ static args parse(int argc, char** argv)
 	if (!a.in || !a.out)
 		die(2, "%s", "usage: vnconvert IN OUT [--method M] (see --help)");
 	if (!a.in_format && !(a.in_format = vn_io_format_for_path(a.in)))
-		die(2, "cannot tell the format of '%s' from its extension; use --input-format", a.in);
+		unknown_extension(a.in, 1);
 	if (!a.out_format && !(a.out_format = vn_io_format_for_path(a.out)))
-		die(2, "cannot tell the format of '%s' from its extension; use --format", a.out);
-	if (drc_given && a.out_format != vn_io_format_by_name("drc") && !(is_gltf(a.in_format) && is_gltf(a.out_format)))
-		die(2, "the --draco-* options are for .drc or glTF to glTF output, not '%s'", a.out);
-	if (gltf_given && !(is_gltf(a.in_format) && is_gltf(a.out_format)))
-		die(2, "--draco is for glTF to glTF, not '%s'", a.out);
+		unknown_extension(a.out, 0);
+	const int gltf_to_gltf = is_gltf(a.in_format) && is_gltf(a.out_format);
+	if (drc_given && a.out_format != vn_io_format_by_name("drc") && !gltf_to_gltf)
+		die(2, "%s applies to Draco (.drc) output and to glTF to glTF conversions, and this one is %s to %s: leave it out",
+		    drc_given, a.in_format->name, a.out_format->name);
+	if (gltf_only && !gltf_to_gltf)
+		die(2, "%s applies only to glTF to glTF conversions (.gltf or .glb in and out), and this one is %s to %s: leave it out",
+		    gltf_only, a.in_format->name, a.out_format->name);
 	return a;
 }
 
@@ -241,31 +315,36 @@ static int convert_gltf(args* a)
 	const double t1 = tool_now();
 	if (st.zero_normals && !a->quiet)
 		fprintf(stderr,
-		        "%s: warning: %zu of %zu vertices have no normal (isolated, or only degenerate faces); "
+		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); "
 		        "written as the input's unit normal, else (0, 0, 1)\n",
-		        prog, st.zero_normals, st.vertices);
+		        prog, st.zero_normals, st.vertices, noun(st.vertices, "vertex", "vertices"),
+		        noun(st.zero_normals, "has", "have"));
 	if (st.tangent_primitives && !a->quiet && !a->gltf.drop_tangents)
 		fprintf(stderr,
-		        "%s: warning: %zu primitives have TANGENT data, which no longer matches the new normals "
+		        "%s: warning: %zu %s TANGENT data, which no longer matches the new normals "
 		        "(--tangents drop removes it)\n",
-		        prog, st.tangent_primitives);
+		        prog, st.tangent_primitives, noun(st.tangent_primitives, "primitive has", "primitives have"));
 	if (st.draco_uncompressed && !a->quiet)
 		fprintf(stderr,
-		        "%s: warning: %zu primitives left uncompressed: their morph targets keep every vertex, and Draco "
+		        "%s: warning: %zu %s left uncompressed: %s morph targets keep every vertex, and Draco "
 		        "cannot store more than 3 vertices per triangle\n",
-		        prog, st.draco_uncompressed);
+		        prog, st.draco_uncompressed, noun(st.draco_uncompressed, "primitive", "primitives"),
+		        noun(st.draco_uncompressed, "its", "their"));
+	/* Renumbering indices an unknown extension may hold would break it. */
 	if (st.unpruned_extension[0] && !a->quiet)
 		fprintf(stderr,
-		        "%s: warning: data vn replaced stay in the file, unused: it uses %s, which may refer "
-		        "to accessors or bufferViews by index, so vn does not renumber them\n",
-		        prog, st.unpruned_extension);
+		        "%s: warning: %s uses %s, an extension vn does not know that may refer to accessors or "
+		        "bufferViews by their index, so the data vn replaced stay in the file, unused, rather than being "
+		        "removed and the rest renumbered; the file is otherwise complete and correct\n",
+		        prog, a->out, st.unpruned_extension);
 	if (a->stats) {
 		printf("input:              %s (%s)\n", a->in, a->in_format->name);
 		printf("output:             %s (%s)\n", a->out, a->out_format->name);
 		printf("method:             %s\n", vn_method_name(a->method));
-		printf("primitives:         %zu processed, %zu skipped (%zu points, %zu lines, %zu without POSITION)\n",
+		printf("primitives:         %zu processed, %zu skipped (%zu %s, %zu %s, %zu without POSITION)\n",
 		       st.primitives, st.skipped_points + st.skipped_lines + st.skipped_no_position, st.skipped_points,
-		       st.skipped_lines, st.skipped_no_position);
+		       noun(st.skipped_points, "point", "points"), st.skipped_lines, noun(st.skipped_lines, "line", "lines"),
+		       st.skipped_no_position);
 		printf("vertices:           %zu\n", st.vertices);
 		printf("triangles:          %zu\n", st.triangles);
 		printf("welded vertices:    %zu\n", st.welded_vertices);
@@ -274,13 +353,15 @@ static int convert_gltf(args* a)
 		printf("zero normals:       %zu\n", st.zero_normals);
 		printf("tangent primitives: %zu (%s)\n", st.tangent_primitives, a->gltf.drop_tangents ? "dropped" : "kept");
 		printf("appended accessors: %zu\n", st.appended_accessors);
-		printf("removed unused:     %zu accessors, %zu bufferViews\n", st.pruned_accessors, st.pruned_views);
+		printf("removed unused:     %zu %s, %zu %s\n", st.pruned_accessors,
+		       noun(st.pruned_accessors, "accessor", "accessors"), st.pruned_views,
+		       noun(st.pruned_views, "bufferView", "bufferViews"));
 		printf("draco primitives:   %zu (%zu left uncompressed)\n", st.draco_primitives, st.draco_uncompressed);
 		for (int bits = 0; bits <= VN_DRC_MAX_BITS; ++bits)
 			if (st.draco_normal_error[bits].compared)
-				printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu normals)\n",
+				printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu %s)\n",
 				       st.draco_normal_error[bits].median_degrees, st.draco_normal_error[bits].max_degrees, bits,
-				       st.draco_normal_error[bits].compared);
+				       st.draco_normal_error[bits].compared, noun(st.draco_normal_error[bits].compared, "normal", "normals"));
 		printf("threads:            %u\n", a->threads);
 		printf("time:               %.3f ms\n", 1e3 * (t1 - t0));
 	}
@@ -290,14 +371,19 @@ static int convert_gltf(args* a)
 int main(int argc, char** argv)
 {
 	tool_check_version(prog);
+	/* A crash (in a library too) or an interrupt leaves no temporary file. */
+	vn_io_remove_temporaries_on_signal();
 	args a = parse(argc, argv);
 
 	if (!a.in_place && (!strcmp(a.in, a.out) || vn_io_same_file(a.in, a.out)))
 		die(2, "output '%s' is the input; pass --in-place to overwrite it", a.out);
+	vn_io_error err;
+	/* A missing folder or an OUT that is a device is told before any work. */
+	if (vn_io_output_check(a.out, NULL, &err) != vn_io_success)
+		die(1, "%s", err.message);
 	if (is_gltf(a.in_format) && is_gltf(a.out_format))
 		return convert_gltf(&a);
 
-	vn_io_error err;
 	vn_io_mesh mesh;
 	memset(&mesh, 0, sizeof(mesh));
 
@@ -311,6 +397,19 @@ int main(int argc, char** argv)
 	                              : vn_io_read_file(a.in, a.in_format, &mesh, &err);
 	if (read != vn_io_success)
 		die(1, "%s", err.message);
+	const size_t nonfinite = vn_io_mesh_first_nonfinite(&mesh);
+	if (nonfinite < mesh.vertex_count) {
+		const double* p = mesh.positions + 3 * nonfinite;
+		fprintf(stderr,
+		        "%s: error: %s: vertex %zu is at (%g, %g, %g), and no output format can hold a coordinate that is "
+		        "not a finite number: fix or remove that vertex\n",
+		        prog, a.in, nonfinite, p[0], p[1], p[2]);
+		vn_io_mesh_free(&mesh);
+		return 1;
+	}
+	char lost[512];
+	if (vn_io_mesh_losses(&mesh, a.out_format, lost, sizeof lost) && !a.quiet)
+		fprintf(stderr, "%s: warning: %s cannot hold %s: not written\n", prog, a.out, lost);
 	int* given[] = {&a.drc.position_bits, &a.drc.normal_bits, &a.drc.texcoord_bits, &a.drc.color_bits,
 	                &a.drc.compression_level};
 	int* used[] = {&drc.position_bits, &drc.normal_bits, &drc.texcoord_bits, &drc.color_bits,
@@ -331,9 +430,10 @@ int main(int argc, char** argv)
 
 	if (st.zero_normals && !a.quiet)
 		fprintf(stderr,
-		        "%s: warning: %zu of %zu vertices have no normal (isolated, or only degenerate faces); "
+		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); "
 		        "written as %s\n",
-		        prog, st.zero_normals, mesh.vertex_count, is_gltf(a.out_format) ? "(0, 0, 1)" : "the zero vector");
+		        prog, st.zero_normals, mesh.vertex_count, noun(mesh.vertex_count, "vertex", "vertices"),
+		        noun(st.zero_normals, "has", "have"), is_gltf(a.out_format) ? "(0, 0, 1)" : "the zero vector");
 
 	if (drc_out && !a.quiet) {
 		/* Draco 1.5.5's decoder refuses more points than 3 per triangle: the writer
@@ -345,9 +445,9 @@ int main(int argc, char** argv)
 		}
 		if (mesh.vertex_count > corners)
 			fprintf(stderr,
-			        "%s: warning: %zu vertices and %zu triangles: only the vertices faces use are written, as Draco "
+			        "%s: warning: %zu vertices and %zu %s: only the vertices faces use are written, as Draco "
 			        "cannot store more than 3 points per triangle\n",
-			        prog, mesh.vertex_count, corners / 3);
+			        prog, mesh.vertex_count, corners / 3, noun(corners / 3, "triangle", "triangles"));
 	}
 	progress(&a, "writing", a.out);
 	if (vn_io_write_file(a.out, a.out_format, &mesh, drc_out ? &drc : NULL, &err) !=
@@ -381,8 +481,8 @@ int main(int argc, char** argv)
 		if (drc_out) {
 			printf("draco settings:     qp=%d qn=%d qt=%d qc=%d cl=%d\n", drc.position_bits, drc.normal_bits,
 			       drc.texcoord_bits, drc.color_bits, drc.compression_level);
-			printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu normals)\n",
-			       q.median_degrees, q.max_degrees, drc.normal_bits, q.compared);
+			printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu %s)\n",
+			       q.median_degrees, q.max_degrees, drc.normal_bits, q.compared, noun(q.compared, "normal", "normals"));
 		}
 	}
 	vn_io_mesh_free(&mesh);
