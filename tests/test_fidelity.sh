@@ -44,6 +44,16 @@ check "b/c/out.gltf: packed" $CHECK packed "$T/s/b/c/out.gltf"
 run "$VNC" "$M" "$T/s/b/c/crease.gltf" -q --crease-angle 10
 check "split accessors: exact bounds" $CHECK bounds "$T/s/b/c/crease.gltf"
 
+# OUT a link into another folder: the .gltf replaces the link's target, and
+# its buffer and images go beside it there, where its URIs point.
+mkdir -p "$T/real" "$T/links" && ln -s ../real/linked.gltf "$T/links/m.gltf"
+run "$VNC" "$DATA/Duck/Duck.gltf" "$T/links/m.gltf" -q
+check "through a link: exits 0" [ $rc -eq 0 ]
+check "through a link: the link stays" [ -L "$T/links/m.gltf" ]
+check "through a link: buffer and image beside the target" [ -f "$T/real/linked.bin" ] && [ -f "$T/real/DuckCM.png" ]
+check "through a link: nothing beside the link" [ "$(ls -A "$T/links")" = m.gltf ]
+check "through a link: structure" $CHECK diff "$DATA/Duck/Duck.gltf" "$T/real/linked.gltf"
+
 # A .gltf written beside its input under another name never replaces the
 # input's buffer files (geometry.gltf would be written as geometry.bin).
 cp "$T/s/a/geometry.bin" "$T/geometry.before"

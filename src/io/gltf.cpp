@@ -2508,7 +2508,15 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 		std::string unknown;
 		prune(d, before, st, &unknown);
 		snprintf(st.unpruned_extension, sizeof st.unpruned_extension, "%s", unknown.c_str());
-		save(d, out, out_glb != 0, vn_io_same_file(in, out), unknown_extension(d.j));
+		/* OUT may be a link: the buffers and images go beside what it
+		 * points at, where the .gltf itself lands. */
+		char* target = nullptr;
+		vn_io_error e;
+		if (vn_io_output_check(out, &target, &e) != vn_io_success)
+			fail_named(vn_io_error_write, e.message);
+		const std::string resolved = target;
+		free(target);
+		save(d, resolved, out_glb != 0, vn_io_same_file(in, out), unknown_extension(d.j));
 	});
 	if (stats)
 		*stats = st;
