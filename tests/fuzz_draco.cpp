@@ -4,7 +4,8 @@
  * guides only through vn's side; a crash inside libdraco still shows.
  *
  * Besides the sanitizers' checks, every accepted stream must give a
- * consistent geometry: indices within the points, attribute data present.
+ * consistent geometry: indices within the points, attribute data present;
+ * and encoding it again (its grids and metadata) must not crash.
  */
 #include <cstdint>
 #include <cstdlib>
@@ -24,6 +25,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 		for (size_t a = 0; a < g.attribute_count; a++)
 			if (!g.attributes[a].data || g.attributes[a].components < 1 || g.attributes[a].components > 4)
 				abort();
+		void* encoded = nullptr;
+		size_t encoded_size = 0;
+		if (vn_drc_encode(&g, 7, 0, "fuzz.drc", &encoded, &encoded_size, &error) == vn_io_success && !encoded)
+			abort();
+		std::free(encoded);
 		vn_drc_geometry_free(&g);
 	}
 	return 0;

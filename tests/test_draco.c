@@ -1,8 +1,12 @@
 /*
  * The Draco geometry API (draco.h) that glTF's KHR_draco_mesh_compression
- * will use: encode/decode round trips keeping unique ids, types, point and
- * triangle counts and quantization bits; errors on bad streams and input.
+ * uses: encode/decode round trips keeping unique ids, types, point and
+ * triangle counts, quantization bits and grids (no generation loss); errors
+ * on bad streams and input (non-finite values); each bitstream version's
+ * counts; hostile counts; every attribute through the vn_io reader and
+ * writer.
  */
+#define _POSIX_C_SOURCE 200809L /* mkstemp */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -10,8 +14,10 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "draco.h"
 
@@ -27,15 +33,15 @@ static uint16_t generic[6] = {0, 1000, 2000, 3000, 4000, 65535};
 static uint32_t indices[8 * 3] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
 
 static vn_drc_attribute attributes[4] = {
-    {7, vn_drc_position, vn_drc_float32, 3, 0, 11, positions},
-    {3, vn_drc_normal, vn_drc_float32, 3, 0, 9, normals},
-    {0, vn_drc_color, vn_drc_uint8, 4, 1, 0, colors},
-    {12, vn_drc_generic, vn_drc_uint16, 1, 0, 0, generic},
+    {7, vn_drc_position, vn_drc_float32, 3, 0, 11, positions, {0}},
+    {3, vn_drc_normal, vn_drc_float32, 3, 0, 9, normals, {0}},
+    {0, vn_drc_color, vn_drc_uint8, 4, 1, 0, colors, {0}},
+    {12, vn_drc_generic, vn_drc_uint16, 1, 0, 0, generic, {0}},
 };
 
 static vn_drc_geometry octahedron(void)
 {
-	vn_drc_geometry g = {6, 8, indices, 4, attributes};
+	vn_drc_geometry g = {6, 8, indices, 4, attributes, NULL};
 	return g;
 }
 
@@ -166,8 +172,8 @@ static void test_isolated_points(void** state)
 	for (size_t i = 0; i < 7 * 3; ++i)
 		p[i] = (float)(i * 7 % 11), q[i] = i % 3 == 2 ? 1.0f : 0.0f;
 	const uint32_t t[6] = {0, 1, 2, 2, 1, 3};
-	vn_drc_attribute a[2] = {{0, vn_drc_position, vn_drc_float32, 3, 0, 14, p}, {1, vn_drc_normal, vn_drc_float32, 3, 0, 10, q}};
-	vn_drc_geometry g = {7, 2, (uint32_t*)t, 2, a};
+	vn_drc_attribute a[2] = {{0, vn_drc_position, vn_drc_float32, 3, 0, 14, p, {0}}, {1, vn_drc_normal, vn_drc_float32, 3, 0, 10, q, {0}}};
+	vn_drc_geometry g = {7, 2, (uint32_t*)t, 2, a, NULL};
 	void* data;
 	size_t size;
 	vn_io_error e;
@@ -270,6 +276,383 @@ static void test_format_table(void** state)
 	assert_int_equal(o.compression_level, 7);
 }
 
+/* ------------------------------------------------------------------ bitstream versions */
+
+/* A hand-built mesh stream header: "DRACO", version, mesh, method, flags. */
+static size_t header(uint8_t* b, int major, int minor, int method, int flags)
+{
+	memcpy(b, "DRACO", 5);
+	b[5] = (uint8_t)major, b[6] = (uint8_t)minor, b[7] = 1, b[8] = (uint8_t)method;
+	b[9] = (uint8_t)(flags & 0xFF), b[10] = (uint8_t)(flags >> 8);
+	return 11;
+}
+
+static size_t u32(uint8_t* b, uint32_t v)
+{
+	for (int i = 0; i < 4; ++i)
+		b[i] = (uint8_t)(v >> 8 * i);
+	return 4;
+}
+
+static size_t varint(uint8_t* b, uint32_t v)
+{
+	size_t n = 0;
+	for (; v >= 0x80; v >>= 7)
+		b[n++] = (uint8_t)(v | 0x80);
+	b[n++] = (uint8_t)v;
+	return n;
+}
+
+/* An edgebreaker connectivity header as Draco 1.5.5 reads it for version
+ * major.minor: traversal type, new vertices (before 2.2), encoded vertices,
+ * faces, attribute data, symbols, split symbols; uint32 before 2.0, varints
+ * from 2.0; then filler. */
+static size_t edgebreaker(uint8_t* b, int major, int minor, int flags, uint32_t vertices, uint32_t faces, uint32_t split)
+{
+	const int version = major << 8 | minor, wide = version < 0x0200;
+	size_t n = header(b, major, minor, 1, flags);
+	if (flags && version >= 0x0103)
+		b[n++] = 0, b[n++] = 0, b[n++] = 0; /* empty metadata: no attribute metadata, entries, sub-metadata */
+	b[n++] = 2;                              /* valence traversal */
+	if (version < 0x0202)
+		n += wide ? u32(b + n, 7) : varint(b + n, 7);
+	n += wide ? u32(b + n, vertices) : varint(b + n, vertices);
+	n += wide ? u32(b + n, faces) : varint(b + n, faces);
+	b[n++] = 1;
+	n += wide ? u32(b + n, faces) : varint(b + n, faces);
+	n += wide ? u32(b + n, split) : varint(b + n, split);
+	memset(b + n, 0x11, 16);
+	return n + 16;
+}
+
+/* Each bitstream version's layout: the counts are read where Draco reads them. */
+static void test_declared_counts(void** state)
+{
+	(void)state;
+	static const int versions[][2] = {{1, 0}, {1, 1}, {1, 2}, {1, 3}, {2, 0}, {2, 1}, {2, 2}};
+	uint8_t b[128];
+	uint32_t faces;
+	uint64_t vertices;
+	for (size_t i = 0; i < sizeof versions / sizeof versions[0]; ++i)
+		for (int flags = 0; flags <= 0x8000; flags += 0x8000) {
+			/* 170 faces, 99 vertices, 17 split symbols (test_nm.obj's): 300 and 200 do not fit in a byte. */
+			const size_t n = edgebreaker(b, versions[i][0], versions[i][1], flags, 99, 170 + 130, 17 + 200);
+			assert_true(vn_drc_declared_counts(b, n, &faces, &vertices));
+			assert_int_equal(faces, 300);
+			assert_int_equal(vertices, 99 + 217);
+			/* Cut inside the counts: unreadable, Draco decides. */
+			assert_false(vn_drc_declared_counts(b, 14, &faces, &vertices));
+		}
+	/* Sequential: faces and points, uint32 before 2.2, varints from 2.2. */
+	for (int minor = 1; minor <= 2; ++minor) {
+		size_t n = header(b, 2, minor, 0, 0);
+		n += minor < 2 ? u32(b + n, 1000) : varint(b + n, 1000);
+		n += minor < 2 ? u32(b + n, 700) : varint(b + n, 700);
+		b[n++] = 1;
+		assert_true(vn_drc_declared_counts(b, n, &faces, &vertices));
+		assert_int_equal(faces, 1000);
+		assert_int_equal(vertices, 700);
+	}
+	/* Not a mesh, an unknown version: left to Draco. */
+	size_t n = edgebreaker(b, 2, 2, 0, 99, 170, 17);
+	b[7] = 0;
+	assert_false(vn_drc_declared_counts(b, n, &faces, &vertices));
+	n = edgebreaker(b, 2, 3, 0, 99, 170, 17);
+	assert_false(vn_drc_declared_counts(b, n, &faces, &vertices));
+	/* A real 2.2 stream. */
+	vn_drc_geometry g = octahedron();
+	void* data;
+	size_t size;
+	vn_io_error e;
+	assert_int_equal(vn_drc_encode(&g, 7, 0, "mem", &data, &size, &e), vn_io_success);
+	assert_true(vn_drc_declared_counts(data, size, &faces, &vertices));
+	assert_int_equal(faces, 8);
+	assert_true(vertices >= 6);
+	free(data);
+}
+
+/* Hostile counts are refused before Draco allocates for them; counts a
+ * stream might hold, even improbable for its size, are left to Draco. */
+static void test_hostile_counts(void** state)
+{
+	(void)state;
+	uint8_t b[128];
+	vn_drc_geometry d;
+	vn_io_error e;
+	for (int minor = 0; minor <= 2; ++minor) {
+		size_t n = edgebreaker(b, 2, minor, 0, 3, 100000000, 0);
+		assert_int_equal(vn_drc_decode(b, n, "hostile.drc", &d, &e), vn_io_error_parse);
+		assert_non_null(strstr(e.message, "hostile.drc: the stream declares 100000000 faces and 3 points in"));
+		/* 1.6 million faces in 40 bytes: implausible but within the cap; Draco says it is corrupt. */
+		n = edgebreaker(b, 2, minor, 0, 3, 1600000, 0);
+		assert_int_equal(vn_drc_decode(b, n, "dense.drc", &d, &e), vn_io_error_parse);
+		assert_null(strstr(e.message, "declares"));
+	}
+}
+
+/* ------------------------------------------------------------------ generation loss */
+
+/* A 10 x 20 grid of points with uneven coordinates, 342 triangles, float
+ * POSITION (14 bits) and TEX_COORD (12 bits). */
+#define GRID_POINTS 200
+static float grid_positions[3 * GRID_POINTS], grid_uv[2 * GRID_POINTS];
+static uint32_t grid_indices[3 * 342];
+
+static vn_drc_geometry grid_mesh(vn_drc_attribute* a)
+{
+	size_t t = 0;
+	for (uint32_t i = 0; i < 10; ++i)
+		for (uint32_t j = 0; j < 20; ++j) {
+			const uint32_t p = 20 * i + j;
+			grid_positions[3 * p] = 3.7f + 0.123457f * (float)i + 0.001f * (float)(j % 7);
+			grid_positions[3 * p + 1] = -11.3f + 0.0987f * (float)j;
+			grid_positions[3 * p + 2] = 0.25f * sinf((float)p);
+			grid_uv[2 * p] = 0.1f + 0.031f * (float)i, grid_uv[2 * p + 1] = 0.77f - 0.0171f * (float)j;
+			if (i < 9 && j < 19) {
+				const uint32_t q[6] = {p, p + 20, p + 1, p + 1, p + 20, p + 21};
+				memcpy(grid_indices + t, q, sizeof q);
+				t += 6;
+			}
+		}
+	const vn_drc_attribute init[2] = {{5, vn_drc_position, vn_drc_float32, 3, 0, 14, grid_positions, {0}},
+	                                  {9, vn_drc_texcoord, vn_drc_float32, 2, 0, 12, grid_uv, {0}}};
+	memcpy(a, init, sizeof init);
+	vn_drc_geometry g = {GRID_POINTS, t / 3, grid_indices, 2, a, NULL};
+	return g;
+}
+
+static void encode_decode(const vn_drc_geometry* g, vn_drc_geometry* out)
+{
+	void* data;
+	size_t size;
+	vn_io_error e;
+	assert_int_equal(vn_drc_encode(g, 7, 1, "grid", &data, &size, &e), vn_io_success);
+	assert_int_equal(vn_drc_decode(data, size, "grid", out, &e), vn_io_success);
+	free(data);
+}
+
+/* Decoded float attributes come with the grid they were quantized on, and
+ * encoding them again at the same bits decodes to the same values; without
+ * the grid (or with other bits) Draco fits a new one and they move. */
+static void test_grid_kept(void** state)
+{
+	(void)state;
+	vn_drc_attribute a[2];
+	const vn_drc_geometry g = grid_mesh(a);
+	vn_drc_geometry d1, d2, d3;
+	encode_decode(&g, &d1);
+	const vn_drc_attribute* p = by_id(&d1, 5);
+	assert_int_equal(p->grid.bits, 14);
+	assert_true(fabsf(p->grid.origin[0] - 3.7f) < 1e-6f && fabsf(p->grid.origin[1] + 11.3f) < 1e-5f);
+	assert_true(fabsf(p->grid.range - 0.0987f * 19) < 1e-5f);
+	assert_int_equal(by_id(&d1, 9)->grid.bits, 12);
+	/* Three generations: the same floats. */
+	encode_decode(&d1, &d2);
+	encode_decode(&d2, &d3);
+	for (uint32_t id = 5; id <= 9; id += 4) {
+		assert_memory_equal(by_id(&d1, id)->data, by_id(&d3, id)->data, GRID_POINTS * by_id(&d1, id)->components * 4);
+		assert_memory_equal(&by_id(&d1, id)->grid, &by_id(&d3, id)->grid, sizeof(vn_drc_grid));
+	}
+	vn_drc_geometry_free(&d1);
+	vn_drc_geometry_free(&d2);
+	vn_drc_geometry_free(&d3);
+	/* A stream whose grid is larger than its values' box (other encoders',
+	 * or data cut from a larger model): without the grid, Draco fits one
+	 * to the decoded values and they move; with it they stay. */
+	a[0].grid.bits = 14;
+	a[0].grid.origin[0] = 3.1f, a[0].grid.origin[1] = -12.05f, a[0].grid.origin[2] = -0.3f;
+	a[0].grid.range = 2.9f;
+	encode_decode(&g, &d1);
+	assert_true(by_id(&d1, 5)->grid.range == 2.9f && by_id(&d1, 5)->grid.origin[1] == -12.05f);
+	encode_decode(&d1, &d2);
+	assert_memory_equal(by_id(&d1, 5)->data, by_id(&d2, 5)->data, sizeof grid_positions);
+	vn_drc_geometry_free(&d2);
+	((vn_drc_attribute*)by_id(&d1, 5))->grid.bits = 0;
+	encode_decode(&d1, &d2);
+	assert_memory_not_equal(by_id(&d1, 5)->data, by_id(&d2, 5)->data, sizeof grid_positions);
+	vn_drc_geometry_free(&d2);
+	/* Values outside the grid's box: a new grid. */
+	vn_drc_geometry_free(&d1);
+	a[0].grid.range = 1.0f;
+	encode_decode(&g, &d1);
+	assert_true(fabsf(by_id(&d1, 5)->grid.range - 0.0987f * 19) < 1e-5f);
+	/* Other bits: a new grid. */
+	vn_drc_geometry_free(&d1);
+	a[0].grid.bits = 0;
+	encode_decode(&g, &d1);
+	vn_drc_attribute* dp = (vn_drc_attribute*)by_id(&d1, 5);
+	assert_int_equal(dp->quantization_bits, 14);
+	dp->quantization_bits = 10;
+	encode_decode(&d1, &d2);
+	assert_int_equal(by_id(&d2, 5)->grid.bits, 10);
+	vn_drc_geometry_free(&d1);
+	vn_drc_geometry_free(&d2);
+}
+
+/* ------------------------------------------------------------------ non-finite values */
+
+/* NaN or infinity in a float attribute to be quantized is refused, naming
+ * the attribute and the point (Draco crashed in ComputeShannonEntropy);
+ * a lossless float attribute keeps them. */
+static void test_nonfinite(void** state)
+{
+	(void)state;
+	vn_drc_geometry g = octahedron();
+	vn_drc_attribute a[4];
+	memcpy(a, attributes, sizeof a);
+	float p[6 * 3];
+	memcpy(p, positions, sizeof p);
+	a[0].data = p;
+	g.attributes = a;
+	void* data = NULL;
+	size_t size;
+	vn_io_error e;
+	p[3 * 2 + 1] = NAN;
+	assert_int_equal(vn_drc_encode(&g, 7, 0, "nan", &data, &size, &e), vn_io_error_unsupported);
+	assert_non_null(strstr(e.message, "nan: attribute 7 (POSITION) has a non-finite value at point 2"));
+	assert_null(data);
+	p[3 * 2 + 1] = 0, p[3 * 4] = INFINITY;
+	assert_int_equal(vn_drc_encode(&g, 10, 0, "inf", &data, &size, &e), vn_io_error_unsupported);
+	assert_non_null(strstr(e.message, "point 4"));
+	float n[6 * 3];
+	memcpy(n, normals, sizeof n);
+	a[1].data = n;
+	p[3 * 4] = 0, n[5] = NAN;
+	assert_int_equal(vn_drc_encode(&g, 7, 0, "n", &data, &size, &e), vn_io_error_unsupported);
+	assert_non_null(strstr(e.message, "attribute 3 (NORMAL) has a non-finite value at point 1"));
+	n[5] = 0, p[0] = -3e38f, p[3] = 3e38f;
+	assert_int_equal(vn_drc_encode(&g, 7, 0, "wide", &data, &size, &e), vn_io_error_unsupported);
+	assert_non_null(strstr(e.message, "spans more than a float"));
+	/* Lossless: kept as they are. */
+	p[0] = NAN, p[3] = 1;
+	a[0].quantization_bits = 0;
+	vn_drc_geometry d;
+	assert_int_equal(vn_drc_encode(&g, 10, 1, "lossless", &data, &size, &e), vn_io_success);
+	assert_int_equal(vn_drc_decode(data, size, "lossless", &d, &e), vn_io_success);
+	assert_true(isnan(((const float*)by_id(&d, 7)->data)[0]));
+	vn_drc_geometry_free(&d);
+	free(data);
+	/* The format writer refuses too, without crashing. */
+	double mp[9] = {0, 0, 0, 1, 0, 0, 0, NAN, 0};
+	uint32_t offsets[2] = {0, 3}, corners[3] = {0, 1, 2};
+	vn_io_mesh mesh;
+	memset(&mesh, 0, sizeof mesh);
+	mesh.vertex_count = 3, mesh.positions = mp, mesh.face_count = 1, mesh.face_offsets = offsets, mesh.indices = corners;
+	FILE* f = tmpfile();
+	assert_non_null(f);
+	assert_int_equal(vn_io_drc_write(f, "w.drc", &mesh, NULL, &e), vn_io_error_unsupported);
+	assert_non_null(strstr(e.message, "w.drc: attribute 0 (POSITION) has a non-finite value at point 2"));
+	fclose(f);
+}
+
+/* ------------------------------------------------------------------ attributes and metadata */
+
+/* Writes bytes to a temporary .drc and reads it with the vn_io reader. */
+static void read_back(const void* data, size_t size, vn_io_mesh* mesh)
+{
+	char path[] = "/tmp/vn-test-drc-XXXXXX";
+	const int fd = mkstemp(path);
+	assert_true(fd >= 0);
+	assert_int_equal(write(fd, data, size), (ssize_t)size);
+	close(fd);
+	vn_io_error e;
+	assert_int_equal(vn_drc_read_file(path, mesh, NULL, &e), vn_io_success);
+	unlink(path);
+}
+
+static const vn_io_attribute* named(const vn_io_mesh* m, const char* name)
+{
+	for (size_t i = 0; i < m->attribute_count; ++i)
+		if (!strcmp(m->attributes[i].name, name))
+			return &m->attributes[i];
+	return NULL;
+}
+
+/* The vn_io reader keeps every attribute: the first texture coordinates
+ * and colours in texcoords and colors, the others as TEXCOORD_n, COLOR_n
+ * and application-specific _NAMEs with their type; the writer writes them
+ * back, GENERICs named in their metadata. */
+static void test_attributes_to_mesh(void** state)
+{
+	(void)state;
+	float uv0[6 * 2], uv1[6 * 2], c1[6 * 3], extra[6 * 2];
+	uint8_t bytes3[6 * 3];
+	int16_t ids[6];
+	for (int i = 0; i < 12; ++i)
+		uv0[i] = (float)i / 16, uv1[i] = 1 - (float)i / 16, extra[i] = (float)i * 3.5f;
+	for (int i = 0; i < 18; ++i)
+		c1[i] = (float)(i % 5) / 4, bytes3[i] = (uint8_t)(i * 13);
+	for (int i = 0; i < 6; ++i)
+		ids[i] = (int16_t)(100 * i - 250);
+	vn_drc_attribute a[9] = {
+	    attributes[0], attributes[2],
+	    {20, vn_drc_texcoord, vn_drc_float32, 2, 0, 0, uv0, {0}},
+	    {21, vn_drc_texcoord, vn_drc_float32, 2, 0, 0, uv1, {0}},
+	    {22, vn_drc_color, vn_drc_float32, 3, 0, 0, c1, {0}},
+	    {23, vn_drc_generic, vn_drc_float32, 2, 0, 0, extra, {0}},
+	    {24, vn_drc_generic, vn_drc_int16, 1, 0, 0, ids, {0}},
+	    {25, vn_drc_color, vn_drc_uint8, 3, 0, 0, bytes3, {0}}, /* not normalized: not a glTF colour */
+	    {26, vn_drc_tangent, vn_drc_float32, 2, 0, 0, uv1, {0}},
+	};
+	vn_drc_geometry g = {6, 8, indices, 9, a, NULL};
+	void* data;
+	size_t size;
+	vn_io_error e;
+	assert_int_equal(vn_drc_encode(&g, 10, 1, "mem", &data, &size, &e), vn_io_success);
+	vn_io_mesh m;
+	read_back(data, size, &m);
+	free(data);
+	assert_non_null(m.texcoords);
+	assert_memory_equal(m.texcoords, uv0, sizeof uv0);
+	assert_non_null(m.colors);
+	assert_true(m.colors_are_bytes);
+	assert_int_equal(m.attribute_count, 6);
+	const vn_io_attribute* t1 = named(&m, "TEXCOORD_1");
+	const vn_io_attribute* col1 = named(&m, "COLOR_1");
+	const vn_io_attribute* x = named(&m, "_GENERIC_23");
+	const vn_io_attribute* y = named(&m, "_GENERIC_24");
+	const vn_io_attribute* z = named(&m, "_COLOR_25");
+	/* Draco 1.5.5 writes TANGENT as GENERIC (its bitstream has no TANGENT). */
+	const vn_io_attribute* w = named(&m, "_GENERIC_26");
+	assert_non_null(t1), assert_non_null(col1), assert_non_null(x), assert_non_null(y), assert_non_null(z);
+	assert_non_null(w);
+	assert_int_equal(t1->semantic, vn_io_semantic_texcoord);
+	assert_memory_equal(t1->data, uv1, sizeof uv1);
+	assert_int_equal(col1->semantic, vn_io_semantic_color);
+	assert_int_equal(col1->components, 3);
+	assert_memory_equal(col1->data, c1, sizeof c1);
+	assert_int_equal(x->semantic, vn_io_semantic_generic);
+	assert_memory_equal(x->data, extra, sizeof extra);
+	assert_int_equal(y->component_type, vn_drc_int16);
+	assert_memory_equal(y->data, ids, sizeof ids);
+	assert_int_equal(z->component_type, vn_drc_uint8);
+	assert_false(z->normalized);
+
+	/* Written back (the vn_io writer) and read again: the same names. */
+	FILE* f = tmpfile();
+	assert_non_null(f);
+	vn_drc_options o;
+	vn_drc_default_options(&o);
+	o.texcoord_bits = o.color_bits = 0; /* lossless, and points in order (sequential), to compare */
+	o.compression_level = 10;
+	assert_int_equal(vn_io_drc_write(f, "w.drc", &m, &o, &e), vn_io_success);
+	const long length = ftell(f);
+	char* back = malloc((size_t)length);
+	rewind(f);
+	assert_int_equal(fread(back, 1, (size_t)length, f), (size_t)length);
+	fclose(f);
+	vn_io_mesh m2;
+	read_back(back, (size_t)length, &m2);
+	free(back);
+	assert_int_equal(m2.attribute_count, 6);
+	assert_non_null(named(&m2, "TEXCOORD_1"));
+	assert_non_null(named(&m2, "COLOR_1"));
+	assert_non_null(named(&m2, "_GENERIC_23")); /* the name its metadata now carries */
+	assert_memory_equal(named(&m2, "_GENERIC_24")->data, ids, sizeof ids);
+	vn_io_mesh_free(&m);
+	vn_io_mesh_free(&m2);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -281,6 +664,11 @@ int main(void)
 	    cmocka_unit_test(test_corrupt_streams),
 	    cmocka_unit_test(test_bad_input),
 	    cmocka_unit_test(test_format_table),
+	    cmocka_unit_test(test_declared_counts),
+	    cmocka_unit_test(test_hostile_counts),
+	    cmocka_unit_test(test_grid_kept),
+	    cmocka_unit_test(test_nonfinite),
+	    cmocka_unit_test(test_attributes_to_mesh),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -9,6 +9,7 @@
 #include <draco/attributes/attribute_quantization_transform.h>
 #include <draco/compression/decode.h>
 #include <draco/compression/point_cloud/point_cloud_decoder.h>
+#include <draco/core/options.h>
 #include <draco/core/varint_decoding.h>
 #include <draco/metadata/geometry_metadata.h>
 #include <draco/metadata/metadata_decoder.h>
@@ -17,8 +18,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
+#include <cctype>
 #include <memory>
 #include <new>
 #include <string>
@@ -64,13 +68,21 @@ size_t value_bytes(const vn_drc_attribute& a)
 	return size_t(a.components) * size_t(draco::DataTypeLength(draco_type(a.component_type)));
 }
 
-/* The bits each attribute (by unique id) was quantized with. Draco keeps the
+/* What each attribute (in the decoder's order) was quantized with: bits
+ * (0: not quantized) and, for
+ * Draco's AttributeQuantizationTransform, the grid. Draco keeps the
  * transform parameters only on its portable (still quantized) attributes,
  * which a decode hands out when told to skip the inverse transform: so a
  * second decode with every transform skipped reads them back. */
-std::vector<std::pair<uint32_t, int>> quantization_bits(const void* data, size_t size)
+struct quantization {
+	uint32_t unique_id;
+	int bits;
+	vn_drc_grid grid; /* bits 0: octahedral (normals) */
+};
+
+std::vector<quantization> quantizations(const void* data, size_t size)
 {
-	std::vector<std::pair<uint32_t, int>> bits;
+	std::vector<quantization> found;
 	draco::DecoderBuffer buffer;
 	buffer.Init(static_cast<const char*>(data), size);
 	draco::Decoder decoder;
@@ -78,63 +90,113 @@ std::vector<std::pair<uint32_t, int>> quantization_bits(const void* data, size_t
 		decoder.SetSkipAttributeTransform(static_cast<draco::GeometryAttribute::Type>(t));
 	auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
 	if (!decoded.ok())
-		return bits;
+		return found;
 	const draco::Mesh& mesh = *decoded.value();
 	for (int i = 0; i < mesh.num_attributes(); ++i) {
 		const draco::PointAttribute& a = *mesh.attribute(i);
 		draco::AttributeQuantizationTransform q;
 		draco::AttributeOctahedronTransform o;
-		if (q.InitFromAttribute(a))
-			bits.emplace_back(a.unique_id(), q.quantization_bits());
-		else if (o.InitFromAttribute(a))
-			bits.emplace_back(a.unique_id(), o.quantization_bits());
+		quantization f{a.unique_id(), 0, vn_drc_grid{}};
+		if (q.InitFromAttribute(a)) {
+			f.bits = q.quantization_bits();
+			if (q.min_values().size() >= 1 && q.min_values().size() <= 4) {
+				f.grid.bits = f.bits;
+				for (size_t c = 0; c < q.min_values().size(); ++c)
+					f.grid.origin[c] = q.min_value(int(c));
+				f.grid.range = q.range();
+			}
+		} else if (o.InitFromAttribute(a)) {
+			f.bits = o.quantization_bits();
+		}
+		found.push_back(f);
 	}
-	return bits;
+	return found;
 }
 
-/* libdraco sizes its connectivity tables from the counts a stream declares,
- * before it reads the data that would contradict them: a 163-byte stream
- * found by fuzzing made it allocate 4.6 GB. So the counts are read first, as
- * libdraco's mesh decoders read them for each bitstream version (fixed
- * 32-bit before 2.2, varints from 2.2; edgebreaker's vertex count varint
- * from 2.0), and a stream declaring more faces or points than max_per_byte
- * per byte of itself is refused: edgebreaker's best ratios on real meshes are
- * a few triangles per byte. Returns why a stream is refused, or an empty
- * string (also when the counts cannot be read: the decoder then says why). */
-constexpr uint64_t max_per_byte = 4096;
-
-std::string implausible(const void* data, size_t size)
+/* The counts a mesh stream declares, read as Draco 1.5.5 reads them
+ * (point_cloud_decoder.cc, mesh_sequential_decoder.cc,
+ * mesh_edgebreaker_decoder.cc and mesh_edgebreaker_decoder_impl.cc):
+ *
+ *   header: "DRACO", major, minor, geometry type, method, uint16 flags;
+ *   metadata from 1.3 when flagged;
+ *   sequential: faces, points: uint32 before 2.2, varints from 2.2;
+ *   edgebreaker: uint8 traversal decoder type; before 2.2 the new vertex
+ *   count (uint32 before 2.0, varint in 2.0 and 2.1); encoded vertices,
+ *   faces; uint8 attribute data count; encoded symbols, split symbols:
+ *   uint32 before 2.0, varints from 2.0.
+ *
+ * Draco accepts major versions 1 and 2 up to 2.2 for meshes. */
+bool declared_counts(const void* data, size_t size, uint32_t* faces, uint64_t* vertices)
 {
 	draco::DecoderBuffer b;
 	b.Init(static_cast<const char*>(data), size);
 	draco::DracoHeader h;
-	if (!draco::PointCloudDecoder::DecodeHeader(&b, &h).ok())
-		return "";
+	if (!draco::PointCloudDecoder::DecodeHeader(&b, &h).ok() || h.encoder_type != draco::TRIANGULAR_MESH)
+		return false;
 	const unsigned version = unsigned(h.version_major) << 8 | h.version_minor;
-	if (h.flags & METADATA_FLAG_MASK) {
+	if (h.version_major < 1 || version > 0x0202)
+		return false;
+	b.set_bitstream_version(uint16_t(version));
+	if (version >= 0x0103 && (h.flags & METADATA_FLAG_MASK)) {
 		draco::GeometryMetadata metadata;
 		draco::MetadataDecoder reader;
 		if (!reader.DecodeGeometryMetadata(&b, &metadata))
-			return "";
+			return false;
 	}
+	/* A count stored as uint32 before version `varint_from`, a varint from it. */
 	auto count = [&](unsigned varint_from, uint32_t* out) {
 		return version < varint_from ? b.Decode(out) : draco::DecodeVarint(out, &b);
 	};
-	uint32_t faces = 0, points = 0, new_vertices = 0;
-	uint8_t traversal;
 	if (h.encoder_method == draco::MESH_SEQUENTIAL_ENCODING) {
-		if (!count(0x0202, &faces) || !count(0x0202, &points))
-			return "";
-	} else if (h.encoder_method == draco::MESH_EDGEBREAKER_ENCODING) {
-		if (!b.Decode(&traversal) || (version < 0x0202 && !b.Decode(&new_vertices)) || !count(0x0200, &points) ||
-		    !count(0x0202, &faces))
-			return "";
+		uint32_t points;
+		if (!count(0x0202, faces) || !count(0x0202, &points))
+			return false;
+		*vertices = points;
+		return true;
 	}
-	if (faces > max_per_byte * size || points > max_per_byte * size)
-		return "the stream declares " + std::to_string(faces) + " faces and " + std::to_string(points) +
-		       " points in " + std::to_string(size) + " bytes: corrupt or hostile";
-	return "";
+	if (h.encoder_method != draco::MESH_EDGEBREAKER_ENCODING)
+		return false;
+	uint8_t traversal, attribute_data;
+	uint32_t new_vertices, encoded_vertices, symbols, split_symbols;
+	if (!b.Decode(&traversal) || (version < 0x0202 && !count(0x0200, &new_vertices)) ||
+	    !count(0x0200, &encoded_vertices) || !count(0x0200, faces) || !b.Decode(&attribute_data) ||
+	    !count(0x0200, &symbols) || !count(0x0200, &split_symbols))
+		return false;
+	*vertices = uint64_t(encoded_vertices) + split_symbols;
+	return true;
 }
+
+/* libdraco sizes its connectivity tables from the counts a stream declares,
+ * before it reads the data that would contradict them: a 163-byte stream
+ * found by fuzzing made it allocate 4.6 GB. A stream is refused when its
+ * counts are both implausible for its size (more than max_per_byte faces or
+ * vertices per byte of stream: edgebreaker's best ratios on real meshes are
+ * a few triangles per byte) and more than Draco could allocate room for
+ * under memory_cap (about 40 bytes per face and 16 per vertex of tables):
+ * a stream within the cap is always left to Draco, so that no valid stream
+ * is called hostile. Returns why a stream is refused, or an empty string
+ * (also when the counts cannot be read: the decoder then says why). */
+constexpr uint64_t max_per_byte = 4096;
+constexpr uint64_t memory_cap = uint64_t(1) << 28;
+
+std::string implausible(const void* data, size_t size)
+{
+	uint32_t faces;
+	uint64_t vertices;
+	if (!declared_counts(data, size, &faces, &vertices))
+		return "";
+	const bool dense = faces > max_per_byte * size || vertices > max_per_byte * size;
+	if (!dense || 40 * uint64_t(faces) + 16 * vertices <= memory_cap)
+		return "";
+	return "the stream declares " + std::to_string(faces) + " faces and " + std::to_string(vertices) +
+	       " points in " + std::to_string(size) + " bytes: corrupt or hostile";
+}
+
+const char* const semantic_names[] = {"POSITION", "NORMAL", "COLOR", "TEX_COORD", "GENERIC",
+                                      "TANGENT", "MATERIAL", "JOINTS", "WEIGHTS"};
+static_assert(sizeof semantic_names / sizeof semantic_names[0] == vn_drc_semantic_count &&
+                  int(vn_drc_semantic_count) == int(draco::GeometryAttribute::NAMED_ATTRIBUTES_COUNT),
+              "a name per Draco attribute type");
 
 vn_io_result decode(const void* data, size_t size, const char* name, vn_drc_geometry* g, vn_io_error* error)
 {
@@ -157,7 +219,7 @@ vn_io_result decode(const void* data, size_t size, const char* name, vn_drc_geom
 		return vn_io_fail(error, vn_io_error_parse, "%s: corrupt Draco stream (%s)", name,
 		                  decoded.status().error_msg());
 	const draco::Mesh& mesh = *decoded.value();
-	const auto bits = quantization_bits(data, size);
+	const auto found = quantizations(data, size);
 
 	g->point_count = mesh.num_points();
 	g->triangle_count = mesh.num_faces();
@@ -166,6 +228,8 @@ vn_io_result decode(const void* data, size_t size, const char* name, vn_drc_geom
 	    static_cast<vn_drc_attribute*>(std::calloc(size_t(mesh.num_attributes()) + 1, sizeof(vn_drc_attribute)));
 	if (!g->indices || !g->attributes)
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+	if (mesh.GetMetadata())
+		g->metadata = new draco::GeometryMetadata(*mesh.GetMetadata());
 	for (draco::FaceIndex f(0); f < mesh.num_faces(); ++f)
 		for (int k = 0; k < 3; ++k) {
 			const uint32_t v = mesh.face(f)[k].value();
@@ -174,21 +238,31 @@ vn_io_result decode(const void* data, size_t size, const char* name, vn_drc_geom
 				                  g->point_count);
 			g->indices[3 * f.value() + k] = v;
 		}
+	/* Streams before version 1.3 carry no unique ids (Draco 1.5.5 leaves
+	 * them all 0): such attributes are numbered in their order. */
+	bool numbered = true;
+	for (int i = 0; i < mesh.num_attributes(); ++i)
+		for (int j = 0; j < i; ++j)
+			numbered = numbered && mesh.attribute(i)->unique_id() != mesh.attribute(j)->unique_id();
 	for (int i = 0; i < mesh.num_attributes(); ++i) {
 		const draco::PointAttribute& a = *mesh.attribute(i);
 		vn_drc_attribute& out = g->attributes[g->attribute_count];
-		out.unique_id = a.unique_id();
+		out.unique_id = numbered ? a.unique_id() : uint32_t(i);
 		out.semantic = a.attribute_type();
 		out.component_type = gl_type(a.data_type());
 		out.components = a.num_components();
 		out.normalized = a.normalized();
-		if (out.semantic < vn_drc_position || out.semantic > vn_drc_generic || !out.component_type ||
+		if (out.semantic < vn_drc_position || out.semantic >= vn_drc_semantic_count || !out.component_type ||
 		    out.components < 1 || out.components > 4)
 			return vn_io_fail(error, vn_io_error_unsupported,
 			                  "%s: attribute %u has a type or size vn does not handle", name, out.unique_id);
-		for (const auto& b : bits)
-			if (b.first == out.unique_id)
-				out.quantization_bits = b.second;
+		if (found.size() == size_t(mesh.num_attributes()) && found[size_t(i)].unique_id == a.unique_id() &&
+		    out.component_type == vn_drc_float32) {
+			const quantization& q = found[size_t(i)];
+			out.quantization_bits = q.bits;
+			if (q.grid.bits && out.semantic != vn_drc_normal && q.grid.bits == q.bits)
+				out.grid = q.grid;
+		}
 		const size_t n = value_bytes(out);
 		if (a.byte_stride() < int64_t(n))
 			return vn_io_fail(error, vn_io_error_parse, "%s: attribute %u is shorter than its type", name,
@@ -201,6 +275,76 @@ vn_io_result decode(const void* data, size_t size, const char* name, vn_drc_geom
 			std::memcpy(static_cast<char*>(out.data) + n * p.value(), a.GetAddress(a.mapped_index(p)), n);
 	}
 	return vn_io_success;
+}
+
+/* Whether float attribute a can be quantized on its own grid: bits as the
+ * grid's, not NORMAL, and every value within half a step of the grid's box
+ * (Draco's quantizer rounds to the nearest step). */
+bool on_grid(const vn_drc_attribute& a, size_t points)
+{
+	const vn_drc_grid& grid = a.grid;
+	if (grid.bits <= 0 || grid.bits != a.quantization_bits || a.semantic == vn_drc_normal ||
+	    a.component_type != vn_drc_float32 || !(grid.range > 0) || !std::isfinite(grid.range))
+		return false;
+	const double steps = double((uint64_t(1) << grid.bits) - 1), scale = steps / grid.range;
+	const float* v = static_cast<const float*>(a.data);
+	for (size_t i = 0; i < points * size_t(a.components); ++i) {
+		const double q = (double(v[i]) - grid.origin[i % size_t(a.components)]) * scale;
+		if (!(q >= -0.25 && q <= steps + 0.25))
+			return false;
+	}
+	return true;
+}
+
+/* Tells encoder to quantize Draco attribute id on a's grid. Draco 1.5.5's
+ * SetAttributeExplicitQuantization keeps the origin and range as options
+ * written with std::to_string, six decimals (0.44509998 comes back as
+ * 0.4451001): the options are set again with every digit a float needs,
+ * which Draco's strtof and atof read back exactly. */
+void set_grid(draco::ExpertEncoder* encoder, int id, const vn_drc_attribute& a)
+{
+	encoder->SetAttributeExplicitQuantization(id, a.grid.bits, a.components, a.grid.origin, a.grid.range);
+	const draco::Options* set = encoder->options().FindAttributeOptions(id);
+	if (!set)
+		return;
+	draco::Options options = *set;
+	auto exact = [](float v) {
+		char text[40];
+		std::snprintf(text, sizeof text, "%.17g", double(v));
+		return std::string(text);
+	};
+	std::string origin;
+	for (int c = 0; c < a.components; ++c)
+		origin += (c ? " " : "") + exact(a.grid.origin[c]);
+	options.SetString("quantization_origin", origin);
+	options.SetString("quantization_range", exact(a.grid.range));
+	encoder->options().SetAttributeOptions(id, options);
+}
+
+/* An error naming the first non-finite value of a float attribute that is
+ * to be quantized (Draco's quantizer crashes on NaN), or whose values span
+ * more than a float holds; empty when there is none. */
+std::string unquantizable(const vn_drc_attribute& a, size_t points)
+{
+	if (a.component_type != vn_drc_float32 || a.quantization_bits <= 0)
+		return "";
+	const size_t k = size_t(a.components);
+	const float* v = static_cast<const float*>(a.data);
+	const char* what = a.semantic >= 0 && a.semantic < vn_drc_semantic_count ? semantic_names[a.semantic] : "?";
+	std::vector<float> lo(k, INFINITY), hi(k, -INFINITY);
+	for (size_t p = 0; p < points; ++p)
+		for (size_t c = 0; c < k; ++c) {
+			const float x = v[k * p + c];
+			if (!std::isfinite(x))
+				return "attribute " + std::to_string(a.unique_id) + " (" + what + ") has a non-finite value at point " +
+				       std::to_string(p) + ", which Draco cannot quantize";
+			lo[c] = std::min(lo[c], x), hi[c] = std::max(hi[c], x);
+		}
+	for (size_t c = 0; c < k && points && a.semantic != vn_drc_normal; ++c)
+		if (!std::isfinite(hi[c] - lo[c]))
+			return "attribute " + std::to_string(a.unique_id) + " (" + what +
+			       ") spans more than a float can hold, which Draco cannot quantize";
+	return "";
 }
 
 vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const char* name, std::vector<char>* bytes,
@@ -229,11 +373,11 @@ vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const 
 		}
 		mesh.AddFace(face);
 	}
-	std::vector<std::pair<int, int>> quantize; // Draco attribute id, bits
+	std::vector<std::pair<int, const vn_drc_attribute*>> quantize; // Draco attribute id, attribute
 	for (size_t i = 0; i < g->attribute_count; ++i) {
 		const vn_drc_attribute& a = g->attributes[i];
 		const draco::DataType type = draco_type(a.component_type);
-		if (type == draco::DT_INVALID || a.semantic < vn_drc_position || a.semantic > vn_drc_generic ||
+		if (type == draco::DT_INVALID || a.semantic < vn_drc_position || a.semantic >= vn_drc_semantic_count ||
 		    a.components < 1 || a.components > 4 || a.quantization_bits < 0 || a.quantization_bits > VN_DRC_MAX_BITS)
 			return vn_io_fail(error, vn_io_error_unsupported, "%s: attribute %u has a type, size or bits Draco does not take",
 			                  name, a.unique_id);
@@ -244,6 +388,9 @@ vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const 
 			if (g->attributes[j].unique_id == a.unique_id)
 				return vn_io_fail(error, vn_io_error_unsupported, "%s: two attributes have unique id %u", name,
 				                  a.unique_id);
+		const std::string bad = unquantizable(a, g->point_count);
+		if (!bad.empty())
+			return vn_io_fail(error, vn_io_error_unsupported, "%s: %s", name, bad.c_str());
 		const size_t n = value_bytes(a);
 		draco::GeometryAttribute ga;
 		ga.Init(static_cast<draco::GeometryAttribute::Type>(a.semantic), nullptr, uint8_t(a.components), type,
@@ -254,15 +401,35 @@ vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const 
 		for (size_t p = 0; p < g->point_count; ++p)
 			pa->SetAttributeValue(draco::AttributeValueIndex(uint32_t(p)), static_cast<const char*>(a.data) + n * p);
 		if (type == draco::DT_FLOAT32 && a.quantization_bits > 0)
-			quantize.emplace_back(id, a.quantization_bits);
+			quantize.emplace_back(id, &a);
 	}
+	/* The metadata, with the attribute metadata of the unique ids kept
+	 * (AddAttributeMetadata files it under the attribute's unique id). */
+	if (const auto* metadata = static_cast<const draco::GeometryMetadata*>(g->metadata)) {
+		mesh.AddMetadata(std::unique_ptr<draco::GeometryMetadata>(
+		    new draco::GeometryMetadata(static_cast<const draco::Metadata&>(*metadata))));
+		for (int id = 0; id < mesh.num_attributes(); ++id)
+			if (const draco::AttributeMetadata* m = metadata->GetAttributeMetadataByUniqueId(
+			        int32_t(mesh.attribute(id)->unique_id())))
+				mesh.AddAttributeMetadata(id, std::unique_ptr<draco::AttributeMetadata>(new draco::AttributeMetadata(*m)));
+	}
+	/* A float attribute decoded from a grid is quantized on it again (same
+	 * integers, same decoded values) when its bits did not change. */
+	std::vector<bool> explicit_grid;
+	for (const auto& q : quantize)
+		explicit_grid.push_back(on_grid(*q.second, g->point_count));
 	/* Levels below 10 pick edgebreaker, which splits non-manifold vertices
 	 * and drops degenerate triangles; the sequential method keeps every point
 	 * and triangle, so it is the fallback when edgebreaker changed a count. */
 	for (const bool sequential : {level == 10 || keep_order, true}) {
 		draco::ExpertEncoder encoder(mesh);
-		for (const auto& q : quantize)
-			encoder.SetAttributeQuantization(q.first, q.second);
+		for (size_t i = 0; i < quantize.size(); ++i) {
+			const vn_drc_attribute& a = *quantize[i].second;
+			if (explicit_grid[i])
+				set_grid(&encoder, quantize[i].first, a);
+			else
+				encoder.SetAttributeQuantization(quantize[i].first, a.quantization_bits);
+		}
 		encoder.SetSpeedOptions(10 - level, 10 - level);
 		if (sequential)
 			encoder.SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);
@@ -291,12 +458,11 @@ struct geometry_builder {
 	std::vector<uint32_t> kept; /* the mesh vertex of each point; empty: point i is vertex i */
 	std::vector<vn_drc_attribute> attributes;
 	std::vector<std::vector<char>> storage;
+	std::unique_ptr<draco::GeometryMetadata> metadata;
 
-	template <typename T>
-	void add(int semantic, int type, int components, int normalized, int bits, std::vector<T> values)
+	void add_bytes(int semantic, int type, int components, int normalized, int bits, std::vector<char> bytes)
 	{
-		storage.emplace_back(reinterpret_cast<const char*>(values.data()),
-		                     reinterpret_cast<const char*>(values.data() + values.size()));
+		storage.push_back(std::move(bytes));
 		vn_drc_attribute a{};
 		a.unique_id = uint32_t(attributes.size());
 		a.semantic = semantic;
@@ -308,20 +474,35 @@ struct geometry_builder {
 		attributes.push_back(a);
 	}
 
+	template <typename T>
+	void add(int semantic, int type, int components, int normalized, int bits, const std::vector<T>& values)
+	{
+		add_bytes(semantic, type, components, normalized, bits,
+		          std::vector<char>(reinterpret_cast<const char*>(values.data()),
+		                            reinterpret_cast<const char*>(values.data() + values.size())));
+	}
+
 	const vn_drc_geometry* get()
 	{
 		g.indices = indices.data();
 		g.triangle_count = indices.size() / 3;
+		for (size_t i = 0; i < attributes.size(); ++i)
+			attributes[i].data = storage[i].data();
 		g.attributes = attributes.data();
 		g.attribute_count = attributes.size();
+		g.metadata = metadata.get();
 		return &g;
 	}
 };
 
 /* The mesh as Draco attributes: positions, normals, texcoords, colours (bytes
- * when the source had bytes: lossless), polygons fan-triangulated. Draco's
- * decoders refuse more points than 3 per triangle, so a mesh with that many
- * keeps only the vertices faces use (in their order; b->kept lists them). */
+ * when the source had bytes: lossless), then every attribute of
+ * mesh->attributes (TEXCOORD_n and COLOR_n as TEX_COORD and COLOR, floats
+ * quantized with the texcoord and colour bits; the others GENERIC, named in
+ * their attribute metadata as "name" without the leading underscore, and
+ * lossless, as are integers), polygons fan-triangulated. Draco's decoders
+ * refuse more points than 3 per triangle, so a mesh with that many keeps
+ * only the vertices faces use (in their order; b->kept lists them). */
 void build(const vn_io_mesh* mesh, const vn_drc_options& o, geometry_builder* b)
 {
 	const size_t n = mesh->vertex_count;
@@ -364,6 +545,30 @@ void build(const vn_io_mesh* mesh, const vn_drc_options& o, geometry_builder* b)
 	} else if (mesh->colors) {
 		b->add(vn_drc_color, vn_drc_float32, 4, 0, o.color_bits, rows(mesh->colors, 4));
 	}
+	for (size_t i = 0; i < mesh->attribute_count; ++i) {
+		const vn_io_attribute& a = mesh->attributes[i];
+		const size_t size = vn_io_component_size(a.component_type) * size_t(a.components);
+		if (!size || a.components < 1 || a.components > 4 || !a.data)
+			continue;
+		std::vector<char> bytes(size * b->g.point_count);
+		for (size_t p = 0; p < b->g.point_count; ++p)
+			std::memcpy(&bytes[size * p], static_cast<const char*>(a.data) + size * (b->kept.empty() ? p : b->kept[p]),
+			            size);
+		const bool real = a.component_type == vn_drc_float32;
+		const int semantic = a.semantic == vn_io_semantic_texcoord ? vn_drc_texcoord
+		                     : a.semantic == vn_io_semantic_color  ? vn_drc_color
+		                                                           : vn_drc_generic;
+		const int bits = !real ? 0 : semantic == vn_drc_texcoord ? o.texcoord_bits : semantic == vn_drc_color ? o.color_bits : 0;
+		b->add_bytes(semantic, a.component_type, a.components, a.normalized != 0, bits, std::move(bytes));
+		if (semantic == vn_drc_generic && a.name[0] == '_' && a.name[1]) {
+			if (!b->metadata)
+				b->metadata.reset(new draco::GeometryMetadata());
+			std::unique_ptr<draco::AttributeMetadata> m(new draco::AttributeMetadata());
+			m->set_att_unique_id(b->attributes.back().unique_id);
+			m->AddEntryString("name", a.name + 1);
+			b->metadata->AddAttributeMetadata(std::move(m));
+		}
+	}
 }
 
 /* Integer colours scaled to [0, 1]; 0 for a type colours do not come in. */
@@ -405,24 +610,57 @@ bool copy_floats(const vn_drc_attribute* a, int components, size_t n, T** out)
 	return true;
 }
 
+/* What glTF can hold as TEXCOORD_n (2 floats, or normalized unsigned
+ * bytes or shorts) and COLOR_n (3 or 4 of those). */
+bool gltf_texcoord(const vn_drc_attribute& a)
+{
+	return a.components == 2 && (a.component_type == vn_drc_float32 ||
+	                             (a.normalized && (a.component_type == vn_drc_uint8 || a.component_type == vn_drc_uint16)));
+}
+
+bool gltf_color(const vn_drc_attribute& a)
+{
+	return (a.components == 3 || a.components == 4) &&
+	       (a.component_type == vn_drc_float32 ||
+	        (a.normalized && (a.component_type == vn_drc_uint8 || a.component_type == vn_drc_uint16)));
+}
+
+/* "_" and the attribute's metadata "name" in upper case, characters other
+ * than letters, digits and '_' as '_'; without a name "_GENERIC_<unique id>"
+ * (or the Draco type's name). */
+std::string application_name(const vn_drc_geometry& g, const vn_drc_attribute& a)
+{
+	std::string given;
+	if (const auto* metadata = static_cast<const draco::GeometryMetadata*>(g.metadata))
+		if (const draco::AttributeMetadata* m = metadata->GetAttributeMetadataByUniqueId(int32_t(a.unique_id)))
+			m->GetEntryString("name", &given);
+	std::string name = "_";
+	for (char c : given)
+		name += std::isalnum(static_cast<unsigned char>(c)) ? char(std::toupper(static_cast<unsigned char>(c))) : '_';
+	if (name.size() == 1)
+		name += std::string(semantic_names[a.semantic]) + "_" + std::to_string(a.unique_id);
+	return name.substr(0, sizeof(vn_io_attribute{}.name) - 1);
+}
+
 /* Decoded geometry into a vn_io_mesh; records the bits found in *found. */
 vn_io_result to_mesh(const vn_drc_geometry& g, const char* name, vn_io_mesh* mesh, vn_drc_options* found,
                      vn_io_error* error)
 {
 	const vn_drc_attribute* position = first(g, vn_drc_position);
 	const vn_drc_attribute* normal = first(g, vn_drc_normal);
-	const vn_drc_attribute* color = first(g, vn_drc_color);
+	const vn_drc_attribute* color = nullptr;
 	const vn_drc_attribute* texcoord = nullptr;
-	for (size_t i = 0; i < g.attribute_count; ++i)
-		if (!texcoord && g.attributes[i].semantic == vn_drc_texcoord && g.attributes[i].components == 2 &&
-		    g.attributes[i].component_type == vn_drc_float32)
-			texcoord = &g.attributes[i];
+	for (size_t i = 0; i < g.attribute_count; ++i) {
+		const vn_drc_attribute& a = g.attributes[i];
+		if (!texcoord && a.semantic == vn_drc_texcoord && a.components == 2 && a.component_type == vn_drc_float32)
+			texcoord = &a;
+		if (!color && a.semantic == vn_drc_color && a.components >= 3 && color_scale(a.component_type))
+			color = &a;
+	}
 	if (!position || position->components != 3 || position->component_type != vn_drc_float32)
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: no 3-component float POSITION", name);
 	if (normal && (normal->components != 3 || normal->component_type != vn_drc_float32))
-		return vn_io_fail(error, vn_io_error_unsupported, "%s: NORMAL is not 3 floats", name);
-	if (color && (color->components < 3 || !color_scale(color->component_type)))
-		return vn_io_fail(error, vn_io_error_unsupported, "%s: COLOR is not RGB(A) of float, uint8 or uint16", name);
+		normal = nullptr; /* replaced by the new normals; kept as an attribute below */
 
 	const size_t n = g.point_count;
 	mesh->vertex_count = n;
@@ -445,6 +683,30 @@ vn_io_result to_mesh(const vn_drc_geometry& g, const char* name, vn_io_mesh* mes
 				    k < color->components ? float(component(*color, color->components * i + k) * scale) : 1.0f;
 		mesh->colors_are_bytes = color->component_type == vn_drc_uint8;
 	}
+	/* Every other attribute: TEXCOORD_n and COLOR_n numbered after the
+	 * ones above, the rest application-specific ("_NAME"). */
+	int texcoords = texcoord ? 1 : 0, colors = color ? 1 : 0;
+	for (size_t i = 0; i < g.attribute_count; ++i) {
+		const vn_drc_attribute& a = g.attributes[i];
+		if (&a == position || &a == normal || &a == texcoord || &a == color)
+			continue;
+		std::string label;
+		int semantic = vn_io_semantic_generic;
+		if (a.semantic == vn_drc_texcoord && gltf_texcoord(a))
+			label = "TEXCOORD_" + std::to_string(texcoords++), semantic = vn_io_semantic_texcoord;
+		else if (a.semantic == vn_drc_color && gltf_color(a))
+			label = "COLOR_" + std::to_string(colors++), semantic = vn_io_semantic_color;
+		else
+			label = application_name(g, a);
+		for (size_t j = 0; j < mesh->attribute_count; ++j)
+			if (label == mesh->attributes[j].name)
+				label = label.substr(0, sizeof(vn_io_attribute{}.name) - 12) + "_" + std::to_string(a.unique_id);
+		vn_io_attribute* out =
+		    vn_io_mesh_add_attribute(mesh, label.c_str(), semantic, a.component_type, a.components, a.normalized);
+		if (!out)
+			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+		std::memcpy(out->data, a.data, value_bytes(a) * n);
+	}
 	if (found) {
 		const struct {
 			const vn_drc_attribute* a;
@@ -456,6 +718,174 @@ vn_io_result to_mesh(const vn_drc_geometry& g, const char* name, vn_io_mesh* mes
 		for (const auto& f : fields)
 			if (f.a && f.a->quantization_bits > 0)
 				*f.bits = f.a->quantization_bits;
+	}
+	return vn_io_success;
+}
+
+/* Owns a decoded geometry. */
+struct decoded_geometry {
+	vn_drc_geometry g{};
+	decoded_geometry() = default;
+	decoded_geometry(const decoded_geometry&) = delete;
+	decoded_geometry& operator=(const decoded_geometry&) = delete;
+	~decoded_geometry() { vn_drc_geometry_free(&g); }
+};
+
+double now()
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+/* vn_io_write_file's writer for bytes encoded beforehand (its settings). */
+vn_io_result write_bytes(FILE* out, const char* path, const vn_io_mesh*, const void* settings, vn_io_error* error)
+{
+	const auto& bytes = *static_cast<const std::vector<char>*>(settings);
+	if (std::fwrite(bytes.data(), 1, bytes.size(), out) != bytes.size())
+		return vn_io_fail(error, vn_io_error_write, "%s: cannot write", path);
+	return vn_io_success;
+}
+
+vn_io_result convert(const char* in, const char* out, const vn_drc_convert_options& o, vn_drc_convert_stats& st,
+                     vn_io_error* error)
+{
+	const double t0 = now();
+	decoded_geometry d;
+	{
+		char* data;
+		size_t size;
+		vn_io_result r = vn_io_read_all(in, &data, &size, error);
+		if (r != vn_io_success)
+			return r;
+		r = vn_drc_decode(data, size, in, &d.g, error);
+		std::free(data);
+		if (r != vn_io_success)
+			return r;
+	}
+	const vn_drc_geometry& g = d.g;
+	const vn_drc_attribute* position = first(g, vn_drc_position);
+	if (!position || position->components != 3 || position->component_type != vn_drc_float32)
+		return vn_io_fail(error, vn_io_error_unsupported, "%s: no 3-component float POSITION", in);
+	const float* p = static_cast<const float*>(position->data);
+	for (size_t i = 0; i < g.point_count; ++i)
+		if (!std::isfinite(p[3 * i]) || !std::isfinite(p[3 * i + 1]) || !std::isfinite(p[3 * i + 2]))
+			return vn_io_fail(error, vn_io_error_unsupported,
+			                  "%s: point %zu has a non-finite position (%g, %g, %g), which no output can hold", in, i,
+			                  double(p[3 * i]), double(p[3 * i + 1]), double(p[3 * i + 2]));
+	const double t1 = now();
+
+	std::vector<float> normals(3 * g.point_count + 3);
+	const vn_positions positions = {p, g.point_count, 0, vn_scalar_float32};
+	const vn_vectors vectors = {normals.data(), 0, vn_scalar_float32};
+	vn_options vo;
+	std::memset(&vo, 0, sizeof vo);
+	vo.threads = o.threads;
+	const vn_result vr =
+	    vn_triangle_normals(&vectors, &positions, g.indices, 3 * g.triangle_count, o.method, &vo, &st.normals);
+	if (vr != vn_result_success)
+		return vn_io_fail(error, vr == vn_result_out_of_memory ? vn_io_error_memory : vn_io_error_unsupported,
+		                  "%s: %s", in, vn_result_string(vr));
+	const double t2 = now();
+
+	/* Every attribute as decoded, NORMAL replaced (or added), bits given
+	 * for a semantic replacing the stream's. */
+	vn_drc_options defaults;
+	vn_drc_default_options(&defaults);
+	const vn_drc_options& given = o.given;
+	std::vector<vn_drc_attribute> attributes(g.attributes, g.attributes + g.attribute_count);
+	vn_drc_attribute* normal = nullptr;
+	for (vn_drc_attribute& a : attributes)
+		if (a.semantic == vn_drc_normal) {
+			normal = &a;
+			break;
+		}
+	if (!normal) {
+		vn_drc_attribute a{};
+		for (const vn_drc_attribute& b : attributes)
+			a.unique_id = std::max(a.unique_id, b.unique_id + 1);
+		a.semantic = vn_drc_normal;
+		attributes.push_back(a);
+		normal = &attributes.back();
+	}
+	const int normal_bits = given.normal_bits >= 0 ? given.normal_bits
+	                        : normal->component_type == vn_drc_float32 && normal->quantization_bits > 0
+	                            ? normal->quantization_bits
+	                            : defaults.normal_bits;
+	normal->component_type = vn_drc_float32;
+	normal->components = 3;
+	normal->normalized = 0;
+	normal->quantization_bits = normal_bits;
+	normal->grid = vn_drc_grid{};
+	normal->data = normals.data();
+	for (vn_drc_attribute& a : attributes) {
+		const int bits = a.component_type != vn_drc_float32 ? -1
+		                 : a.semantic == vn_drc_position  ? given.position_bits
+		                 : a.semantic == vn_drc_texcoord  ? given.texcoord_bits
+		                 : a.semantic == vn_drc_color     ? given.color_bits
+		                                                  : -1;
+		if (bits >= 0)
+			a.quantization_bits = bits;
+	}
+	st.points = g.point_count;
+	st.triangles = g.triangle_count;
+	st.attributes = attributes.size();
+	st.used = defaults;
+	st.used.normal_bits = normal_bits;
+	st.used.compression_level = given.compression_level >= 0 ? given.compression_level : defaults.compression_level;
+	const struct {
+		int semantic;
+		int* bits;
+	} used[] = {{vn_drc_position, &st.used.position_bits},
+	            {vn_drc_texcoord, &st.used.texcoord_bits},
+	            {vn_drc_color, &st.used.color_bits}};
+	for (const auto& u : used) {
+		bool seen = false;
+		for (const vn_drc_attribute& a : attributes)
+			if (!seen && a.semantic == u.semantic && a.component_type == vn_drc_float32) {
+				seen = true;
+				if (a.quantization_bits > 0)
+					*u.bits = a.quantization_bits;
+			}
+	}
+	for (const auto& u : {std::make_pair(given.position_bits, &st.used.position_bits),
+	                      std::make_pair(given.texcoord_bits, &st.used.texcoord_bits),
+	                      std::make_pair(given.color_bits, &st.used.color_bits)})
+		if (u.first >= 0)
+			*u.second = u.first;
+
+	vn_drc_geometry h = g;
+	h.attributes = attributes.data();
+	h.attribute_count = attributes.size();
+	std::vector<char> bytes;
+	vn_io_result r = encode(&h, st.used.compression_level, false, out, &bytes, error);
+	if (r != vn_io_success)
+		return r;
+	const vn_io_format writer = {"drc", ".drc", "Draco", nullptr, write_bytes, 0};
+	vn_io_mesh none;
+	std::memset(&none, 0, sizeof none);
+	if ((r = vn_io_write_file(out, &writer, &none, &bytes, error)) != vn_io_success)
+		return r;
+	const double t3 = now();
+	st.read_seconds = t1 - t0;
+	st.normals_seconds = t2 - t1;
+	st.write_seconds = t3 - t2;
+
+	if (o.normal_error) {
+		vn_io_mesh m;
+		std::memset(&m, 0, sizeof m);
+		std::vector<double> xyz(p, p + 3 * g.point_count), nxyz(normals.begin(), normals.begin() + 3 * g.point_count);
+		std::vector<uint32_t> offsets(g.triangle_count + 1);
+		for (size_t f = 0; f <= g.triangle_count; ++f)
+			offsets[f] = uint32_t(3 * f);
+		m.vertex_count = g.point_count;
+		m.positions = xyz.data();
+		m.normals = nxyz.data();
+		m.face_count = g.triangle_count;
+		m.face_offsets = offsets.data();
+		m.indices = g.indices;
+		if ((r = vn_drc_normal_error_of(&m, &st.used, out, &st.normal_error, error)) != vn_io_success)
+			return r;
 	}
 	return vn_io_success;
 }
@@ -472,6 +902,7 @@ void vn_drc_geometry_free(vn_drc_geometry* g)
 		std::free(g->attributes[i].data);
 	std::free(g->attributes);
 	std::free(g->indices);
+	delete static_cast<draco::GeometryMetadata*>(g->metadata);
 	*g = vn_drc_geometry{};
 }
 
@@ -520,6 +951,7 @@ void vn_drc_default_options(vn_drc_options* o)
 
 vn_io_result vn_drc_read_file(const char* path, vn_io_mesh* mesh, vn_drc_options* found, vn_io_error* error)
 {
+	std::memset(mesh, 0, sizeof *mesh);
 	char* data;
 	size_t size;
 	vn_io_result r = vn_io_read_all(path, &data, &size, error);
@@ -563,6 +995,30 @@ vn_io_result vn_io_drc_write(FILE* out, const char* path, const vn_io_mesh* mesh
 		return vn_io_success;
 	} catch (const std::bad_alloc&) {
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);
+	}
+}
+
+int vn_drc_declared_counts(const void* data, size_t size, uint32_t* faces, uint64_t* vertices)
+{
+	*faces = 0;
+	*vertices = 0;
+	try {
+		return declared_counts(data, size, faces, vertices);
+	} catch (const std::bad_alloc&) {
+		return 0;
+	}
+}
+
+vn_io_result vn_drc_convert(const char* in, const char* out, const vn_drc_convert_options* options,
+                            vn_drc_convert_stats* stats, vn_io_error* error)
+{
+	vn_drc_convert_stats ignored;
+	vn_drc_convert_stats& st = stats ? *stats : ignored;
+	st = vn_drc_convert_stats{};
+	try {
+		return convert(in, out, *options, st, error);
+	} catch (const std::bad_alloc&) {
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", in);
 	}
 }
 

@@ -1,15 +1,21 @@
 /*
- * Draco (.drc) for vn_io, on Debian's libdraco (Draco 1.5.5). Three layers:
+ * Draco (.drc) for vn_io, on Debian's libdraco (Draco 1.5.5). Four layers:
  *
  *  - A geometry API in plain C structs (vn_drc_decode, vn_drc_encode):
- *    triangles plus any attributes, each keeping its Draco unique id, so
+ *    triangles plus any attributes, each keeping its Draco unique id and the
+ *    quantization grid it was decoded from, and the stream's metadata, so
  *    that glTF's KHR_draco_mesh_compression (which names attributes by
- *    unique id) can be built on it.
+ *    unique id) can be built on it and encoding decoded data again does not
+ *    move them.
  *
  *  - The format-table entries ("drc"): a Draco mesh to and from vn_io_mesh
- *    (positions, normals, the first 2-component TEX_COORD, the first COLOR;
- *    polygons fan-triangulated on writing). A point cloud is refused as
- *    unsupported.
+ *    (positions, normals, the first 2-component float TEX_COORD in
+ *    `texcoords`, the first RGB(A) COLOR in `colors`, every other attribute
+ *    in `attributes`; polygons fan-triangulated on writing). A point cloud
+ *    is refused as unsupported.
+ *
+ *  - vn_drc_convert: .drc to .drc keeping everything but NORMAL (every
+ *    attribute with its type, unique id, grid and metadata).
  *
  *  - vn_drc_read_file, which also reports the stream's quantization bits;
  *    writing with settings goes through vn_io_write_file with a
@@ -34,7 +40,14 @@ typedef enum vn_drc_semantic {
 	vn_drc_normal = 1,
 	vn_drc_color = 2,
 	vn_drc_texcoord = 3,
-	vn_drc_generic = 4
+	vn_drc_generic = 4,
+	/* Debian's libdraco is built with DRACO_TRANSCODER_SUPPORTED, whose
+	 * streams may also carry these. */
+	vn_drc_tangent = 5,
+	vn_drc_material = 6,
+	vn_drc_joints = 7,
+	vn_drc_weights = 8,
+	vn_drc_semantic_count = 9
 } vn_drc_semantic;
 
 /* Component types as glTF (and OpenGL) number them. */
@@ -48,6 +61,14 @@ enum {
 	vn_drc_float32 = 5126
 };
 
+/* A float attribute's quantization grid, as Draco stores it: quantized
+ * integer q of component c stands for origin[c] + q * (range / (2^bits - 1)). */
+typedef struct vn_drc_grid {
+	int bits; /* 0: none */
+	float origin[4];
+	float range;
+} vn_drc_grid;
+
 typedef struct vn_drc_attribute {
 	uint32_t unique_id;    /* Draco's id (what KHR_draco_mesh_compression refers to) */
 	int semantic;          /* a vn_drc_semantic (int: a stream may carry other values) */
@@ -60,6 +81,14 @@ typedef struct vn_drc_attribute {
 	 * integer attributes. */
 	int quantization_bits;
 	void* data;            /* point_count * components values, packed, point by point */
+	/* Decoding: the grid a quantized float attribute was decoded from (bits
+	 * 0 for lossless and integer attributes and for normals, which Draco
+	 * codes octahedrally). Encoding: a float attribute other than NORMAL
+	 * whose quantization_bits equal grid.bits, and whose values all lie on
+	 * the grid's box, is quantized on this grid, so that values decoded from
+	 * it decode again to the same values (no generation loss); otherwise a
+	 * new grid spans the values (Draco's default). Zero it for new data. */
+	vn_drc_grid grid;
 } vn_drc_attribute;
 
 typedef struct vn_drc_geometry {
@@ -68,6 +97,11 @@ typedef struct vn_drc_geometry {
 	uint32_t* indices; /* 3 per triangle, each < point_count */
 	size_t attribute_count;
 	vn_drc_attribute* attributes;
+	/* Opaque: the stream's metadata (Draco's GeometryMetadata: its entries
+	 * and each attribute's, by unique id), or NULL. Decoding allocates it
+	 * (vn_drc_geometry_free frees it); encoding writes it, with the
+	 * attribute metadata of the unique ids g has (others are left out). */
+	void* metadata;
 } vn_drc_geometry;
 
 /* Frees what vn_drc_decode allocated and zeroes *g; NULL is fine. */
@@ -75,7 +109,11 @@ void vn_drc_geometry_free(vn_drc_geometry* g);
 
 /* Decodes a Draco mesh bitstream into *g (zeroed first and on failure).
  * Float attributes come out dequantized as float32 (so POSITION is always
- * float32), integer ones in their own type. `name` starts error messages. */
+ * float32), integer ones in their own type, with their grid; the metadata
+ * too. A stream declaring more faces or points than could fit in its bytes
+ * and than Draco could allocate room for under a cap is refused before
+ * Draco sizes tables from them (vn_drc_declared_counts). `name` starts
+ * error messages. */
 vn_io_result vn_drc_decode(const void* data, size_t size, const char* name, vn_drc_geometry* g, vn_io_error* error);
 
 /* Encodes g as a Draco mesh at compression level 0..10 (draco_encoder's -cl:
@@ -86,10 +124,19 @@ vn_io_result vn_drc_decode(const void* data, size_t size, const char* name, vn_d
  * triangles), at level 10, and with keep_order (what data kept outside the
  * stream, such as glTF morph targets, need) the sequential method, which
  * keeps points and triangles in order, is used. Draco 1.5.5's decoder refuses
- * more points than 3 per triangle: such g is unsupported. `name` starts
- * error messages. */
+ * more points than 3 per triangle: such g is unsupported, as is a
+ * non-finite value in a float attribute to be quantized (the error names
+ * the attribute and the point). `name` starts error messages. */
 vn_io_result vn_drc_encode(const vn_drc_geometry* g, int compression_level, int keep_order, const char* name,
                            void** data, size_t* size, vn_io_error* error);
+
+/* The face and point counts a Draco stream's connectivity header declares,
+ * read as Draco 1.5.5's mesh decoders read them for each bitstream version
+ * they accept (1.0 to 2.2; edgebreaker and sequential): *faces and
+ * *vertices (edgebreaker: encoded vertices plus split symbols, what it
+ * sizes its tables with). Returns 0 when the header cannot be read that far
+ * (not a mesh, unknown method or version, truncated): Draco then says why. */
+int vn_drc_declared_counts(const void* data, size_t size, uint32_t* faces, uint64_t* vertices);
 
 /* ------------------------------------------------------------------ vn_io */
 
@@ -126,6 +173,38 @@ typedef struct vn_drc_normal_error {
 } vn_drc_normal_error;
 vn_io_result vn_drc_normal_error_of(const vn_io_mesh* mesh, const vn_drc_options* options, const char* name,
                                     vn_drc_normal_error* out, vn_io_error* error);
+
+/* ------------------------------------------------------------------ .drc to .drc */
+
+typedef struct vn_drc_convert_options {
+	vn_method method;
+	unsigned threads;
+	/* Each field -1 to keep the input's: an attribute's own bits (and grid),
+	 * NORMAL's bits or 10, level 7; else the bits for every float attribute
+	 * of that semantic (a new grid where they differ) and the level. */
+	vn_drc_options given;
+	int normal_error; /* fill vn_drc_convert_stats.normal_error (--stats) */
+} vn_drc_convert_options;
+
+typedef struct vn_drc_convert_stats {
+	size_t points, triangles, attributes;
+	vn_stats normals;      /* what libvn reported */
+	vn_drc_options used;   /* the bits of POSITION, NORMAL, the first TEX_COORD and
+	                          COLOR (else the defaults) and the level */
+	vn_drc_normal_error normal_error;
+	double read_seconds, normals_seconds, write_seconds;
+} vn_drc_convert_stats;
+
+/* Reads the Draco mesh `in`, recomputes its normals with options->method
+ * and writes it to `out` (atomically, as vn_io_write_file) with everything
+ * else kept: every attribute with its type, unique id, bits, grid (so its
+ * decoded values are the input's) and metadata, the geometry metadata. Only
+ * NORMAL (the first) is replaced, or added with the next free unique id.
+ * Points and triangles may come out in another order (edgebreaker), as
+ * from any Draco encoder. A non-finite position is refused before anything
+ * is written. stats may be NULL. */
+vn_io_result vn_drc_convert(const char* in, const char* out, const vn_drc_convert_options* options,
+                            vn_drc_convert_stats* stats, vn_io_error* error);
 
 #ifdef __cplusplus
 }

@@ -56,6 +56,10 @@ static void usage(FILE* out)
 	        "      --draco-qt BITS    texture coordinates, 1 to 30 [12]\n"
 	        "      --draco-qc BITS    float colours, 1 to 30 [8] (byte colours stay lossless)\n"
 	        "      --draco-cl LEVEL   compression level, 0 to 10 [7] (draco_encoder's -cl)\n"
+	        "  .drc to .drc keeps every attribute (type, unique id) and the metadata and replaces\n"
+	        "  only NORMAL. An attribute kept at its own bits is quantized on the input's own grid,\n"
+	        "  so it decodes to the input's values exactly (no generation loss); new bits (these\n"
+	        "  flags) mean a new grid, and values move by up to half a step of the new bits.\n"
 	        "\n"
 	        "formats:\n",
 	        tool_cpu_count());
@@ -368,6 +372,50 @@ static int convert_gltf(args* a)
 	return 0;
 }
 
+/* .drc to .drc: the document path of Draco, which keeps every attribute
+ * (type, unique id, grid) and the metadata, and replaces only NORMAL. */
+static int convert_drc(const args* a)
+{
+	vn_drc_convert_options o;
+	memset(&o, 0, sizeof o);
+	o.method = a->method;
+	o.threads = a->threads;
+	o.given = a->drc;
+	o.normal_error = a->stats;
+	vn_drc_convert_stats st;
+	vn_io_error err;
+	progress(a, "converting", a->in);
+	if (vn_drc_convert(a->in, a->out, &o, &st, &err) != vn_io_success)
+		die(1, "%s", err.message);
+	if (st.normals.zero_normals && !a->quiet)
+		fprintf(stderr,
+		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); written as the zero "
+		        "vector\n",
+		        prog, st.normals.zero_normals, st.points, noun(st.points, "vertex", "vertices"),
+		        noun(st.normals.zero_normals, "has", "have"));
+	if (a->stats) {
+		printf("input:              %s (%s)\n", a->in, a->in_format->name);
+		printf("output:             %s (%s)\n", a->out, a->out_format->name);
+		printf("method:             %s\n", vn_method_name(a->method));
+		printf("vertices:           %zu\n", st.points);
+		printf("faces:              %zu (triangles)\n", st.normals.faces);
+		printf("attributes:         %zu (NORMAL replaced, the others kept)\n", st.attributes);
+		printf("degenerate faces:   %zu\n", st.normals.degenerate_faces);
+		printf("zero normals:       %zu\n", st.normals.zero_normals);
+		printf("non-finite vertices: %zu\n", st.normals.nonfinite_vertices);
+		printf("threads:            %u\n", a->threads);
+		printf("time read:          %.3f ms\n", 1e3 * st.read_seconds);
+		printf("time normals:       %.3f ms\n", 1e3 * st.normals_seconds);
+		printf("time write:         %.3f ms\n", 1e3 * st.write_seconds);
+		printf("draco settings:     qp=%d qn=%d qt=%d qc=%d cl=%d\n", st.used.position_bits, st.used.normal_bits,
+		       st.used.texcoord_bits, st.used.color_bits, st.used.compression_level);
+		printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu %s)\n",
+		       st.normal_error.median_degrees, st.normal_error.max_degrees, st.used.normal_bits,
+		       st.normal_error.compared, noun(st.normal_error.compared, "normal", "normals"));
+	}
+	return 0;
+}
+
 int main(int argc, char** argv)
 {
 	tool_check_version(prog);
@@ -383,6 +431,8 @@ int main(int argc, char** argv)
 		die(1, "%s", err.message);
 	if (is_gltf(a.in_format) && is_gltf(a.out_format))
 		return convert_gltf(&a);
+	if (a.in_format == vn_io_format_by_name("drc") && a.out_format == vn_io_format_by_name("drc"))
+		return convert_drc(&a);
 
 	vn_io_mesh mesh;
 	memset(&mesh, 0, sizeof(mesh));
