@@ -133,6 +133,15 @@ check "a point cloud is unsupported" grep -q "point cloud" "$T/stderr"
 check_rejected "$VNC" "$HERE/data/draco/hostile-counts.drc" "$T/errors/none.drc" "$T/errors/keep.off"
 check "hostile counts: says why" grep -q "declares 387389207 faces .* in 163 bytes" "$T/stderr"
 check "no temporary files left" [ "$(ls -A "$T/errors")" = keep.off ]
+# A tetrahedron whose NORMAL is typed POSITION (found by fuzzing): Draco
+# 1.5.5's encoder crashes on two POSITIONs, so .drc output refuses it; glTF
+# output keeps the second as an attribute.
+run "$VNC" "$HERE/data/draco/two-positions.drc" "$T/errors/two.drc"
+check "two POSITIONs to .drc: exits 1, no crash" [ $rc -eq 1 ]
+check "two POSITIONs: says why" grep -q "both POSITION, which Draco cannot encode" "$T/stderr"
+check "two POSITIONs: no output, no temporary" [ "$(ls -A "$T/errors")" = keep.off ]
+run "$VNC" "$HERE/data/draco/two-positions.drc" "$T/two.glb" -q
+check "two POSITIONs to .glb: exits 0" [ $rc -eq 0 ]
 
 # .drc to .drc keeps everything but NORMAL: three conversions in a row give
 # the input's attributes (unique ids, types, metadata) and, at every

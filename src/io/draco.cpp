@@ -384,10 +384,17 @@ vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const 
 		if (a.semantic == vn_drc_normal && a.quantization_bits == 1)
 			return vn_io_fail(error, vn_io_error_unsupported, "%s: normals need 2 to %d quantization bits", name,
 			                  VN_DRC_MAX_BITS);
-		for (size_t j = 0; j < i; ++j)
+		for (size_t j = 0; j < i; ++j) {
 			if (g->attributes[j].unique_id == a.unique_id)
 				return vn_io_fail(error, vn_io_error_unsupported, "%s: two attributes have unique id %u", name,
 				                  a.unique_id);
+			/* Draco 1.5.5's edgebreaker encoder crashes on a second POSITION
+			 * (found by fuzzing: a stream whose NORMAL was typed POSITION). */
+			if (a.semantic == vn_drc_position && g->attributes[j].semantic == vn_drc_position)
+				return vn_io_fail(error, vn_io_error_unsupported,
+				                  "%s: attributes %u and %u are both POSITION, which Draco cannot encode", name,
+				                  g->attributes[j].unique_id, a.unique_id);
+		}
 		const std::string bad = unquantizable(a, g->point_count);
 		if (!bad.empty())
 			return vn_io_fail(error, vn_io_error_unsupported, "%s: %s", name, bad.c_str());
