@@ -14,7 +14,6 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,6 +22,7 @@
 #include <unistd.h>
 
 #include "off.h"
+#include "test_files.h"
 #include "vn_io.h"
 
 /* ------------------------------------------------------------------ helpers */
@@ -1162,18 +1162,7 @@ static void list_folder(const char* sub, char* out, size_t size)
 {
 	char path[256];
 	path_in_folder(path, sizeof path, sub);
-	struct dirent** entries;
-	int n = scandir(path, &entries, NULL, alphasort);
-	assert_true(n >= 0);
-	out[0] = '\0';
-	for (int i = 0; i < n; i++) {
-		if (strcmp(entries[i]->d_name, ".") != 0 && strcmp(entries[i]->d_name, "..") != 0) {
-			size_t used = strlen(out);
-			snprintf(out + used, size - used, "%s%s", used ? " " : "", entries[i]->d_name);
-		}
-		free(entries[i]);
-	}
-	free(entries);
+	assert_int_equal(list_names(path, out, size), 0);
 }
 
 static void test_failed_write_leaves_destination_untouched(void** state)
@@ -1424,29 +1413,6 @@ static void test_mesh_free_and_is_triangles(void** state)
 }
 
 /* ------------------------------------------------------------------ runner */
-
-static void remove_tree(const char* path)
-{
-	struct stat st;
-	if (lstat(path, &st) != 0)
-		return;
-	if (S_ISDIR(st.st_mode)) {
-		DIR* dir = opendir(path);
-		struct dirent* entry;
-		while (dir && (entry = readdir(dir))) {
-			if (strcmp(entry->d_name, ".") == 0 || strcmp(entry->d_name, "..") == 0)
-				continue;
-			char child[512];
-			snprintf(child, sizeof child, "%s/%s", path, entry->d_name);
-			remove_tree(child);
-		}
-		if (dir)
-			closedir(dir);
-		rmdir(path);
-	} else {
-		unlink(path);
-	}
-}
 
 int main(void)
 {

@@ -13,7 +13,6 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include <dirent.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,6 +23,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "test_files.h"
 #include "vn_io.h"
 
 /* ------------------------------------------------------------------ helpers */
@@ -55,27 +55,10 @@ static void assert_text(const char* path, const char* expected)
 	free(data);
 }
 
-/* The names in folder, sorted, joined by spaces. */
-static void list_folder(const char* folder, char* out, size_t size)
-{
-	struct dirent** entries;
-	int n = scandir(folder, &entries, NULL, alphasort);
-	assert_true(n >= 0);
-	out[0] = '\0';
-	for (int i = 0; i < n; i++) {
-		if (strcmp(entries[i]->d_name, ".") != 0 && strcmp(entries[i]->d_name, "..") != 0) {
-			size_t used = strlen(out);
-			snprintf(out + used, size - used, "%s%s", used ? " " : "", entries[i]->d_name);
-		}
-		free(entries[i]);
-	}
-	free(entries);
-}
-
 static void assert_listing(const char* folder, const char* expected)
 {
 	char names[4096];
-	list_folder(folder, names, sizeof names);
+	assert_int_equal(list_names(folder, names, sizeof names), 0);
 	assert_string_equal(names, expected);
 }
 
@@ -430,30 +413,6 @@ static void test_ignored_signal_stays_ignored(void** state)
 }
 
 /* ------------------------------------------------------------------ runner */
-
-static void remove_tree(const char* path)
-{
-	struct stat st;
-	if (lstat(path, &st) != 0)
-		return;
-	if (S_ISDIR(st.st_mode)) {
-		chmod(path, 0755);
-		DIR* dir = opendir(path);
-		struct dirent* entry;
-		while (dir && (entry = readdir(dir))) {
-			if (strcmp(entry->d_name, ".") == 0 || strcmp(entry->d_name, "..") == 0)
-				continue;
-			char child_path[1024];
-			snprintf(child_path, sizeof child_path, "%s/%s", path, entry->d_name);
-			remove_tree(child_path);
-		}
-		if (dir)
-			closedir(dir);
-		rmdir(path);
-	} else {
-		unlink(path);
-	}
-}
 
 int main(void)
 {
