@@ -1,0 +1,33 @@
+// Shared by decode.mjs and attributes.mjs: a .drc decoded as a mesh with the
+// npm draco3d decoder (Google's own, compiled to WebAssembly: independent of
+// Debian's libdraco). Exits 1 with a message when it is not one.
+import { createRequire } from "node:module";
+import { readFileSync } from "node:fs";
+import path from "node:path";
+
+// {m: the decoder module, decoder, mesh, indices: 3 per triangle}
+export async function decodeMesh(modules, file) {
+  const draco3d = createRequire(path.join(path.resolve(modules), "noop.js"))("draco3d");
+  const m = await draco3d.createDecoderModule({});
+  const bytes = readFileSync(file);
+  const buffer = new m.DecoderBuffer();
+  buffer.Init(new Int8Array(bytes.buffer, bytes.byteOffset, bytes.byteLength), bytes.byteLength);
+  const decoder = new m.Decoder();
+  if (decoder.GetEncodedGeometryType(buffer) !== m.TRIANGULAR_MESH) {
+    console.error(`${file}: not a Draco mesh`);
+    process.exit(1);
+  }
+  const mesh = new m.Mesh();
+  const status = decoder.DecodeBufferToMesh(buffer, mesh);
+  if (!status.ok()) {
+    console.error(`${file}: ${status.error_msg()}`);
+    process.exit(1);
+  }
+  const indices = [];
+  const face = new m.DracoInt32Array();
+  for (let f = 0; f < mesh.num_faces(); ++f) {
+    decoder.GetFaceFromMesh(mesh, f, face);
+    indices.push(face.GetValue(0), face.GetValue(1), face.GetValue(2));
+  }
+  return { m, decoder, mesh, indices };
+}
