@@ -826,11 +826,7 @@ vn_io_result convert(const char* in, const char* out, const vn_drc_convert_optio
 	normal->grid = vn_drc_grid{};
 	normal->data = normals.data();
 	for (vn_drc_attribute& a : attributes) {
-		const int bits = a.component_type != vn_drc_float32 ? -1
-		                 : a.semantic == vn_drc_position  ? given.position_bits
-		                 : a.semantic == vn_drc_texcoord  ? given.texcoord_bits
-		                 : a.semantic == vn_drc_color     ? given.color_bits
-		                                                  : -1;
+		const int bits = vn_drc_given_bits(&given, a.semantic, a.component_type);
 		if (bits >= 0)
 			a.quantization_bits = bits;
 	}
@@ -879,19 +875,9 @@ vn_io_result convert(const char* in, const char* out, const vn_drc_convert_optio
 	st.write_seconds = t3 - t2;
 
 	if (o.normal_error) {
-		vn_io_mesh m;
-		std::memset(&m, 0, sizeof m);
-		std::vector<double> xyz(p, p + 3 * g.point_count), nxyz(normals.begin(), normals.begin() + 3 * g.point_count);
-		std::vector<uint32_t> offsets(g.triangle_count + 1);
-		for (size_t f = 0; f <= g.triangle_count; ++f)
-			offsets[f] = uint32_t(3 * f);
-		m.vertex_count = g.point_count;
-		m.positions = xyz.data();
-		m.normals = nxyz.data();
-		m.face_count = g.triangle_count;
-		m.face_offsets = offsets.data();
-		m.indices = g.indices;
-		if ((r = vn_drc_normal_error_of(&m, &st.used, out, &st.normal_error, error)) != vn_io_success)
+		const std::vector<double> xyz(p, p + 3 * g.point_count), nxyz(normals.begin(), normals.begin() + 3 * g.point_count);
+		if ((r = vn_drc_triangle_normal_error(xyz.data(), nxyz.data(), g.point_count, g.indices, g.triangle_count,
+		                                      &st.used, out, &st.normal_error, error)) != vn_io_success)
 			return r;
 	}
 	return vn_io_success;
@@ -1026,6 +1012,41 @@ vn_io_result vn_drc_convert(const char* in, const char* out, const vn_drc_conver
 		return convert(in, out, *options, st, error);
 	} catch (const std::bad_alloc&) {
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", in);
+	}
+}
+
+int vn_drc_given_bits(const vn_drc_options* given, int semantic, int component_type)
+{
+	if (component_type != vn_drc_float32)
+		return -1; /* integers are lossless */
+	switch (semantic) {
+	case vn_drc_position: return given->position_bits;
+	case vn_drc_normal: return given->normal_bits;
+	case vn_drc_texcoord: return given->texcoord_bits;
+	case vn_drc_color: return given->color_bits;
+	default: return -1;
+	}
+}
+
+vn_io_result vn_drc_triangle_normal_error(const double* positions, const double* normals, size_t points,
+                                          const uint32_t* indices, size_t triangles, const vn_drc_options* options,
+                                          const char* name, vn_drc_normal_error* out, vn_io_error* error)
+{
+	try {
+		std::vector<uint32_t> offsets(triangles + 1);
+		for (size_t f = 0; f <= triangles; ++f)
+			offsets[f] = uint32_t(3 * f);
+		vn_io_mesh mesh;
+		std::memset(&mesh, 0, sizeof mesh);
+		mesh.vertex_count = points;
+		mesh.positions = const_cast<double*>(positions);
+		mesh.normals = const_cast<double*>(normals);
+		mesh.face_count = triangles;
+		mesh.face_offsets = offsets.data();
+		mesh.indices = const_cast<uint32_t*>(indices);
+		return vn_drc_normal_error_of(&mesh, options, name, out, error);
+	} catch (const std::bad_alloc&) {
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	}
 }
 

@@ -174,6 +174,17 @@ typedef struct vn_drc_normal_error {
 vn_io_result vn_drc_normal_error_of(const vn_io_mesh* mesh, const vn_drc_options* options, const char* name,
                                     vn_drc_normal_error* out, vn_io_error* error);
 
+/* As vn_drc_normal_error_of, for a triangle mesh given as `points` positions
+ * and normals (3 doubles each) and 3 * triangles indices. */
+vn_io_result vn_drc_triangle_normal_error(const double* positions, const double* normals, size_t points,
+                                          const uint32_t* indices, size_t triangles, const vn_drc_options* options,
+                                          const char* name, vn_drc_normal_error* out, vn_io_error* error);
+
+/* The bits `given` sets for a float32 attribute of `semantic` (its position,
+ * normal, texcoord or colour bits; -1 there: not given), else -1: integer
+ * attributes are lossless, other semantics have no setting. */
+int vn_drc_given_bits(const vn_drc_options* given, int semantic, int component_type);
+
 /* ------------------------------------------------------------------ .drc to .drc */
 
 typedef struct vn_drc_convert_options {

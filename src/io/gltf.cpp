@@ -1475,20 +1475,6 @@ void record_normals(quantized_normals& q, const primitive& p)
 		q.indices.push_back(first + renumbered[v]);
 }
 
-/* The bits --draco-qp/qn/qt/qc gave for attribute a (by semantic), or -1. */
-int given_bits(const vn_gltf_options& o, const vn_drc_attribute& a)
-{
-	if (a.component_type != vn_drc_float32)
-		return -1; /* integers are lossless */
-	switch (a.semantic) {
-	case vn_drc_position: return o.draco_options.position_bits;
-	case vn_drc_normal: return o.draco_options.normal_bits;
-	case vn_drc_texcoord: return o.draco_options.texcoord_bits;
-	case vn_drc_color: return o.draco_options.color_bits;
-	default: return -1;
-	}
-}
-
 /* Encodes Draco primitive p again with its new normals: the same attributes
  * (but a dropped TANGENT), unique ids and bits, except the bits given with
  * --draco-qp/qn/qt/qc (a NORMAL the data lacked gets the next unique id, a
@@ -1558,7 +1544,7 @@ void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_g
 	normal->data = const_cast<float*>(p.normals.data());
 	bool moved = false; /* positions quantized with other bits than the stream's */
 	for (vn_drc_attribute& a : attributes) {
-		const int given = given_bits(o, a);
+		const int given = vn_drc_given_bits(&o.draco_options, a.semantic, a.component_type);
 		if (given >= 0 && given != a.quantization_bits) {
 			moved = moved || a.semantic == vn_drc_position;
 			a.quantization_bits = given;
@@ -1682,21 +1668,12 @@ void normal_errors(const std::map<int, quantized_normals>& quantized, const vn_g
 {
 	for (const auto& kv : quantized) {
 		const quantized_normals& q = kv.second;
-		std::vector<uint32_t> offsets(q.indices.size() / 3 + 1);
-		for (size_t f = 0; f < offsets.size(); ++f)
-			offsets[f] = (uint32_t)(3 * f);
-		vn_io_mesh mesh;
-		memset(&mesh, 0, sizeof mesh);
-		mesh.vertex_count = q.positions.size() / 3;
-		mesh.positions = const_cast<double*>(q.positions.data());
-		mesh.normals = const_cast<double*>(q.normals.data());
-		mesh.face_count = q.indices.size() / 3;
-		mesh.face_offsets = offsets.data();
-		mesh.indices = const_cast<uint32_t*>(q.indices.data());
 		vn_drc_options options = draco_bits(o);
 		options.normal_bits = kv.first;
 		vn_io_error e;
-		const vn_io_result r = vn_drc_normal_error_of(&mesh, &options, "Draco normals", &st.draco_normal_error[kv.first], &e);
+		const vn_io_result r =
+		    vn_drc_triangle_normal_error(q.positions.data(), q.normals.data(), q.positions.size() / 3, q.indices.data(),
+		                                 q.indices.size() / 3, &options, "Draco normals", &st.draco_normal_error[kv.first], &e);
 		if (r != vn_io_success)
 			fail(r, e.message);
 	}
