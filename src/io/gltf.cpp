@@ -2219,38 +2219,44 @@ void mesh_from_document(const document& d, vn_io_mesh* mesh)
 	for (size_t f = 0; f <= triangles; ++f)
 		mesh->face_offsets[f] = (uint32_t)(3 * f);
 
-	/* Attribute names in first-seen order, with the first primitive's type. */
-	std::vector<std::pair<std::string, accessor>> names;
+	/* Attribute names in first-seen order. */
+	std::vector<std::string> names;
 	for (const primitive& p : prims)
-		for (auto& kv : d.j["meshes"][p.mesh]["primitives"][p.index]["attributes"].items()) {
-			std::vector<double> values;
-			accessor type;
-			if (kv.key() == "POSITION" || kv.key() == "NORMAL" ||
-			    std::any_of(names.begin(), names.end(), [&](const auto& n) { return n.first == kv.key(); }) ||
-			    !attribute_values(d, p, kv.key(), values, type))
+		for (auto& kv : d.j["meshes"][p.mesh]["primitives"][p.index]["attributes"].items())
+			if (kv.key() != "POSITION" && kv.key() != "NORMAL" &&
+			    std::find(names.begin(), names.end(), kv.key()) == names.end())
+				names.push_back(kv.key());
+	for (const std::string& name : names) {
+		/* Each primitive's values (read once), and the type: the first
+		 * primitive's, or floats, as they stand for, where primitives
+		 * disagree. */
+		std::vector<std::vector<double>> values(prims.size());
+		std::vector<accessor> types(prims.size());
+		std::vector<bool> has(prims.size(), false);
+		accessor type;
+		bool any = false;
+		for (size_t k = 0; k < prims.size(); ++k) {
+			has[k] = attribute_values(d, prims[k], name, values[k], types[k]);
+			if (!has[k])
 				continue;
-			names.emplace_back(kv.key(), type);
-		}
-	/* Primitives disagreeing on an attribute's type: floats, as they stand for. */
-	for (auto& name : names)
-		for (const primitive& p : prims) {
-			std::vector<double> values;
-			accessor here;
-			if (attribute_values(d, p, name.first, values, here) &&
-			    (here.component != name.second.component || here.normalized != name.second.normalized ||
-			     here.components > name.second.components)) {
-				name.second.component = 5126;
-				name.second.normalized = false;
-				name.second.components = std::max(here.components, name.second.components);
+			const accessor& here = types[k];
+			if (!any) {
+				type = here;
+			} else if (here.component != type.component || here.normalized != type.normalized ||
+			           here.components > type.components) {
+				type.component = 5126;
+				type.normalized = false;
+				type.components = std::max(here.components, type.components);
 			}
+			any = true;
 		}
-	for (const auto& name : names) {
-		const accessor& type = name.second;
-		const bool color = name.first == "COLOR_0" && (type.components == 3 || type.components == 4);
-		const bool texcoord = name.first == "TEXCOORD_0" && type.components == 2;
-		const int semantic = name.first.rfind("TEXCOORD_", 0) == 0 ? vn_io_semantic_texcoord
-		                     : name.first.rfind("COLOR_", 0) == 0  ? vn_io_semantic_color
-		                                                           : vn_io_semantic_generic;
+		if (!any)
+			continue;
+		const bool color = name == "COLOR_0" && (type.components == 3 || type.components == 4);
+		const bool texcoord = name == "TEXCOORD_0" && type.components == 2;
+		const int semantic = name.rfind("TEXCOORD_", 0) == 0 ? vn_io_semantic_texcoord
+		                     : name.rfind("COLOR_", 0) == 0  ? vn_io_semantic_color
+		                                                     : vn_io_semantic_generic;
 		float* floats = nullptr;
 		vn_io_attribute* a = nullptr;
 		if (color) {
@@ -2259,23 +2265,23 @@ void mesh_from_document(const document& d, vn_io_mesh* mesh)
 		} else if (texcoord) {
 			floats = mesh->texcoords = (float*)calloc(2 * (vertices ? vertices : 1), sizeof(float));
 		} else {
-			a = vn_io_mesh_add_attribute(mesh, name.first.c_str(), semantic, (int)type.component, (int)type.components,
+			a = vn_io_mesh_add_attribute(mesh, name.c_str(), semantic, (int)type.component, (int)type.components,
 			                             type.normalized);
 		}
 		if (!floats && !a)
 			fail(vn_io_error_memory, "out of memory");
 		const size_t k = color ? 4 : texcoord ? 2 : type.components, csize = component_size(type.component);
 		v = 0;
-		for (const primitive& p : prims) {
-			std::vector<double> values;
-			accessor here;
-			if (attribute_values(d, p, name.first, values, here))
+		for (size_t j = 0; j < prims.size(); ++j) {
+			const primitive& p = prims[j];
+			const accessor& here = types[j];
+			if (has[j])
 				for (size_t i = 0; i < p.vertices(); ++i)
 					for (size_t c = 0; c < k; ++c) {
 						/* Colours and texture coordinates as the floats they
 						 * stand for; other attributes in their own type. */
 						const bool have = c < here.components;
-						double x = have ? values[i * here.components + c] : 1.0; /* missing alpha: opaque */
+						double x = have ? values[j][i * here.components + c] : 1.0; /* missing alpha: opaque */
 						if ((floats || type.component == 5126) && have && here.normalized)
 							x = normalized_value(x, here.component);
 						if (floats)
