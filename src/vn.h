@@ -247,6 +247,26 @@ VN_API vn_result vn_corner_normals(const vn_vectors* normals, const vn_positions
                                    size_t index_count, vn_method method, double crease_angle,
                                    const uint8_t* sharp_edges, const vn_options* options, vn_stats* stats);
 
+/* Per-corner normals of a polygon mesh (faces as vn_polygon_normals:
+ * indices, face_offsets, face_count; Newell face normals; the method's
+ * corner weights as there): corner i (index i of `indices`) gets
+ * normalize(sum of the contributions of the faces around vertex indices[i]
+ * that are connected to corner i's face through smooth edges). An edge is
+ * sharp as for vn_corner_normals: a boundary or non-manifold edge, flagged
+ * (sharp_edges != NULL and sharp_edges[i] != 0 for a corner i whose edge
+ * indices[i] -> next corner of its face it is), or creased (the angle
+ * between its two faces' unit normals exceeds crease_angle, radians; >= pi
+ * disables it). A flat-shaded face is one whose every edge is flagged: its
+ * corners get its own normal. normals receives face_offsets[face_count]
+ * vectors; a corner no face contributes to gets (0, 0, 0). Computed on
+ * options->threads threads, bit-identical whatever their number. On
+ * triangles it agrees with vn_corner_normals; with nothing sharp each corner
+ * gets its vertex's vn_polygon_normals normal. */
+VN_API vn_result vn_polygon_corner_normals(const vn_vectors* normals, const vn_positions* positions,
+                                           const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
+                                           vn_method method, double crease_angle, const uint8_t* sharp_edges,
+                                           const vn_options* options, vn_stats* stats);
+
 /* ------------------------------------------------------------------ test ensemble
  *
  * The paper's test models (section 3.1): surfaces whose exact normals are
