@@ -1,40 +1,52 @@
-/* Per-corner normals with hard edges (vn.h, "welding and split normals").
+/* Per-corner normals with hard edges (vn.h, "welding and split normals"):
+ * vn_corner_normals (triangles) and vn_polygon_corner_normals (polygons),
+ * one algorithm.
  *
- * 1. Each triangle's unit normal, for the crease test. A triangle that
- *    contributes nothing (not vn_usable: zero or non-finite area, a repeated
- *    index) is no part of the surface: its edges join nothing (a face beside
- *    it sees a boundary there; a welded pole's collapsed triangles thus leave
- *    the pole's fan intact), and its corners get their vertex's normal over
- *    all its usable triangles, as vn.h says.
- * 2. Edge adjacency without hashing: the corners of usable triangles, each
- *    standing for its edge corner -> next corner, sorted by (lower, higher
- *    vertex, corner): a counting sort by the lower vertex, then each
- *    vertex's few edges in place; O(n log n) at worst, O(n + V) on meshes of
- *    bounded valence. An edge of exactly two uses in opposite directions is
- *    manifold, and smooth unless flagged or creased; every other edge is
- *    sharp.
- * 3. Wedges: union-find over corners. A smooth edge a -> b of t, b -> a of
- *    t', joins t's and t''s corners at a, and those at b.
- * 4. Sums: triangles in index order add their corner contributions (the
- *    kernels' own arithmetic, vn_triangle_fn) to their wedges; each wedge is
- *    normalized as parallel.c's finalize does. So a closed manifold mesh with
- *    no sharp edge gets, at every corner, its vertex's vn_triangle_normals
- *    normal bit for bit, whatever the simd option.
+ * 1. Contributions, in parallel over faces: each face's unit normal (for the
+ *    crease test; 0 when the face contributes nothing) and each corner's
+ *    contribution, 3 doubles a corner. Triangles get them from the kernels'
+ *    vn_triangle_fn, polygons from the polygon walk itself (vn_polygons in
+ *    per-corner mode), so the arithmetic is the vertex-normal path's, and a
+ *    sum of contributions formed in corner order equals that path's vertex
+ *    sum bit for bit.
+ * 2. Vertex -> corners lists (CSR), a counting sort by vertex: each worker
+ *    counts, then lists, the corners of its own range of vertices, in corner
+ *    order; O(n) a worker, no sorting, deterministic.
+ * 3. Fans, in parallel over vertices: at vertex v, each corner of a usable
+ *    face stands for two edges, v -> next vertex (out) and previous vertex ->
+ *    v (in). Sorted by the other vertex (a handful of keys), an edge with
+ *    exactly one out and one in use is manifold; unless flagged or creased it
+ *    joins the two corners (union-find on the vertex's few corners, the
+ *    lowest corner the root). A zero-length edge v -> v inside a face joins
+ *    its two corners. A face that contributes nothing (not usable: fewer
+ *    than 3 corners, zero or non-finite Newell normal) takes part in no edge,
+ *    and its corners get the sum over all the vertex's usable faces.
+ * 4. Each fan's sum, from 0, adds its corners' contributions in corner order,
+ *    is normalized as parallel.c's finalize does (vn_normalize) and written
+ *    to every corner of the fan.
  *
- * Single-threaded: options->threads and the workspace are not used. Work
- * memory, from the options' allocator: 20 bytes a corner, 4 a vertex and 24
- * a wedge (a vertex's share of a smooth region). */
+ * Every corner's result is formed by one worker from data that does not
+ * depend on the split, so results are bit-identical for any thread count.
+ * With nothing sharp on a closed manifold mesh, every fan is its vertex's
+ * whole star and every corner gets vn_triangle_normals' (triangles) or
+ * vn_polygon_normals' (polygons) vertex normal bit for bit.
+ *
+ * Work memory, from the options' allocator (the workspace is not used):
+ * 32 bytes a corner (36 for polygons), 24 a face, 4 a vertex, and per worker
+ * 60 bytes per corner of the largest vertex star. */
 #include <stdlib.h>
 
 #include "fastmath.h" /* VN_PI */
 #include "internal.h"
+#include "simd.h"
 
 #define NONE UINT32_MAX
-
-VN_INLINE uint32_t next_corner(uint32_t c)
-{
-	return c % 3 == 2 ? c - 2 : c + 1;
-}
+/* Faces per call of the polygon walk: its contributions stay in cache
+ * between being zeroed and added to. */
+#define CHUNK 256
+/* Below this many vertices per worker, a thread costs more than it saves. */
+#define MIN_VERTICES_PER_THREAD 4096
+#define MAX_THREADS 256
 
 /* Whether the angle theta between unit normals a and b exceeds the crease
  * angle c in [0, pi), given cos c and sin c. With s = |a x b| = sin theta
@@ -49,46 +61,126 @@ static int creased(const double a[3], const double b[3], double cos_c, double si
 	return s * cos_c - d * sin_c > 0.0 || (s == 0.0 && d < 0.0);
 }
 
-/* The work of one call. */
-typedef struct corners {
-	const uint32_t* idx;
-	uint32_t nv;
-	uint32_t n;       /* corners */
-	double* unit;     /* 3 per triangle: its unit normal, or 0 when it is not usable */
-	uint64_t* edges;  /* per usable corner: high << 32 | corner, bucketed by low vertex */
-	uint32_t* count;  /* nv + 1: where each vertex's bucket ends, then its slot for degenerate corners */
-	uint32_t* parent; /* n: the union-find, then each corner's wedge */
-	uint32_t wedges;
-} corners;
+/* What one worker met. */
+typedef struct worker {
+	size_t degenerate, zero, nonfinite;
+	uint32_t valence; /* largest star among its vertices */
+	uint32_t base;    /* where its vertices' corners start in the lists */
+} worker;
 
-VN_INLINE int usable(const corners* k, uint32_t t)
+/* The work of one call, shared by the workers. */
+typedef struct job {
+	vn_work w;          /* positions, indices, offsets (NULL: triangles), face_count, method */
+	vn_accumulate_fn walk; /* polygons: the family's polygon walk */
+	vn_triangle_fn triangle; /* triangles: the family's corner contributions */
+	uint32_t n, nv;     /* corners, vertices */
+	unsigned nt;
+	const uint8_t* sharp;
+	int crease, want_stats;
+	double cos_c, sin_c;
+	vn_vectors out;
+	double* contrib;   /* 3 per corner */
+	double* unit;      /* 3 per face */
+	uint32_t* face_of; /* per corner (polygons): its face, NONE for a corner before the first face */
+	uint32_t* start;   /* nv + 1: counts, then where each vertex's corners end */
+	uint32_t* list;    /* n: corners by vertex, in corner order */
+	unsigned char* scratch; /* per worker, scratch_bytes each */
+	size_t scratch_bytes;
+	worker* workers;
+} job;
+
+VN_INLINE int usable(const double* u)
 {
-	const double* u = k->unit + 3 * (size_t)t;
 	return u[0] != 0.0 || u[1] != 0.0 || u[2] != 0.0;
 }
 
-/* Step 1; returns the number of triangles that are not usable. */
-static size_t unit_normals(corners* k, const vn_work* reader)
+/* ---------------------------------------------------------------- phase 1: contributions and counts */
+
+static void triangle_contributions(const job* j, uint32_t f0, uint32_t f1, worker* wk)
 {
-	size_t degenerate = 0;
-	for (uint32_t t = 0; t < k->n / 3; ++t) {
-		double p0[3], p1[3], p2[3], e01[3], e12[3], e20[3];
-		double* n = k->unit + 3 * (size_t)t;
-		vn_load(reader, reader->type, k->idx[3 * t], p0);
-		vn_load(reader, reader->type, k->idx[3 * t + 1], p1);
-		vn_load(reader, reader->type, k->idx[3 * t + 2], p2);
-		const double l2 = vn_triangle_edges(p0, p1, p2, e01, e12, e20, n);
-		if (vn_usable(l2)) {
+	const vn_work* w = &j->w;
+	for (uint32_t t = f0; t < f1; ++t) {
+		double p[3][3], e01[3], e12[3], e20[3];
+		double* u = j->unit + 3 * (size_t)t;
+		double* c = j->contrib + 9 * (size_t)t;
+		for (int i = 0; i < 3; ++i)
+			vn_load(w, w->type, w->indices[3 * (size_t)t + i], p[i]);
+		const double l2 = vn_triangle_edges(p[0], p[1], p[2], e01, e12, e20, u);
+		if (vn_usable(l2) && j->triangle(w->method, p[0], p[1], p[2], (double(*)[3])c)) {
 			const double inv = 1.0 / sqrt(l2);
-			n[0] *= inv, n[1] *= inv, n[2] *= inv;
+			u[0] *= inv, u[1] *= inv, u[2] *= inv;
 		} else {
-			n[0] = n[1] = n[2] = 0.0;
-			++degenerate;
+			u[0] = u[1] = u[2] = 0.0;
+			memset(c, 0, 9 * sizeof(double));
+			++wk->degenerate;
 		}
 	}
-	return degenerate;
 }
 
+static void polygon_contributions(const job* j, uint32_t f0, uint32_t f1, worker* wk)
+{
+	const uint32_t* off = j->w.offsets;
+	vn_work w = j->w;
+	w.acc = j->contrib;
+	vn_range_stats st = {0, 0, 0, 0};
+	if (f0 == 0)
+		for (uint32_t c = 0; c < off[0]; ++c)
+			j->face_of[c] = NONE;
+	for (uint32_t a = f0; a < f1; a += CHUNK) {
+		const uint32_t b = f1 - a < CHUNK ? f1 : a + CHUNK;
+		memset(j->contrib + 3 * (size_t)off[a], 0, 3 * sizeof(double) * (size_t)(off[b] - off[a]));
+		for (uint32_t f = a; f < b; ++f)
+			for (uint32_t c = off[f]; c < off[f + 1]; ++c)
+				j->face_of[c] = f;
+		w.offsets = off + a;
+		w.face_count = b - a;
+		w.face_normals = j->unit + 3 * (size_t)a;
+		j->walk(&w, 0, w.vertex_count, &st);
+	}
+	wk->degenerate += st.degenerate_faces;
+}
+
+VN_INLINE uint32_t range_lo(uint32_t count, unsigned t, unsigned nt)
+{
+	return (uint32_t)((uint64_t)count * t / nt);
+}
+
+static void phase_contributions(void* ctx, unsigned t)
+{
+	const job* j = (const job*)ctx;
+	worker* wk = j->workers + t;
+	const uint32_t nf = (uint32_t)j->w.face_count;
+	const uint32_t f0 = range_lo(nf, t, j->nt), f1 = range_lo(nf, t + 1, j->nt);
+	if (j->w.offsets)
+		polygon_contributions(j, f0, f1, wk);
+	else
+		triangle_contributions(j, f0, f1, wk);
+
+	/* Counts of this worker's vertices, into start[v + 1]. */
+	const uint32_t v0 = range_lo(j->nv, t, j->nt), v1 = range_lo(j->nv, t + 1, j->nt), span = v1 - v0;
+	uint32_t* count = j->start + 1;
+	memset(count + v0, 0, sizeof(uint32_t) * span);
+	const uint32_t* idx = j->w.indices;
+	if (j->nt == 1)
+		for (uint32_t c = 0; c < j->n; ++c)
+			++count[idx[c]];
+	else
+		for (uint32_t c = 0; c < j->n; ++c)
+			if (idx[c] - v0 < span)
+				++count[idx[c]];
+	uint32_t top = 0, sum = 0;
+	for (uint32_t v = v0; v < v1; ++v) {
+		top = count[v] > top ? count[v] : top;
+		sum += count[v];
+	}
+	wk->valence = top;
+	wk->base = sum; /* this worker's total until the caller turns it into a base */
+}
+
+/* ---------------------------------------------------------------- phase 2: lists and fans */
+
+/* Sorts a few keys in place: insertion sort for the usual handful, heapsort
+ * (O(k log k)) for a vertex with very many corners. */
 static void sift_down(uint64_t* a, size_t i, size_t count)
 {
 	for (size_t c; (c = 2 * i + 1) < count; i = c) {
@@ -101,11 +193,9 @@ static void sift_down(uint64_t* a, size_t i, size_t count)
 	}
 }
 
-/* Sorts one vertex's bucket in place: insertion sort for the usual handful
- * of edges, heapsort (O(k log k)) for a vertex that starts very many. */
-static void sort_bucket(uint64_t* a, size_t count)
+static void sort_keys(uint64_t* a, size_t count)
 {
-	if (count <= 16) {
+	if (count <= 24) {
 		for (size_t i = 1; i < count; ++i) {
 			const uint64_t x = a[i];
 			size_t j = i;
@@ -124,103 +214,271 @@ static void sort_bucket(uint64_t* a, size_t count)
 	}
 }
 
-/* Step 2: each usable corner's edge, corner -> next corner, as (low, high,
- * corner): a counting sort by low vertex (O(n + V)), then each bucket by
- * high << 32 | corner. Bucket v ends at count[v]. */
-static void sort_edges(corners* k)
+/* Per-worker scratch for one vertex of up to `valence` corners. */
+typedef struct fan_scratch {
+	uint64_t* keys;   /* 2 per corner: other vertex << 32 | local corner << 1 | in */
+	double* acc;      /* 3 per corner */
+	uint32_t* parent; /* union-find over local corners */
+	uint32_t* face;   /* the corner's face, or NONE (no face) or NONE - 1 (a face that is not usable) */
+	uint32_t* prev;   /* the corner before it in its face */
+} fan_scratch;
+
+#define UNUSABLE (NONE - 1)
+
+VN_INLINE size_t scratch_bytes_for(uint32_t valence)
 {
-	uint32_t* count = k->count;
-	memset(count, 0, ((size_t)k->nv + 1) * sizeof(uint32_t));
-	for (uint32_t t = 0; t < k->n / 3; ++t)
-		if (usable(k, t))
-			for (uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
-				const uint32_t a = k->idx[c], b = k->idx[next_corner(c)];
-				++count[(a < b ? a : b) + 1];
-			}
-	for (uint32_t v = 0; v < k->nv; ++v)
-		count[v + 1] += count[v];
-	for (uint32_t t = 0; t < k->n / 3; ++t)
-		if (usable(k, t))
-			for (uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
-				const uint32_t a = k->idx[c], b = k->idx[next_corner(c)];
-				k->edges[count[a < b ? a : b]++] = (uint64_t)(a < b ? b : a) << 32 | c;
-			}
-	for (uint32_t v = 0, begin = 0; v < k->nv; begin = count[v++])
-		sort_bucket(k->edges + begin, count[v] - begin);
+	return ((size_t)valence ? valence : 1) * (2 * sizeof(uint64_t) + 3 * sizeof(double) + 3 * sizeof(uint32_t));
 }
 
-/* Step 3: joins the corners across every smooth edge. */
-static void join_wedges(corners* k, const uint8_t* sharp, double crease_angle)
+static fan_scratch scratch_at(unsigned char* p, uint32_t valence)
 {
-	const int crease = crease_angle < VN_PI;
-	const double cos_c = cos(crease_angle), sin_c = sin(crease_angle);
-	const uint64_t* edges = k->edges;
-	for (uint32_t c = 0; c < k->n; ++c)
-		k->parent[c] = c;
-	for (uint32_t v = 0, begin = 0; v < k->nv; begin = k->count[v++])
-		for (uint32_t i = begin, j; i < k->count[v]; i = j) {
-			for (j = i + 1; j < k->count[v] && edges[j] >> 32 == edges[i] >> 32;)
-				++j;
-			if (j - i != 2)
+	const size_t k = valence ? valence : 1;
+	fan_scratch s;
+	s.keys = (uint64_t*)p;
+	s.acc = (double*)(p + 2 * sizeof(uint64_t) * k);
+	s.parent = (uint32_t*)(p + (2 * sizeof(uint64_t) + 3 * sizeof(double)) * k);
+	s.face = s.parent + k;
+	s.prev = s.face + k;
+	return s;
+}
+
+/* The local index of corner c among L[0..k) (sorted), which holds it. */
+static uint32_t local_of(const uint32_t* L, uint32_t k, uint32_t c)
+{
+	uint32_t lo = 0, hi = k;
+	while (hi - lo > 1) {
+		const uint32_t mid = lo + (hi - lo) / 2;
+		if (L[mid] <= c)
+			lo = mid;
+		else
+			hi = mid;
+	}
+	return lo;
+}
+
+/* Steps 3 and 4 for vertex v, whose corners are L[0..k). Returns the number
+ * of zero normals written. */
+static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t k, const fan_scratch* s)
+{
+	const uint32_t* idx = j->w.indices;
+	const uint32_t* off = j->w.offsets;
+	size_t m = 0;
+	int degenerate = 0;
+	for (uint32_t i = 0; i < k; ++i) {
+		const uint32_t c = L[i];
+		uint32_t f, lo, hi;
+		s->parent[i] = i;
+		if (off) {
+			f = j->face_of[c];
+			if (f == NONE) {
+				s->face[i] = NONE;
 				continue;
-			const uint32_t c0 = (uint32_t)edges[i], c1 = (uint32_t)edges[i + 1];
-			const int opposite = k->idx[c0] == k->idx[next_corner(c1)];
-			const double* u0 = k->unit + 3 * (size_t)(c0 / 3);
-			const double* u1 = k->unit + 3 * (size_t)(c1 / 3);
-			if (opposite && !(sharp && (sharp[c0] || sharp[c1])) && !(crease && creased(u0, u1, cos_c, sin_c))) {
-				vn_unite(k->parent, c0, next_corner(c1));
-				vn_unite(k->parent, next_corner(c0), c1);
 			}
+			lo = off[f], hi = off[f + 1];
+		} else {
+			f = c / 3, lo = 3 * f, hi = lo + 3;
 		}
+		if (!usable(j->unit + 3 * (size_t)f)) {
+			s->face[i] = UNUSABLE;
+			degenerate = 1;
+			continue;
+		}
+		s->face[i] = f;
+		const uint32_t next = c + 1 == hi ? lo : c + 1, prev = c == lo ? hi - 1 : c - 1;
+		s->prev[i] = prev;
+		const uint32_t out = idx[next], in = idx[prev];
+		if (out != v)
+			s->keys[m++] = (uint64_t)out << 32 | (uint64_t)i << 1;
+		else /* a zero-length edge: c and the next corner are one corner of the face */
+			vn_unite(s->parent, i, local_of(L, k, next));
+		if (in != v)
+			s->keys[m++] = (uint64_t)in << 32 | (uint64_t)i << 1 | 1;
+	}
+	sort_keys(s->keys, m);
+	for (size_t a = 0, b; a < m; a = b) {
+		for (b = a + 1; b < m && s->keys[b] >> 32 == s->keys[a] >> 32;)
+			++b;
+		if (b - a != 2 || ((s->keys[a] ^ s->keys[a + 1]) & 1) == 0)
+			continue; /* a boundary, non-manifold or inconsistently oriented edge */
+		const uint64_t ko = s->keys[a] & 1 ? s->keys[a + 1] : s->keys[a], ki = s->keys[a] & 1 ? s->keys[a] : s->keys[a + 1];
+		const uint32_t io = (uint32_t)ko >> 1, ii = (uint32_t)ki >> 1; /* the out use and the in use */
+		if (j->sharp && (j->sharp[L[io]] || j->sharp[s->prev[ii]]))
+			continue;
+		if (j->crease &&
+		    creased(j->unit + 3 * (size_t)s->face[io], j->unit + 3 * (size_t)s->face[ii], j->cos_c, j->sin_c))
+			continue;
+		vn_unite(s->parent, io, ii);
+	}
+
+	/* Sums in corner order: a root is its set's lowest corner, met first. */
+	double all[3] = {0.0, 0.0, 0.0};
+	for (uint32_t i = 0; i < k; ++i) {
+		if (s->face[i] >= UNUSABLE)
+			continue;
+		const uint32_t r = vn_find(s->parent, i);
+		double* a = s->acc + 3 * (size_t)r;
+		const double* c = j->contrib + 3 * (size_t)L[i];
+		if (r == i)
+			a[0] = a[1] = a[2] = 0.0;
+		a[0] += c[0], a[1] += c[1], a[2] += c[2];
+		if (degenerate)
+			all[0] += c[0], all[1] += c[1], all[2] += c[2];
+	}
+	if (degenerate)
+		vn_normalize(all);
+	for (uint32_t i = 0; i < k; ++i)
+		if (s->face[i] < UNUSABLE && s->parent[i] == i)
+			vn_normalize(s->acc + 3 * (size_t)i);
+	size_t zero = 0;
+	static const double nothing[3] = {0.0, 0.0, 0.0};
+	for (uint32_t i = 0; i < k; ++i) {
+		const double* a = s->face[i] == NONE       ? nothing
+		                  : s->face[i] == UNUSABLE ? all
+		                                           : s->acc + 3 * (size_t)vn_find(s->parent, i);
+		zero += a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0;
+		vn_store(&j->out, L[i], a);
+	}
+	return zero;
 }
 
-/* Step 3, labels: parent[c] becomes corner c's wedge, numbered in order of
- * first corner; the degenerate corners of a vertex share one wedge, which
- * gathers all of the vertex's usable triangles. */
-static void label_wedges(corners* k)
+static void phase_fans(void* ctx, unsigned t)
 {
-	uint32_t* slot = k->count;
-	for (uint32_t v = 0; v < k->nv; ++v)
-		slot[v] = NONE;
-	uint32_t w = 0;
-	for (uint32_t t = 0; t < k->n / 3; ++t) {
-		const int real = usable(k, t);
-		for (uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
-			uint32_t* s = slot + k->idx[c];
-			if (!real) {
-				if (*s == NONE)
-					*s = w++;
-				k->parent[c] = *s;
-				continue;
-			}
-			/* parent[c] <= c, and every corner below c already holds its label. */
-			const uint32_t p = k->parent[c];
-			k->parent[c] = p == c ? w++ : k->parent[p];
+	const job* j = (const job*)ctx;
+	worker* wk = j->workers + t;
+	const uint32_t v0 = range_lo(j->nv, t, j->nt), v1 = range_lo(j->nv, t + 1, j->nt), span = v1 - v0;
+	uint32_t* end = j->start + 1; /* end[v]: first the count, then where v's corners begin, then end */
+	uint32_t at = wk->base;
+	for (uint32_t v = v0; v < v1; ++v) {
+		const uint32_t c = end[v];
+		end[v] = at;
+		at += c;
+	}
+	const uint32_t* idx = j->w.indices;
+	if (j->nt == 1)
+		for (uint32_t c = 0; c < j->n; ++c)
+			j->list[end[idx[c]]++] = c;
+	else
+		for (uint32_t c = 0; c < j->n; ++c)
+			if (idx[c] - v0 < span)
+				j->list[end[idx[c]]++] = c;
+
+	const fan_scratch s = scratch_at(j->scratch + j->scratch_bytes * t, j->workers[0].valence);
+	size_t zero = 0;
+	for (uint32_t v = v0, begin = wk->base; v < v1; begin = end[v++])
+		zero += vertex_fans(j, v, j->list + begin, end[v] - begin, &s);
+	wk->zero = zero;
+	if (j->want_stats)
+		wk->nonfinite = vn_count_nonfinite(&j->w, v0, v1);
+}
+
+/* ---------------------------------------------------------------- the shared driver */
+
+/* Everything is checked: indices < nv, offsets non-decreasing (polygons). */
+static vn_result run(job* j, const vn_options* options, vn_stats* stats)
+{
+	const vn_allocator heap = vn_heap(options ? &options->allocator : NULL);
+	const unsigned threads = options && options->threads ? options->threads : 1;
+	unsigned nt = threads > MAX_THREADS ? MAX_THREADS : threads;
+	if ((size_t)nt * MIN_VERTICES_PER_THREAD > j->nv)
+		nt = j->nv / MIN_VERTICES_PER_THREAD > 1 ? j->nv / MIN_VERTICES_PER_THREAD : 1;
+	j->nt = nt;
+	const size_t n = j->n, nf = j->w.face_count, nv = j->nv;
+	if (n > SIZE_MAX / 64 || nf > SIZE_MAX / 64 || nv > SIZE_MAX / 8) /* 32-bit size_t */
+		return vn_result_out_of_memory;
+	const int polygons = j->w.offsets != NULL;
+	const size_t contrib_bytes = 3 * sizeof(double) * n, unit_bytes = 3 * sizeof(double) * nf;
+	const size_t index_bytes = sizeof(uint32_t) * (n + (polygons ? n : 0) + nv + 1);
+	const size_t worker_bytes = sizeof(worker) * nt;
+	unsigned char* mem = (unsigned char*)heap.allocate(heap.user, contrib_bytes + unit_bytes + worker_bytes + index_bytes);
+	if (!mem)
+		return vn_result_out_of_memory;
+	j->contrib = (double*)mem;
+	j->unit = (double*)(mem + contrib_bytes);
+	j->workers = (worker*)(mem + contrib_bytes + unit_bytes);
+	j->start = (uint32_t*)(mem + contrib_bytes + unit_bytes + worker_bytes);
+	j->list = j->start + nv + 1;
+	j->face_of = polygons ? j->list + n : NULL;
+	memset(j->workers, 0, worker_bytes);
+	j->start[0] = 0;
+
+	vn_parallel(nt, phase_contributions, j);
+
+	uint32_t valence = 0, base = 0;
+	for (unsigned t = 0; t < nt; ++t) {
+		const uint32_t total = j->workers[t].base;
+		j->workers[t].base = base;
+		base += total;
+		valence = j->workers[t].valence > valence ? j->workers[t].valence : valence;
+	}
+	j->workers[0].valence = valence;
+	if (valence > INT32_MAX) { /* local corner numbers must fit the keys' 31 bits */
+		heap.deallocate(heap.user, mem);
+		return vn_result_out_of_memory;
+	}
+	j->scratch_bytes = scratch_bytes_for(valence);
+	if (j->scratch_bytes > SIZE_MAX / nt) {
+		heap.deallocate(heap.user, mem);
+		return vn_result_out_of_memory;
+	}
+	j->scratch = (unsigned char*)heap.allocate(heap.user, j->scratch_bytes * nt);
+	if (!j->scratch) {
+		heap.deallocate(heap.user, mem);
+		return vn_result_out_of_memory;
+	}
+
+	vn_parallel(nt, phase_fans, j);
+
+	if (stats) {
+		memset(stats, 0, sizeof(*stats));
+		stats->faces = nf;
+		for (unsigned t = 0; t < nt; ++t) {
+			stats->degenerate_faces += j->workers[t].degenerate;
+			stats->zero_normals += j->workers[t].zero;
+			stats->nonfinite_vertices += j->workers[t].nonfinite;
 		}
 	}
-	k->wedges = w;
+	heap.deallocate(heap.user, j->scratch);
+	heap.deallocate(heap.user, mem);
+	return vn_result_success;
 }
 
-/* Step 4: acc (3 per wedge, zeroed) receives each wedge's sum. */
-static void accumulate(const corners* k, const vn_work* reader, vn_method method, double* acc)
+/* Checks shared by both entry points; fills j's common part. */
+static vn_result prepare(job* j, const vn_vectors* normals, const vn_positions* positions, vn_method method,
+                         double crease_angle, const uint8_t* sharp_edges, const vn_options* options, vn_stats* stats)
 {
-	const vn_triangle_fn contribute = method == vn_method_mewcsa ? vn_cotangent_triangle : vn_weighted_triangle;
-	const uint32_t* slot = k->count;
-	for (uint32_t t = 0; t < k->n / 3; ++t) {
-		double p[3][3], c[3][3];
-		for (int i = 0; i < 3; ++i)
-			vn_load(reader, reader->type, k->idx[3 * t + i], p[i]);
-		if (!contribute(method, p[0], p[1], p[2], c))
-			continue;
-		for (int i = 0; i < 3; ++i) {
-			const uint32_t corner = 3 * t + (uint32_t)i, s = slot[k->idx[corner]];
-			double* a = acc + 3 * (size_t)k->parent[corner];
-			a[0] += c[i][0], a[1] += c[i][1], a[2] += c[i][2];
-			if (s != NONE) {
-				double* b = acc + 3 * (size_t)s;
-				b[0] += c[i][0], b[1] += c[i][1], b[2] += c[i][2];
-			}
-		}
+	const size_t in_stride = vn_positions_stride(positions), out_stride = vn_vectors_stride(normals);
+	if (!in_stride || !out_stride || !(crease_angle >= 0.0) || !vn_options_valid(options))
+		return vn_result_invalid_argument;
+	if ((unsigned)method >= vn_method_count)
+		return vn_result_unknown_method;
+	memset(j, 0, sizeof(*j));
+	j->w = vn_position_reader(positions, in_stride);
+	j->w.method = method;
+	j->nv = (uint32_t)positions->count;
+	j->sharp = sharp_edges;
+	j->crease = crease_angle < VN_PI;
+	j->cos_c = cos(crease_angle);
+	j->sin_c = sin(crease_angle);
+	j->want_stats = stats != NULL;
+	j->out = *normals;
+	j->out.stride = out_stride;
+	return vn_result_success;
+}
+
+static vn_result check_indices(const uint32_t* indices, size_t count, uint32_t vertex_count)
+{
+	uint32_t top = 0;
+	for (size_t i = 0; i < count; ++i)
+		top = indices[i] > top ? indices[i] : top;
+	return count && top >= vertex_count ? vn_result_index_out_of_range : vn_result_success;
+}
+
+static void empty_stats(vn_stats* stats, size_t faces, size_t degenerate)
+{
+	if (stats) {
+		memset(stats, 0, sizeof(*stats));
+		stats->faces = faces;
+		stats->degenerate_faces = degenerate;
 	}
 }
 
@@ -228,66 +486,52 @@ vn_result vn_corner_normals(const vn_vectors* normals, const vn_positions* posit
                             size_t index_count, vn_method method, double crease_angle, const uint8_t* sharp_edges,
                             const vn_options* options, vn_stats* stats)
 {
-	const size_t in_stride = vn_positions_stride(positions), out_stride = vn_vectors_stride(normals);
-	if (!in_stride || !out_stride || index_count % 3 || index_count > UINT32_MAX ||
-	    (index_count && (!indices || !normals->data)) || !(crease_angle >= 0.0) || !vn_options_valid(options))
+	job j;
+	vn_result r = prepare(&j, normals, positions, method, crease_angle, sharp_edges, options, stats);
+	if (r != vn_result_success)
+		return r;
+	if (index_count % 3 || index_count > UINT32_MAX || (index_count && (!indices || !normals->data)))
 		return vn_result_invalid_argument;
-	if ((unsigned)method >= vn_method_count)
-		return vn_result_unknown_method;
-	const uint32_t nv = (uint32_t)positions->count;
-	for (size_t i = 0; i < index_count; ++i)
-		if (indices[i] >= nv)
-			return vn_result_index_out_of_range;
-
-	const vn_work reader = vn_position_reader(positions, in_stride);
-	const vn_allocator heap = vn_heap(options ? &options->allocator : NULL);
-	corners k;
-	memset(&k, 0, sizeof(k));
-	k.idx = indices;
-	k.nv = nv;
-	k.n = (uint32_t)index_count;
-	if (index_count > SIZE_MAX / 64) /* the sizes below would wrap (32-bit size_t) */
-		return vn_result_out_of_memory;
-	/* One block: unit normals, edges, then the two index arrays. */
-	const size_t unit_bytes = 3 * sizeof(double) * (k.n / 3), edge_bytes = sizeof(uint64_t) * k.n;
-	const size_t block = unit_bytes + edge_bytes + sizeof(uint32_t) * ((size_t)nv + 1 + (size_t)k.n);
-	unsigned char* mem = (unsigned char*)heap.allocate(heap.user, block);
-	if (!mem)
-		return vn_result_out_of_memory;
-	k.unit = (double*)mem;
-	k.edges = (uint64_t*)(mem + unit_bytes);
-	k.count = (uint32_t*)(mem + unit_bytes + edge_bytes);
-	k.parent = k.count + nv + 1;
-
-	const size_t degenerate = unit_normals(&k, &reader);
-	sort_edges(&k);
-	join_wedges(&k, sharp_edges, crease_angle);
-	label_wedges(&k);
-	double* acc = (double*)heap.allocate(heap.user, 3 * sizeof(double) * (k.wedges ? k.wedges : 1));
-	if (!acc) {
-		heap.deallocate(heap.user, mem);
-		return vn_result_out_of_memory;
+	if ((r = check_indices(indices, index_count, j.nv)) != vn_result_success)
+		return r;
+	if (!index_count) {
+		empty_stats(stats, 0, 0);
+		return vn_result_success;
 	}
-	memset(acc, 0, 3 * sizeof(double) * k.wedges);
-	accumulate(&k, &reader, method, acc);
+	j.w.indices = indices;
+	j.w.face_count = index_count / 3;
+	j.n = (uint32_t)index_count;
+	j.triangle = method == vn_method_mewcsa ? vn_cotangent_triangle : vn_weighted_triangle;
+	return run(&j, options, stats);
+}
 
-	size_t zero = 0;
-	for (uint32_t w = 0; w < k.wedges; ++w)
-		vn_normalize(acc + 3 * (size_t)w);
-	vn_vectors out = *normals;
-	out.stride = out_stride;
-	for (uint32_t c = 0; c < k.n; ++c) {
-		const double* a = acc + 3 * (size_t)k.parent[c];
-		zero += a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0;
-		vn_store(&out, c, a);
+vn_result vn_polygon_corner_normals(const vn_vectors* normals, const vn_positions* positions,
+                                    const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
+                                    vn_method method, double crease_angle, const uint8_t* sharp_edges,
+                                    const vn_options* options, vn_stats* stats)
+{
+	job j;
+	vn_result r = prepare(&j, normals, positions, method, crease_angle, sharp_edges, options, stats);
+	if (r != vn_result_success)
+		return r;
+	if (!face_offsets || face_count > UINT32_MAX - 1)
+		return vn_result_invalid_argument;
+	for (size_t f = 0; f < face_count; ++f)
+		if (face_offsets[f + 1] < face_offsets[f])
+			return vn_result_invalid_argument;
+	const size_t index_count = face_offsets[face_count];
+	if (index_count && (!indices || !normals->data))
+		return vn_result_invalid_argument;
+	if ((r = check_indices(indices, index_count, j.nv)) != vn_result_success)
+		return r;
+	if (!index_count) { /* only cornerless faces, if any */
+		empty_stats(stats, face_count, face_count);
+		return vn_result_success;
 	}
-	heap.deallocate(heap.user, acc);
-	heap.deallocate(heap.user, mem);
-	if (stats) {
-		stats->faces = k.n / 3;
-		stats->degenerate_faces = degenerate;
-		stats->zero_normals = zero;
-		stats->nonfinite_vertices = vn_count_nonfinite(&reader, 0, reader.vertex_count);
-	}
-	return vn_result_success;
+	j.w.indices = indices;
+	j.w.offsets = face_offsets;
+	j.w.face_count = face_count;
+	j.n = (uint32_t)index_count;
+	j.walk = method == vn_method_mewcsa ? vn_accumulate_cotangent_polygons : vn_accumulate_weighted_polygons;
+	return run(&j, options, stats);
 }

@@ -30,6 +30,12 @@ typedef struct vn_work {
 	const vn_vectors* out;
 	int want_stats;
 	int simd; /* the AVX2 kernels may run */
+	/* Per-corner mode of the polygon walk (corner.c), when not NULL: face f's
+	 * unit normal, or 0 when it contributes nothing, goes to face_normals[3f..],
+	 * and corner c's contribution is added to acc[3 (offsets[f] + c)..]
+	 * (3 doubles a corner, indexed by the corner's place in indices)
+	 * instead of to its vertex's sum. */
+	double* face_normals;
 } vn_work;
 
 /* Counts one worker gathers for its vertex range. */
@@ -142,6 +148,11 @@ VN_INLINE void vn_unite(uint32_t* parent, uint32_t a, uint32_t b)
 /* api.c: `a` when it has both functions, else malloc/free (for an all-NULL
  * allocator; callers reject half-set ones first). */
 vn_allocator vn_heap(const vn_allocator* a);
+
+/* parallel.c: runs fn(ctx, t) for every t in [0, nt), t = 0 on the caller's
+ * thread and the others each on a thread of their own (on the caller's when
+ * one cannot be started); returns when all have. nt <= 256. */
+void vn_parallel(unsigned nt, void (*fn)(void* ctx, unsigned t), void* ctx);
 
 /* parallel.c: zeroes, accumulates and normalizes on o->threads workers, in
  * o->workspace when it is large enough, else in memory from o->allocator. */
@@ -342,12 +353,15 @@ typedef void (*vn_corner_fn)(vn_method method, double* acc, const double n[3], c
 VN_INLINE void vn_polygons(const vn_work* w, vn_range range, vn_range_stats* st, vn_corner_fn corner)
 {
 	const uint32_t* off = w->offsets;
+	double* const fn = w->face_normals; /* per-corner mode (vn_work) */
 
 	for (size_t f = 0; f < w->face_count; ++f) {
 		const uint32_t* face = w->indices + off[f];
 		const uint32_t k = off[f + 1] - off[f];
 		if (k == 0) { /* cornerless: counted once, by the first worker */
 			st->degenerate_faces += range.full || range.lo == 0;
+			if (fn)
+				fn[3 * f] = fn[3 * f + 1] = fn[3 * f + 2] = 0.0;
 			continue;
 		}
 		int owned = 0;
@@ -359,15 +373,19 @@ VN_INLINE void vn_polygons(const vn_work* w, vn_range range, vn_range_stats* st,
 		double n[3];
 		if (k < 3 || !vn_face_normal(w, face, k, n)) {
 			st->degenerate_faces += vn_owned(face[0], range);
+			if (fn)
+				fn[3 * f] = fn[3 * f + 1] = fn[3 * f + 2] = 0.0;
 			continue;
 		}
+		if (fn)
+			memcpy(fn + 3 * f, n, sizeof(n));
 		double prev[3], cur[3], next[3], e[3], e2[3];
 		vn_load(w, w->type, face[k - 1], prev);
 		vn_load(w, w->type, face[0], cur);
 		for (uint32_t c = 0; c < k; ++c) {
 			vn_load(w, w->type, face[c + 1 == k ? 0 : c + 1], next);
 			if (vn_owned(face[c], range) && vn_corner_edges(prev, cur, next, e, e2))
-				corner(w->method, w->acc + 4 * (size_t)face[c], n, e, e2);
+				corner(w->method, fn ? w->acc + 3 * ((size_t)off[f] + c) : w->acc + 4 * (size_t)face[c], n, e, e2);
 			memcpy(prev, cur, sizeof(cur));
 			memcpy(cur, next, sizeof(next));
 		}

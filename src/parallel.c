@@ -141,6 +141,40 @@ static void run_all(void* (*fn)(void*), vn_task* tasks, unsigned nt, pthread_t* 
 	}
 }
 
+typedef struct vn_job {
+	void (*fn)(void* ctx, unsigned t);
+	void* ctx;
+	unsigned t;
+} vn_job;
+
+static void* job_main(void* arg)
+{
+	const vn_job* j = (const vn_job*)arg;
+	j->fn(j->ctx, j->t);
+	return NULL;
+}
+
+void vn_parallel(unsigned nt, void (*fn)(void* ctx, unsigned t), void* ctx)
+{
+	vn_job jobs[VN_MAX_THREADS];
+	pthread_t ids[VN_MAX_THREADS];
+	unsigned char started[VN_MAX_THREADS];
+	if (nt > VN_MAX_THREADS)
+		nt = VN_MAX_THREADS;
+	for (unsigned t = 0; t < nt; ++t)
+		jobs[t].fn = fn, jobs[t].ctx = ctx, jobs[t].t = t;
+	for (unsigned t = 1; t < nt; ++t)
+		started[t] = pthread_create(&ids[t], NULL, job_main, &jobs[t]) == 0;
+	if (nt)
+		fn(ctx, 0);
+	for (unsigned t = 1; t < nt; ++t) {
+		if (started[t])
+			pthread_join(ids[t], NULL);
+		else
+			fn(ctx, t);
+	}
+}
+
 static unsigned worker_count(uint32_t nv, unsigned threads)
 {
 	unsigned nt = threads ? threads : 1;
