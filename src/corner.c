@@ -41,6 +41,7 @@
 #include "simd.h"
 
 #define NONE UINT32_MAX
+#define UNUSABLE (NONE - 1)
 /* Faces per call of the polygon walk: its contributions stay in cache
  * between being zeroed and added to. */
 #define CHUNK 256
@@ -81,7 +82,8 @@ typedef struct job {
 	vn_vectors out;
 	double* contrib;   /* 3 per corner */
 	double* unit;      /* 3 per face */
-	uint32_t* face_of; /* per corner (polygons): its face, NONE for a corner before the first face */
+	uint32_t* face_of; /* per corner (polygons): its face, UNUSABLE for a face that contributes
+	                      nothing, NONE for a corner before the first face */
 	uint32_t* start;   /* nv + 1: counts, then where each vertex's corners end */
 	uint32_t* list;    /* n: corners by vertex, in corner order */
 	unsigned char* scratch; /* per worker, scratch_bytes each */
@@ -129,13 +131,15 @@ static void polygon_contributions(const job* j, uint32_t f0, uint32_t f1, worker
 	for (uint32_t a = f0; a < f1; a += CHUNK) {
 		const uint32_t b = f1 - a < CHUNK ? f1 : a + CHUNK;
 		memset(j->contrib + 3 * (size_t)off[a], 0, 3 * sizeof(double) * (size_t)(off[b] - off[a]));
-		for (uint32_t f = a; f < b; ++f)
-			for (uint32_t c = off[f]; c < off[f + 1]; ++c)
-				j->face_of[c] = f;
 		w.offsets = off + a;
 		w.face_count = b - a;
 		w.face_normals = j->unit + 3 * (size_t)a;
 		j->walk(&w, 0, w.vertex_count, &st);
+		for (uint32_t f = a; f < b; ++f) {
+			const uint32_t mark = usable(j->unit + 3 * (size_t)f) ? f : UNUSABLE;
+			for (uint32_t c = off[f]; c < off[f + 1]; ++c)
+				j->face_of[c] = mark;
+		}
 	}
 	wk->degenerate += st.degenerate_faces;
 }
@@ -221,13 +225,14 @@ typedef struct fan_scratch {
 	uint32_t* parent; /* union-find over local corners */
 	uint32_t* face;   /* the corner's face, or NONE (no face) or NONE - 1 (a face that is not usable) */
 	uint32_t* prev;   /* the corner before it in its face */
+	uint32_t* out;    /* the vertex after it in its face, NONE when not an edge to match */
+	uint32_t* in;     /* the vertex before it in its face, NONE likewise */
 } fan_scratch;
 
-#define UNUSABLE (NONE - 1)
 
 VN_INLINE size_t scratch_bytes_for(uint32_t valence)
 {
-	return ((size_t)valence ? valence : 1) * (2 * sizeof(uint64_t) + 3 * sizeof(double) + 3 * sizeof(uint32_t));
+	return ((size_t)valence ? valence : 1) * (2 * sizeof(uint64_t) + 3 * sizeof(double) + 5 * sizeof(uint32_t));
 }
 
 static fan_scratch scratch_at(unsigned char* p, uint32_t valence)
@@ -239,6 +244,8 @@ static fan_scratch scratch_at(unsigned char* p, uint32_t valence)
 	s.parent = (uint32_t*)(p + (2 * sizeof(uint64_t) + 3 * sizeof(double)) * k);
 	s.face = s.parent + k;
 	s.prev = s.face + k;
+	s.out = s.prev + k;
+	s.in = s.out + k;
 	return s;
 }
 
@@ -256,85 +263,156 @@ static uint32_t local_of(const uint32_t* L, uint32_t k, uint32_t c)
 	return lo;
 }
 
+/* Joins out use io and in use ii of one manifold edge unless it is sharp. */
+VN_INLINE void join_edge(const job* j, const fan_scratch* s, const uint32_t* L, uint32_t io, uint32_t ii)
+{
+	if (j->sharp && (j->sharp[L[io]] || j->sharp[s->prev[ii]]))
+		return;
+	if (j->crease && creased(j->unit + 3 * (size_t)s->face[io], j->unit + 3 * (size_t)s->face[ii], j->cos_c, j->sin_c))
+		return;
+	vn_unite(s->parent, io, ii);
+}
+
+/* Below this many corners a vertex matches its edges by direct comparison
+ * (k^2 predictable compares), above by sorting. */
+#define FEW 24
+
 /* Steps 3 and 4 for vertex v, whose corners are L[0..k). Returns the number
  * of zero normals written. */
 static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t k, const fan_scratch* s)
 {
 	const uint32_t* idx = j->w.indices;
 	const uint32_t* off = j->w.offsets;
-	size_t m = 0;
 	int degenerate = 0;
 	for (uint32_t i = 0; i < k; ++i) {
 		const uint32_t c = L[i];
 		uint32_t f, lo, hi;
 		s->parent[i] = i;
+		s->out[i] = s->in[i] = NONE;
 		if (off) {
 			f = j->face_of[c];
-			if (f == NONE) {
-				s->face[i] = NONE;
+			if (f >= UNUSABLE) {
+				s->face[i] = f;
+				degenerate |= f == UNUSABLE;
 				continue;
 			}
 			lo = off[f], hi = off[f + 1];
 		} else {
 			f = c / 3, lo = 3 * f, hi = lo + 3;
-		}
-		if (!usable(j->unit + 3 * (size_t)f)) {
-			s->face[i] = UNUSABLE;
-			degenerate = 1;
-			continue;
+			if (!usable(j->unit + 3 * (size_t)f)) {
+				s->face[i] = UNUSABLE;
+				degenerate = 1;
+				continue;
+			}
 		}
 		s->face[i] = f;
 		const uint32_t next = c + 1 == hi ? lo : c + 1, prev = c == lo ? hi - 1 : c - 1;
 		s->prev[i] = prev;
 		const uint32_t out = idx[next], in = idx[prev];
 		if (out != v)
-			s->keys[m++] = (uint64_t)out << 32 | (uint64_t)i << 1;
+			s->out[i] = out;
 		else /* a zero-length edge: c and the next corner are one corner of the face */
 			vn_unite(s->parent, i, local_of(L, k, next));
 		if (in != v)
-			s->keys[m++] = (uint64_t)in << 32 | (uint64_t)i << 1 | 1;
+			s->in[i] = in;
 	}
-	sort_keys(s->keys, m);
-	for (size_t a = 0, b; a < m; a = b) {
-		for (b = a + 1; b < m && s->keys[b] >> 32 == s->keys[a] >> 32;)
-			++b;
-		if (b - a != 2 || ((s->keys[a] ^ s->keys[a + 1]) & 1) == 0)
-			continue; /* a boundary, non-manifold or inconsistently oriented edge */
-		const uint64_t ko = s->keys[a] & 1 ? s->keys[a + 1] : s->keys[a], ki = s->keys[a] & 1 ? s->keys[a] : s->keys[a + 1];
-		const uint32_t io = (uint32_t)ko >> 1, ii = (uint32_t)ki >> 1; /* the out use and the in use */
-		if (j->sharp && (j->sharp[L[io]] || j->sharp[s->prev[ii]]))
-			continue;
-		if (j->crease &&
-		    creased(j->unit + 3 * (size_t)s->face[io], j->unit + 3 * (size_t)s->face[ii], j->cos_c, j->sin_c))
-			continue;
-		vn_unite(s->parent, io, ii);
+	if (k <= FEW) {
+		/* Each edge v -> b with an out use io: manifold when it has no other
+		 * out use and exactly one in use (b -> v). */
+		for (uint32_t io = 0; io < k; ++io) {
+			const uint32_t b = s->out[io];
+			if (b == NONE)
+				continue;
+			uint32_t outs = 0, ins = 0, ii = 0;
+			for (uint32_t i = 0; i < k; ++i) {
+				outs += s->out[i] == b;
+				ins += s->in[i] == b;
+				ii = s->in[i] == b ? i : ii;
+			}
+			if (outs == 1 && ins == 1)
+				join_edge(j, s, L, io, ii);
+		}
+	} else {
+		size_t m = 0;
+		for (uint32_t i = 0; i < k; ++i) {
+			if (s->out[i] != NONE)
+				s->keys[m++] = (uint64_t)s->out[i] << 32 | (uint64_t)i << 1;
+			if (s->in[i] != NONE)
+				s->keys[m++] = (uint64_t)s->in[i] << 32 | (uint64_t)i << 1 | 1;
+		}
+		sort_keys(s->keys, m);
+		for (size_t a = 0, b; a < m; a = b) {
+			for (b = a + 1; b < m && s->keys[b] >> 32 == s->keys[a] >> 32;)
+				++b;
+			if (b - a != 2 || ((s->keys[a] ^ s->keys[a + 1]) & 1) == 0)
+				continue; /* a boundary, non-manifold or inconsistently oriented edge */
+			const uint64_t ko = s->keys[a] & 1 ? s->keys[a + 1] : s->keys[a];
+			const uint64_t ki = s->keys[a] & 1 ? s->keys[a] : s->keys[a + 1];
+			join_edge(j, s, L, (uint32_t)ko >> 1, (uint32_t)ki >> 1); /* the out use, the in use */
+		}
 	}
 
-	/* Sums in corner order: a root is its set's lowest corner, met first. */
+	/* The degenerate faces' corners: the sum over every usable face. */
 	double all[3] = {0.0, 0.0, 0.0};
+	size_t zero = 0;
+	if (degenerate) {
+		for (uint32_t i = 0; i < k; ++i)
+			if (s->face[i] < UNUSABLE) {
+				const double* c = j->contrib + 3 * (size_t)L[i];
+				all[0] += c[0], all[1] += c[1], all[2] += c[2];
+			}
+		vn_normalize(all);
+	}
+	for (uint32_t i = 0; i < k; ++i)
+		s->parent[i] = s->face[i] < UNUSABLE ? vn_find(s->parent, i) : NONE;
+
+	/* Each fan's sum in corner order from its root, its lowest corner. With
+	 * few corners in registers, root by root (k x fans steps); with many,
+	 * in s->acc in one pass. */
+	if (k <= FEW) {
+		for (uint32_t r = 0; r < k; ++r) {
+			if (s->face[r] >= UNUSABLE) {
+				const double* a = s->face[r] == UNUSABLE ? all : NULL;
+				static const double nothing[3] = {0.0, 0.0, 0.0};
+				zero += !a || (a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0);
+				vn_store(&j->out, L[r], a ? a : nothing);
+				continue;
+			}
+			if (s->parent[r] != r)
+				continue;
+			double a[3] = {0.0, 0.0, 0.0};
+			for (uint32_t i = r; i < k; ++i)
+				if (s->parent[i] == r) {
+					const double* c = j->contrib + 3 * (size_t)L[i];
+					a[0] += c[0], a[1] += c[1], a[2] += c[2];
+				}
+			const int z = vn_normalize(a);
+			for (uint32_t i = r; i < k; ++i)
+				if (s->parent[i] == r) {
+					zero += (size_t)z;
+					vn_store(&j->out, L[i], a);
+				}
+		}
+		return zero;
+	}
 	for (uint32_t i = 0; i < k; ++i) {
-		if (s->face[i] >= UNUSABLE)
+		const uint32_t r = s->parent[i];
+		if (r == NONE)
 			continue;
-		const uint32_t r = vn_find(s->parent, i);
 		double* a = s->acc + 3 * (size_t)r;
 		const double* c = j->contrib + 3 * (size_t)L[i];
 		if (r == i)
 			a[0] = a[1] = a[2] = 0.0;
 		a[0] += c[0], a[1] += c[1], a[2] += c[2];
-		if (degenerate)
-			all[0] += c[0], all[1] += c[1], all[2] += c[2];
 	}
-	if (degenerate)
-		vn_normalize(all);
 	for (uint32_t i = 0; i < k; ++i)
-		if (s->face[i] < UNUSABLE && s->parent[i] == i)
+		if (s->parent[i] == i)
 			vn_normalize(s->acc + 3 * (size_t)i);
-	size_t zero = 0;
 	static const double nothing[3] = {0.0, 0.0, 0.0};
 	for (uint32_t i = 0; i < k; ++i) {
 		const double* a = s->face[i] == NONE       ? nothing
 		                  : s->face[i] == UNUSABLE ? all
-		                                           : s->acc + 3 * (size_t)vn_find(s->parent, i);
+		                                           : s->acc + 3 * (size_t)s->parent[i];
 		zero += a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0;
 		vn_store(&j->out, L[i], a);
 	}
@@ -362,7 +440,11 @@ static void phase_fans(void* ctx, unsigned t)
 			if (idx[c] - v0 < span)
 				j->list[end[idx[c]]++] = c;
 
-	const fan_scratch s = scratch_at(j->scratch + j->scratch_bytes * t, j->workers[0].valence);
+	/* Stars of up to FEW corners fit on the stack; bigger ones use the
+	 * allocated scratch. */
+	uint64_t small[(FEW * (2 * sizeof(uint64_t) + 3 * sizeof(double) + 5 * sizeof(uint32_t)) + 7) / 8];
+	const fan_scratch s = j->scratch ? scratch_at(j->scratch + j->scratch_bytes * t, j->workers[0].valence)
+	                                 : scratch_at((unsigned char*)small, FEW);
 	size_t zero = 0;
 	for (uint32_t v = v0, begin = wk->base; v < v1; begin = end[v++])
 		zero += vertex_fans(j, v, j->list + begin, end[v] - begin, &s);
@@ -372,6 +454,15 @@ static void phase_fans(void* ctx, unsigned t)
 }
 
 /* ---------------------------------------------------------------- the shared driver */
+
+/* Everything is checked: indices < nv, offsets non-decreasing (polygons). */
+/* The work memory for n corners, nf faces, nv vertices and nt workers
+ * (face_of only for polygons), with slack to align it. */
+static size_t work_bytes(size_t n, size_t nf, size_t nv, unsigned nt, int polygons)
+{
+	return 3 * sizeof(double) * (n + nf) + sizeof(worker) * nt + sizeof(uint32_t) * (n + (polygons ? n : 0) + nv + 1) +
+	       32;
+}
 
 /* Everything is checked: indices < nv, offsets non-decreasing (polygons). */
 static vn_result run(job* j, const vn_options* options, vn_stats* stats)
@@ -386,12 +477,14 @@ static vn_result run(job* j, const vn_options* options, vn_stats* stats)
 	if (n > SIZE_MAX / 64 || nf > SIZE_MAX / 64 || nv > SIZE_MAX / 8) /* 32-bit size_t */
 		return vn_result_out_of_memory;
 	const int polygons = j->w.offsets != NULL;
-	const size_t contrib_bytes = 3 * sizeof(double) * n, unit_bytes = 3 * sizeof(double) * nf;
-	const size_t index_bytes = sizeof(uint32_t) * (n + (polygons ? n : 0) + nv + 1);
-	const size_t worker_bytes = sizeof(worker) * nt;
-	unsigned char* mem = (unsigned char*)heap.allocate(heap.user, contrib_bytes + unit_bytes + worker_bytes + index_bytes);
-	if (!mem)
+	const size_t need = work_bytes(n, nf, nv, nt, polygons);
+	const int own = !(options && options->workspace && options->workspace_size >= need);
+	unsigned char* block = own ? (unsigned char*)heap.allocate(heap.user, need) : (unsigned char*)options->workspace;
+	if (!block)
 		return vn_result_out_of_memory;
+	unsigned char* mem = block + ((32 - ((uintptr_t)block & 31)) & 31);
+	const size_t contrib_bytes = 3 * sizeof(double) * n, unit_bytes = 3 * sizeof(double) * nf;
+	const size_t worker_bytes = sizeof(worker) * nt;
 	j->contrib = (double*)mem;
 	j->unit = (double*)(mem + contrib_bytes);
 	j->workers = (worker*)(mem + contrib_bytes + unit_bytes);
@@ -411,19 +504,15 @@ static vn_result run(job* j, const vn_options* options, vn_stats* stats)
 		valence = j->workers[t].valence > valence ? j->workers[t].valence : valence;
 	}
 	j->workers[0].valence = valence;
-	if (valence > INT32_MAX) { /* local corner numbers must fit the keys' 31 bits */
-		heap.deallocate(heap.user, mem);
-		return vn_result_out_of_memory;
-	}
-	j->scratch_bytes = scratch_bytes_for(valence);
-	if (j->scratch_bytes > SIZE_MAX / nt) {
-		heap.deallocate(heap.user, mem);
-		return vn_result_out_of_memory;
-	}
-	j->scratch = (unsigned char*)heap.allocate(heap.user, j->scratch_bytes * nt);
-	if (!j->scratch) {
-		heap.deallocate(heap.user, mem);
-		return vn_result_out_of_memory;
+	j->scratch = NULL;
+	if (valence > FEW) { /* a star too big for the stack scratch */
+		j->scratch_bytes = scratch_bytes_for(valence);
+		if (valence > INT32_MAX || j->scratch_bytes > SIZE_MAX / nt ||
+		    !(j->scratch = (unsigned char*)heap.allocate(heap.user, j->scratch_bytes * nt))) {
+			if (own)
+				heap.deallocate(heap.user, block);
+			return vn_result_out_of_memory;
+		}
 	}
 
 	vn_parallel(nt, phase_fans, j);
@@ -437,8 +526,10 @@ static vn_result run(job* j, const vn_options* options, vn_stats* stats)
 			stats->nonfinite_vertices += j->workers[t].nonfinite;
 		}
 	}
-	heap.deallocate(heap.user, j->scratch);
-	heap.deallocate(heap.user, mem);
+	if (j->scratch)
+		heap.deallocate(heap.user, j->scratch);
+	if (own)
+		heap.deallocate(heap.user, block);
 	return vn_result_success;
 }
 

@@ -1,10 +1,13 @@
 /* vnbench: times the normal computation alone (no file I/O).
  *
  *   vnbench MESH [--method M|all] [--threads N] [--repeat K] [--csv]
+ *   vnbench MESH --corners [--sharp-every K] [--crease DEG] [...]
  *
  * Positions are handed to the library as packed float32, as the peer
  * benchmark in shared/bench/peers does, so rows compare like for like. Each
- * method runs once to warm up, then K timed times; the median is reported. */
+ * method runs once to warm up, then K timed times; the median is reported.
+ * --corners times vn_polygon_corner_normals and, in the same run on the same
+ * mesh, vn_polygon_normals, per face, and prints their ratio. */
 #include "common.h"
 
 static const char* prog = "vnbench";
@@ -23,6 +26,12 @@ static void usage(FILE* out)
 	        "      --alloc            let every call allocate its work memory (default: one\n"
 	        "                         workspace reused by all calls, as an application would)\n"
 	        "      --csv              print CSV: method,threads,triangles,median_ns_per_tri,mtri_per_s\n"
+	        "                         (--corners: method,threads,faces,polygon_ns_per_face,\n"
+	        "                         corner_ns_per_face,ratio)\n"
+	        "      --corners          time per-corner normals (vn_polygon_corner_normals) next to\n"
+	        "                         vertex normals (vn_polygon_normals), both per face\n"
+	        "      --sharp-every K    with --corners: flag every K-th corner's edge sharp (default 0: none)\n"
+	        "      --crease DEG       with --corners: crease angle in degrees (default 180: none)\n"
 	        "      --list-methods     list the schemes\n"
 	        "  -h, --help             this text\n"
 	        "      --version          print the version\n"
@@ -39,11 +48,60 @@ static int cmp_double(const void* a, const void* b)
 	return (x > y) - (x < y);
 }
 
+/* What one timed call computes. */
+typedef struct bench {
+	const vn_io_mesh* mesh;
+	const vn_positions* pos;
+	const vn_options* opt;
+	const vn_vectors* out;         /* per vertex */
+	const vn_vectors* corner_out;  /* per corner */
+	const uint8_t* sharp;
+	double crease;
+	int tri;
+} bench;
+
+enum { run_vertex, run_polygon, run_corner };
+
+static vn_result run_once(const bench* b, int kind, vn_method m)
+{
+	const vn_io_mesh* mesh = b->mesh;
+	const size_t nf = mesh->face_count;
+	switch (kind) {
+	case run_vertex:
+		if (b->tri)
+			return vn_triangle_normals(b->out, b->pos, mesh->indices, 3 * nf, m, b->opt, NULL);
+		/* fall through */
+	case run_polygon:
+		return vn_polygon_normals(b->out, b->pos, mesh->indices, mesh->face_offsets, nf, m, b->opt, NULL);
+	default:
+		return vn_polygon_corner_normals(b->corner_out, b->pos, mesh->indices, mesh->face_offsets, nf, m, b->crease,
+		                                 b->sharp, b->opt, NULL);
+	}
+}
+
+/* The median time of `repeat` calls after one warm-up, in seconds. */
+static double median_time(const bench* b, int kind, vn_method m, unsigned long repeat, double* times)
+{
+	for (unsigned long k = 0; k <= repeat; ++k) {
+		const double t0 = tool_now();
+		const vn_result r = run_once(b, kind, m);
+		const double t = tool_now() - t0;
+		if (r != vn_result_success)
+			die(1, "%s", vn_result_string(r));
+		if (k)
+			times[k - 1] = t; /* k == 0 is the warm-up */
+	}
+	qsort(times, repeat, sizeof(double), cmp_double);
+	return repeat & 1 ? times[repeat / 2] : 0.5 * (times[repeat / 2 - 1] + times[repeat / 2]);
+}
+
 int main(int argc, char** argv)
 {
 	tool_check_version(prog);
 	const char* path = NULL;
-	int all = 1, csv = 0, f64 = 0, alloc = 0;
+	int all = 1, csv = 0, f64 = 0, alloc = 0, corners = 0;
+	unsigned long sharp_every = 0;
+	double crease_deg = 180.0;
 	vn_method method = vn_method_mwe;
 	unsigned long threads = 1, repeat = 9;
 
@@ -70,6 +128,16 @@ int main(int argc, char** argv)
 		} else if ((!strcmp(s, "-r") || !strcmp(s, "--repeat")) && has_value) {
 			if (!tool_parse_uint(argv[++i], 1, 100000, &repeat))
 				die(2, "--repeat needs a whole number from 1 to 100000, not '%s'", argv[i]);
+		} else if (!strcmp(s, "--corners")) {
+			corners = 1;
+		} else if (!strcmp(s, "--sharp-every") && has_value) {
+			if (!tool_parse_uint(argv[++i], 0, 1000000000, &sharp_every))
+				die(2, "--sharp-every needs a whole number, not '%s'", argv[i]);
+		} else if (!strcmp(s, "--crease") && has_value) {
+			char* end;
+			crease_deg = strtod(argv[++i], &end);
+			if (*end || !(crease_deg >= 0.0))
+				die(2, "--crease needs a number of degrees >= 0, not '%s'", argv[i]);
 		} else if (!strcmp(s, "--csv")) {
 			csv = 1;
 		} else if (!strcmp(s, "--float64")) {
@@ -121,11 +189,36 @@ int main(int argc, char** argv)
 	opt.threads = (unsigned)threads;
 	if (!alloc) {
 		opt.workspace_size = vn_workspace_size(nv, &opt);
+		/* vn.h's bound for the corner normals' work memory */
+		const size_t corner_bytes = 36 * mesh.face_offsets[nf] + 24 * nf + 4 * nv + 64 * threads + 64;
+		if (corners && corner_bytes > opt.workspace_size)
+			opt.workspace_size = corner_bytes;
 		if (!(opt.workspace = malloc(opt.workspace_size)))
 			die(1, "%s", "out of memory");
 	}
 
-	if (csv)
+	const size_t ni = mesh.face_offsets[nf];
+	float* corner_normals = NULL;
+	uint8_t* sharp = NULL;
+	if (corners) {
+		corner_normals = (float*)malloc(3 * sizeof(float) * (ni ? ni : 1));
+		sharp = sharp_every ? (uint8_t*)calloc(ni ? ni : 1, 1) : NULL;
+		if (!corner_normals || (sharp_every && !sharp))
+			die(1, "%s", "out of memory");
+		for (size_t c = 0; sharp && c < ni; c += sharp_every)
+			sharp[c] = 1;
+	}
+	const vn_vectors corner_out = {corner_normals, 0, vn_scalar_float32};
+	const bench b = {&mesh, &pos, &opt, &out, &corner_out, sharp, crease_deg * (3.141592653589793 / 180.0), tri};
+
+	if (corners) {
+		if (csv)
+			printf("method,threads,faces,polygon_ns_per_face,corner_ns_per_face,ratio\n");
+		else
+			printf("%s: %zu vertices, %zu faces, %zu corners, %lu thread(s), median of %lu after 1 warm-up;\n"
+			       "corner normals with every %lu-th edge flagged (0: none), crease %g degrees\n",
+			       path, nv, nf, ni, threads, repeat, sharp_every, crease_deg);
+	} else if (csv)
 		printf("method,threads,triangles,median_ns_per_tri,mtri_per_s\n");
 	else
 		printf("%s: %zu vertices, %zu %s, %lu thread(s), median of %lu after 1 warm-up\n", path, nv, nf,
@@ -134,19 +227,18 @@ int main(int argc, char** argv)
 	for (unsigned m = 0; m < vn_method_count; ++m) {
 		if (!all && m != (unsigned)method)
 			continue;
-		for (unsigned long k = 0; k <= repeat; ++k) {
-			const double t0 = tool_now();
-			const vn_result r = tri ? vn_triangle_normals(&out, &pos, mesh.indices, 3 * nf, (vn_method)m, &opt, NULL)
-			                        : vn_polygon_normals(&out, &pos, mesh.indices, mesh.face_offsets, nf,
-			                                             (vn_method)m, &opt, NULL);
-			const double t = tool_now() - t0;
-			if (r != vn_result_success)
-				die(1, "%s", vn_result_string(r));
-			if (k)
-				times[k - 1] = t; /* k == 0 is the warm-up */
+		if (corners) {
+			const double tp = 1e9 * median_time(&b, run_polygon, (vn_method)m, repeat, times) / (double)nf;
+			const double tc = 1e9 * median_time(&b, run_corner, (vn_method)m, repeat, times) / (double)nf;
+			if (csv)
+				printf("%s,%lu,%zu,%.3f,%.3f,%.3f\n", vn_method_name((vn_method)m), threads, nf, tp, tc, tc / tp);
+			else
+				printf("%-7s polygon %8.2f ns/face  corner %8.2f ns/face  ratio %5.2f\n",
+				       vn_method_name((vn_method)m), tp, tc, tc / tp);
+			fflush(stdout);
+			continue;
 		}
-		qsort(times, repeat, sizeof(double), cmp_double);
-		const double med = repeat & 1 ? times[repeat / 2] : 0.5 * (times[repeat / 2 - 1] + times[repeat / 2]);
+		const double med = median_time(&b, run_vertex, (vn_method)m, repeat, times);
 		const double ns = 1e9 * med / (double)triangles;
 		if (csv)
 			printf("%s,%lu,%zu,%.3f,%.2f\n", vn_method_name((vn_method)m), threads, triangles, ns, 1e3 / ns);
@@ -154,6 +246,8 @@ int main(int argc, char** argv)
 			printf("%-7s %8.2f ns/triangle %9.2f Mtriangles/s\n", vn_method_name((vn_method)m), ns, 1e3 / ns);
 		fflush(stdout);
 	}
+	free(sharp);
+	free(corner_normals);
 	free(opt.workspace);
 	free(times);
 	free(normals);
