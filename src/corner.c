@@ -284,10 +284,11 @@ static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t 
 	const uint32_t* idx = j->w.indices;
 	const uint32_t* off = j->w.offsets;
 	int degenerate = 0;
+	for (uint32_t i = 0; i < k; ++i)
+		s->parent[i] = i;
 	for (uint32_t i = 0; i < k; ++i) {
 		const uint32_t c = L[i];
 		uint32_t f, lo, hi;
-		s->parent[i] = i;
 		s->out[i] = s->in[i] = NONE;
 		if (off) {
 			f = j->face_of[c];

@@ -1,4 +1,5 @@
-/* Welding and split normals: vn_weld_positions and vn_corner_normals.
+/* Welding and split normals: vn_weld_positions, vn_corner_normals and
+ * vn_polygon_corner_normals.
  * Literal inputs, literal expected values (computed by hand or to 30
  * digits), plus bit-for-bit agreement with vn_triangle_normals where the
  * two must agree. */
@@ -824,6 +825,562 @@ static void uv_seam_welded(void** state)
 	assert_true(fabs(out[3 * 1 + 1] - out[3 * 68 + 1]) > 0.1);
 }
 
+/* ---------------------------------------------------------------- polygon corner normals */
+
+static vn_result pcorners(const double* pos, size_t nv, const uint32_t* idx, const uint32_t* off, size_t nf,
+                          vn_method m, double crease, const uint8_t* sharp, unsigned threads, double* out,
+                          vn_stats* st)
+{
+	const vn_positions p = {pos, nv, 0, vn_scalar_float64};
+	const vn_vectors o = {out, 0, vn_scalar_float64};
+	vn_options opt;
+	memset(&opt, 0, sizeof(opt));
+	opt.threads = threads;
+	return vn_polygon_corner_normals(&o, &p, idx, off, nf, m, crease, sharp, &opt, st);
+}
+
+/* The unit cube as six outward quads: -z, +z, -y, +y, -x, +x. */
+static const uint32_t qcube_idx[] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 3, 7, 6, 2, 0, 4, 7, 3, 1, 2, 6, 5};
+static const uint32_t qcube_off[] = {0, 4, 8, 12, 16, 20, 24};
+
+/* Every edge flagged, or crease 30 degrees: each corner gets its face's
+ * normal; with nothing sharp, the cube's vertex normal (+-1, +-1, +-1)/sqrt 3
+ * for every face-normal scheme (all weights are equal on a cube). */
+static void poly_cube(void** state)
+{
+	(void)state;
+	uint8_t all[24];
+	memset(all, 1, sizeof(all));
+	for (unsigned m = 0; m < vn_method_mewcsa; ++m)
+		for (int mode = 0; mode < 3; ++mode) {
+			double out[24 * 3];
+			vn_stats st;
+			assert_int_equal(pcorners(cube_pos, 8, qcube_idx, qcube_off, 6, (vn_method)m, mode == 1 ? DEG30 : PI,
+			                          mode == 0 ? all : NULL, 1, out, &st),
+			                 vn_result_success);
+			for (int c = 0; c < 24; ++c) {
+				if (mode < 2) {
+					const double* f = cube_face[c / 4];
+					assert_vec(out + 3 * c, f[0], f[1], f[2], 1e-15);
+				} else {
+					const double* p = cube_pos + 3 * qcube_idx[c];
+					const double k = 0.5773502691896258;
+					assert_vec(out + 3 * c, p[0] ? k : -k, p[1] ? k : -k, p[2] ? k : -k, 1e-15);
+				}
+			}
+			assert_int_equal(st.faces, 6);
+			assert_int_equal(st.degenerate_faces, 0);
+			assert_int_equal(st.zero_normals, 0);
+		}
+}
+
+/* Two quads hinged at edge 1-2: A = (0,1,2,3) in z = 0 (normal +z), B =
+ * (1,4,5,2) in x = 1 (normal -x), 90 degrees apart. MWE: vertices 1 and 2
+ * get (-1, 0, 1)/sqrt 2 in both faces unless the edge is flagged (from
+ * either side: corner 1 is A's 1 -> 2, corner 7 is B's 2 -> 1) or the crease
+ * angle is below 90 degrees. */
+static const double hinge_pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 1, 0, 1, 1, 1, 1};
+static const uint32_t hinge_idx[] = {0, 1, 2, 3, 1, 4, 5, 2};
+static const uint32_t hinge_off[] = {0, 4, 8};
+
+static void poly_hinge(void** state)
+{
+	(void)state;
+	const double h = 0.7071067811865475;
+	double out[8 * 3];
+	assert_int_equal(pcorners(hinge_pos, 6, hinge_idx, hinge_off, 2, vn_method_mwe, PI, NULL, 1, out, NULL),
+	                 vn_result_success);
+	for (int c = 0; c < 8; ++c) {
+		const int joint = hinge_idx[c] == 1 || hinge_idx[c] == 2;
+		if (joint)
+			assert_vec(out + 3 * c, -h, 0, h, 1e-15);
+		else if (c < 4)
+			assert_vec(out + 3 * c, 0, 0, 1, 0);
+		else
+			assert_vec(out + 3 * c, -1, 0, 0, 0);
+	}
+	assert_int_equal(pcorners(hinge_pos, 6, hinge_idx, hinge_off, 2, vn_method_mwe, 1.6, NULL, 1, out, NULL),
+	                 vn_result_success);
+	assert_vec(out + 3 * 1, -h, 0, h, 1e-15);
+	for (int mode = 0; mode < 3; ++mode) {
+		uint8_t sharp[8] = {0};
+		if (mode < 2)
+			sharp[mode ? 7 : 1] = 1;
+		assert_int_equal(pcorners(hinge_pos, 6, hinge_idx, hinge_off, 2, vn_method_mwe, mode == 2 ? 1.5 : PI,
+		                          mode < 2 ? sharp : NULL, 1, out, NULL),
+		                 vn_result_success);
+		for (int c = 0; c < 8; ++c)
+			if (c < 4)
+				assert_vec(out + 3 * c, 0, 0, 1, 0);
+			else
+				assert_vec(out + 3 * c, -1, 0, 0, 0);
+	}
+	/* A flag on another edge (A's 0 -> 1, a boundary already) splits nothing. */
+	uint8_t other[8] = {1, 0, 0, 0, 0, 0, 0, 0};
+	assert_int_equal(pcorners(hinge_pos, 6, hinge_idx, hinge_off, 2, vn_method_mwe, PI, other, 1, out, NULL),
+	                 vn_result_success);
+	assert_vec(out + 3 * 2, -h, 0, h, 1e-15);
+}
+
+/* A closed torus of U x V cells: most quads, some split into two
+ * triangles, and pairs of pentagons sharing an edge with a midpoint vertex
+ * inserted. Positions jittered deterministically. Returns the face count;
+ * pos needs 3 (U V + U V) doubles, idx 6 U V, off U V + ... (2 U V + 1). */
+#define TU 12
+#define TV 10
+static size_t mixed_torus(int U, int V, uint32_t seed, double* pos, size_t* nv, uint32_t* idx, uint32_t* off)
+{
+	const double R = 1.0, r = 0.4;
+	for (int i = 0; i < U; ++i)
+		for (int j = 0; j < V; ++j) {
+			const double ju = (double)(next_random(&seed) % 1000) / 1000.0 - 0.5;
+			const double jv = (double)(next_random(&seed) % 1000) / 1000.0 - 0.5;
+			const double u = 2 * PI * (i + 0.4 * ju) / U, v = 2 * PI * (j + 0.4 * jv) / V;
+			double* p = pos + 3 * (size_t)(i * V + j);
+			p[0] = (R + r * cos(v)) * cos(u), p[1] = (R + r * cos(v)) * sin(u), p[2] = r * sin(v);
+		}
+	/* Midpoint m(i, j) on the edge between cells (i, j) and (i, j + 1), for
+	 * j % 4 == 0 and i % 3 == 0. */
+	size_t n = (size_t)U * V;
+	uint32_t* mid = (uint32_t*)malloc(sizeof(uint32_t) * (size_t)U * V);
+#define VID(a, b) ((uint32_t)((((a) + U) % U) * V + (((b) + V) % V)))
+	for (int i = 0; i < U; ++i)
+		for (int j = 0; j < V; ++j) {
+			mid[i * V + j] = UINT32_MAX;
+			if (j % 4 == 0 && i % 3 == 0 && V % 4 == 2 - 2 + (V % 4)) {
+				const double* a = pos + 3 * (size_t)VID(i, j + 1);
+				const double* b = pos + 3 * (size_t)VID(i + 1, j + 1);
+				for (int k = 0; k < 3; ++k)
+					pos[3 * n + k] = 0.5 * (a[k] + b[k]) * (k == 2 ? 1.0 : 1.01);
+				mid[i * V + j] = (uint32_t)n++;
+			}
+		}
+	size_t f = 0, c = 0;
+	off[0] = 0;
+	for (int i = 0; i < U; ++i)
+		for (int j = 0; j < V; ++j) {
+			const uint32_t below = mid[i * V + (j + V - 1) % V], above = mid[i * V + j];
+			const uint32_t v00 = VID(i, j), v10 = VID(i + 1, j), v11 = VID(i + 1, j + 1), v01 = VID(i, j + 1);
+			if (below == UINT32_MAX && above == UINT32_MAX && (i + 2 * j) % 5 == 0) {
+				const uint32_t t[6] = {v00, v10, v11, v00, v11, v01};
+				memcpy(idx + c, t, sizeof(t));
+				c += 6, off[++f] = (uint32_t)(c - 3), off[++f] = (uint32_t)c;
+				continue;
+			}
+			idx[c++] = v00;
+			if (below != UINT32_MAX)
+				idx[c++] = below;
+			idx[c++] = v10, idx[c++] = v11;
+			if (above != UINT32_MAX)
+				idx[c++] = above;
+			idx[c++] = v01;
+			off[++f] = (uint32_t)c;
+		}
+#undef VID
+	free(mid);
+	*nv = n;
+	return f;
+}
+
+/* Nothing sharp on a closed mesh of triangles, quads and pentagons: every
+ * corner gets its vertex's vn_polygon_normals normal, bit for bit. */
+static void poly_matches_vertex_normals(void** state)
+{
+	(void)state;
+	double pos[3 * 2 * TU * TV], vert[3 * 2 * TU * TV], out[3 * 6 * TU * TV];
+	uint32_t idx[6 * TU * TV], off[2 * TU * TV + 1];
+	size_t nv;
+	const size_t nf = mixed_torus(TU, TV, 7, pos, &nv, idx, off);
+	int sizes[6] = {0};
+	for (size_t f = 0; f < nf; ++f)
+		sizes[off[f + 1] - off[f]]++;
+	assert_true(sizes[3] > 0 && sizes[4] > 0 && sizes[5] > 0);
+	const vn_positions p = {pos, nv, 0, vn_scalar_float64};
+	const vn_vectors ov = {vert, 0, vn_scalar_float64};
+	for (unsigned m = 0; m < vn_method_count; ++m)
+		for (unsigned threads = 1; threads <= 3; threads += 2) {
+			vn_stats st;
+			assert_int_equal(vn_polygon_normals(&ov, &p, idx, off, nf, (vn_method)m, NULL, NULL), vn_result_success);
+			assert_int_equal(pcorners(pos, nv, idx, off, nf, (vn_method)m, PI, NULL, threads, out, &st),
+			                 vn_result_success);
+			for (size_t c = 0; c < off[nf]; ++c)
+				assert_same(out + 3 * c, vert + 3 * (size_t)idx[c]);
+			assert_int_equal(st.faces, nf);
+			assert_int_equal(st.degenerate_faces, 0);
+		}
+}
+
+/* An independent brute force: corners at one vertex are joined when some
+ * edge of the vertex, found by scanning every corner of the mesh, has
+ * exactly two uses in opposite directions, one the out edge of the one
+ * corner and the other the in edge of the other, is not flagged and its
+ * faces' normals are at most crease apart (acos), or when the two are
+ * consecutive corners of one face at the same vertex. Contributions from
+ * the paper's definitions, in long double. */
+static void brute_newell(const double* pos, const uint32_t* face, uint32_t k, long double n[3])
+{
+	n[0] = n[1] = n[2] = 0;
+	for (uint32_t i = 0; i < k; ++i) {
+		const double* a = pos + 3 * (size_t)face[i];
+		const double* b = pos + 3 * (size_t)face[(i + 1) % k];
+		n[0] += (long double)a[1] * b[2] - (long double)a[2] * b[1];
+		n[1] += (long double)a[2] * b[0] - (long double)a[0] * b[2];
+		n[2] += (long double)a[0] * b[1] - (long double)a[1] * b[0];
+	}
+	const long double l = sqrtl(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+	n[0] /= l, n[1] /= l, n[2] /= l;
+}
+
+static void brute_corner_normals(const double* pos, const uint32_t* idx, const uint32_t* off, size_t nf, int method,
+                                 double crease, const uint8_t* sharp, double* out)
+{
+	const size_t n = off[nf];
+	uint32_t* fof = (uint32_t*)malloc(sizeof(uint32_t) * n);
+	uint32_t* nxt = (uint32_t*)malloc(sizeof(uint32_t) * n);
+	uint32_t* prv = (uint32_t*)malloc(sizeof(uint32_t) * n);
+	uint32_t* grp = (uint32_t*)malloc(sizeof(uint32_t) * n);
+	long double* fn = (long double*)malloc(sizeof(long double) * 3 * nf);
+	for (size_t f = 0; f < nf; ++f) {
+		brute_newell(pos, idx + off[f], off[f + 1] - off[f], fn + 3 * f);
+		for (uint32_t c = off[f]; c < off[f + 1]; ++c) {
+			fof[c] = (uint32_t)f;
+			nxt[c] = c + 1 == off[f + 1] ? off[f] : c + 1;
+			prv[c] = c == off[f] ? off[f + 1] - 1 : c - 1;
+		}
+	}
+	for (size_t c = 0; c < n; ++c)
+		grp[c] = (uint32_t)c;
+	for (size_t a = 0; a < n; ++a)
+		for (size_t b = 0; b < n; ++b) {
+			if (idx[a] != idx[b] || a == b)
+				continue;
+			int join = nxt[a] == b; /* consecutive corners at one vertex */
+			const uint32_t v = idx[a], w = idx[nxt[a]];
+			if (!join && w != v && idx[prv[b]] == w) {
+				/* a: v -> w; b: w -> v. Count every use of edge {v, w}. */
+				int uses = 0;
+				for (size_t c = 0; c < n; ++c)
+					uses += (idx[c] == v && idx[nxt[c]] == w) || (idx[c] == w && idx[nxt[c]] == v);
+				const long double* na = fn + 3 * fof[a];
+				const long double* nb = fn + 3 * fof[b];
+				long double d = na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2];
+				d = d > 1 ? 1 : d < -1 ? -1 : d;
+				join = uses == 2 && !(sharp && (sharp[a] || sharp[prv[b]])) && acosl(d) <= crease;
+			}
+			if (join) { /* merge groups: relabel to the lower */
+				const uint32_t ga = grp[a], gb = grp[b], lo = ga < gb ? ga : gb, hi = ga < gb ? gb : ga;
+				for (size_t c = 0; c < n; ++c)
+					if (grp[c] == hi)
+						grp[c] = lo;
+			}
+		}
+	for (size_t c = 0; c < n; ++c) {
+		long double s[3] = {0, 0, 0};
+		for (size_t d = 0; d < n; ++d) {
+			if (grp[d] != grp[c])
+				continue;
+			const double* p = pos + 3 * (size_t)idx[d];
+			const double* pp = pos + 3 * (size_t)idx[prv[d]];
+			const double* pn = pos + 3 * (size_t)idx[nxt[d]];
+			long double e[3], e2[3], x[3];
+			for (int i = 0; i < 3; ++i)
+				e[i] = (long double)pp[i] - p[i], e2[i] = (long double)pn[i] - p[i];
+			x[0] = e[1] * e2[2] - e[2] * e2[1], x[1] = e[2] * e2[0] - e[0] * e2[2], x[2] = e[0] * e2[1] - e[1] * e2[0];
+			const long double le = sqrtl(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+			const long double le2 = sqrtl(e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]);
+			const long double lx = sqrtl(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+			const long double* N = fn + 3 * fof[d];
+			if (le == 0 || le2 == 0)
+				continue;
+			if (method == vn_method_mewcsa) {
+				const long double q[3] = {e2[0] - e[0], e2[1] - e[1], e2[2] - e[2]};
+				s[0] += q[1] * N[2] - q[2] * N[1], s[1] += q[2] * N[0] - q[0] * N[2], s[2] += q[0] * N[1] - q[1] * N[0];
+				continue;
+			}
+			const long double dot = e[0] * e2[0] + e[1] * e2[1] + e[2] * e2[2];
+			const long double wts[6] = {1, atan2l(lx, dot), lx / (le * le * le2 * le2), lx, 1 / (le * le2),
+			                            1 / sqrtl(le * le2)};
+			for (int i = 0; i < 3; ++i)
+				s[i] += wts[method] * N[i];
+		}
+		const long double l = sqrtl(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+		for (int i = 0; i < 3; ++i)
+			out[3 * c + i] = l > 0 ? (double)(s[i] / l) : 0.0;
+	}
+	free(fn);
+	free(grp);
+	free(prv);
+	free(nxt);
+	free(fof);
+}
+
+/* The mixed torus with a few faces removed (boundaries), random flags and
+ * crease angles: the library agrees with the brute force within 1e-12. */
+static void poly_matches_brute_force(void** state)
+{
+	(void)state;
+	double pos[3 * 2 * TU * TV];
+	uint32_t idx[6 * TU * TV], off[2 * TU * TV + 1];
+	size_t nv;
+	size_t nf = mixed_torus(TU, TV, 11, pos, &nv, idx, off);
+	/* Remove faces 5, 40 and 77: shift the rest down. */
+	const size_t gone[3] = {77, 40, 5};
+	for (int g = 0; g < 3; ++g) {
+		const size_t f = gone[g], k = off[f + 1] - off[f];
+		memmove(idx + off[f], idx + off[f + 1], sizeof(uint32_t) * (off[nf] - off[f + 1]));
+		for (size_t h = f; h < nf; ++h)
+			off[h] = off[h + 1] - (uint32_t)k;
+		--nf;
+	}
+	const size_t n = off[nf];
+	double* out = (double*)malloc(sizeof(double) * 3 * n);
+	double* want = (double*)malloc(sizeof(double) * 3 * n);
+	uint8_t* sharp = (uint8_t*)malloc(n);
+	uint32_t seed = 99;
+	const double creases[4] = {0.3, 0.8, 1.5, PI};
+	for (unsigned m = 0; m < vn_method_count; ++m)
+		for (int t = 0; t < 4; ++t) {
+			for (size_t c = 0; c < n; ++c)
+				sharp[c] = next_random(&seed) % 5 == 0;
+			assert_int_equal(pcorners(pos, nv, idx, off, nf, (vn_method)m, creases[t], sharp, 1, out, NULL),
+			                 vn_result_success);
+			brute_corner_normals(pos, idx, off, nf, (int)m, creases[t], sharp, want);
+			for (size_t c = 0; c < n; ++c)
+				assert_vec(out + 3 * c, want[3 * c], want[3 * c + 1], want[3 * c + 2], 1e-12);
+		}
+	free(sharp);
+	free(want);
+	free(out);
+}
+
+/* On triangles the polygon arithmetic (Newell normal, per-corner weights)
+ * differs from vn_corner_normals' triangle arithmetic in the last bits
+ * only, and the fans are the same: agreement within 1e-13. */
+static void poly_matches_triangle_corners(void** state)
+{
+	(void)state;
+	vn_model_mesh mesh;
+	assert_int_equal(vn_model_generate(vn_model_perlin_hf, vn_resolution_low, NULL, &mesh), vn_result_success);
+	const size_t ni = 3 * mesh.triangle_count;
+	uint32_t* off = (uint32_t*)malloc(sizeof(uint32_t) * (mesh.triangle_count + 1));
+	for (size_t f = 0; f <= mesh.triangle_count; ++f)
+		off[f] = (uint32_t)(3 * f);
+	double* a = (double*)malloc(sizeof(double) * 3 * ni);
+	double* b = (double*)malloc(sizeof(double) * 3 * ni);
+	uint8_t* sharp = (uint8_t*)malloc(ni);
+	uint32_t seed = 5;
+	for (size_t c = 0; c < ni; ++c)
+		sharp[c] = next_random(&seed) % 7 == 0;
+	const vn_positions p = {mesh.positions, mesh.vertex_count, 0, vn_scalar_float64};
+	const vn_vectors oa = {a, 0, vn_scalar_float64};
+	for (unsigned m = 0; m < vn_method_count; ++m)
+		for (int t = 0; t < 2; ++t) {
+			const double crease = t ? 0.2 : PI;
+			assert_int_equal(vn_corner_normals(&oa, &p, mesh.indices, ni, (vn_method)m, crease, sharp, NULL, NULL),
+			                 vn_result_success);
+			assert_int_equal(pcorners(mesh.positions, mesh.vertex_count, mesh.indices, off, mesh.triangle_count,
+			                          (vn_method)m, crease, sharp, 2, b, NULL),
+			                 vn_result_success);
+			for (size_t c = 0; c < ni; ++c)
+				assert_vec(b + 3 * c, a[3 * c], a[3 * c + 1], a[3 * c + 2], 1e-13);
+		}
+	free(sharp);
+	free(b);
+	free(a);
+	free(off);
+	vn_model_free(&mesh, NULL);
+}
+
+/* Results bit-identical for 1, 2, 3 and 7 threads on a mesh big enough for
+ * 7 workers (more than 7 x 4096 vertices), polygons and triangles. */
+static void poly_threads_bit_identical(void** state)
+{
+	(void)state;
+	const int U = 220, V = 150;
+	double* pos = (double*)malloc(sizeof(double) * 3 * 2 * U * V);
+	uint32_t* idx = (uint32_t*)malloc(sizeof(uint32_t) * 6 * U * V);
+	uint32_t* off = (uint32_t*)malloc(sizeof(uint32_t) * (2 * U * V + 1));
+	size_t nv;
+	const size_t nf = mixed_torus(U, V, 3, pos, &nv, idx, off), n = off[nf];
+	assert_true(nv > 7 * 4096);
+	uint8_t* sharp = (uint8_t*)malloc(n);
+	uint32_t seed = 17;
+	for (size_t c = 0; c < n; ++c)
+		sharp[c] = next_random(&seed) % 9 == 0;
+	double* one = (double*)malloc(sizeof(double) * 3 * n);
+	double* many = (double*)malloc(sizeof(double) * 3 * n);
+	const unsigned counts[3] = {2, 3, 7};
+	for (unsigned m = 0; m < vn_method_count; m += 3) {
+		vn_stats s1, sk;
+		assert_int_equal(pcorners(pos, nv, idx, off, nf, (vn_method)m, 0.4, sharp, 1, one, &s1), vn_result_success);
+		for (int t = 0; t < 3; ++t) {
+			memset(many, 0xff, sizeof(double) * 3 * n);
+			assert_int_equal(pcorners(pos, nv, idx, off, nf, (vn_method)m, 0.4, sharp, counts[t], many, &sk),
+			                 vn_result_success);
+			assert_memory_equal(one, many, sizeof(double) * 3 * n);
+			assert_memory_equal(&s1, &sk, sizeof(s1));
+		}
+	}
+	/* Triangles through vn_corner_normals: the faces as triangle fans. */
+	uint32_t* tri = (uint32_t*)malloc(sizeof(uint32_t) * 3 * n);
+	size_t ni = 0;
+	for (size_t f = 0; f < nf; ++f)
+		for (uint32_t c = off[f] + 1; c + 1 < off[f + 1]; ++c)
+			tri[ni++] = idx[off[f]], tri[ni++] = idx[c], tri[ni++] = idx[c + 1];
+	double* a = (double*)malloc(sizeof(double) * 3 * ni);
+	double* b = (double*)malloc(sizeof(double) * 3 * ni);
+	uint8_t* tri_sharp = (uint8_t*)malloc(ni);
+	for (size_t c = 0; c < ni; ++c)
+		tri_sharp[c] = next_random(&seed) % 9 == 0;
+	const vn_positions p = {pos, nv, 0, vn_scalar_float64};
+	const vn_vectors oa = {a, 0, vn_scalar_float64}, ob = {b, 0, vn_scalar_float64};
+	vn_options o;
+	memset(&o, 0, sizeof(o));
+	assert_int_equal(vn_corner_normals(&oa, &p, tri, ni, vn_method_mwa, 0.3, tri_sharp, &o, NULL), vn_result_success);
+	for (int t = 0; t < 3; ++t) {
+		o.threads = counts[t];
+		assert_int_equal(vn_corner_normals(&ob, &p, tri, ni, vn_method_mwa, 0.3, tri_sharp, &o, NULL), vn_result_success);
+		assert_memory_equal(a, b, sizeof(double) * 3 * ni);
+	}
+	free(tri_sharp);
+	free(b);
+	free(a);
+	free(tri);
+	free(many);
+	free(one);
+	free(sharp);
+	free(off);
+	free(idx);
+	free(pos);
+}
+
+/* The hinge with A given as (0, 1, 1, 2, 3): A's two corners at vertex 1
+ * contribute nothing (a zero-length edge each) but are one corner of the
+ * face, joined to B across edge 1-2: all three corners at vertex 1 get B's
+ * normal (-1, 0, 0). */
+static void poly_repeated_index(void** state)
+{
+	(void)state;
+	const uint32_t idx[] = {0, 1, 1, 2, 3, 1, 4, 5, 2};
+	const uint32_t off[] = {0, 5, 9};
+	double out[9 * 3];
+	vn_stats st;
+	assert_int_equal(pcorners(hinge_pos, 6, idx, off, 2, vn_method_mwe, PI, NULL, 1, out, &st), vn_result_success);
+	assert_vec(out + 3 * 1, -1, 0, 0, 0);
+	assert_vec(out + 3 * 2, -1, 0, 0, 0);
+	assert_vec(out + 3 * 5, -1, 0, 0, 0);
+	assert_vec(out + 3 * 3, -0.7071067811865475, 0, 0.7071067811865475, 1e-15); /* vertex 2 */
+	assert_vec(out + 3 * 0, 0, 0, 1, 0);
+	assert_int_equal(st.degenerate_faces, 0);
+}
+
+/* Degenerate faces never give NaN: a 2-corner face, a cornerless face, a
+ * zero-area quad, a face with a NaN vertex and an isolated vertex. The
+ * corners of degenerate faces get their vertex's normal over its usable
+ * faces (the flat square's +z), or zero where there is none. */
+static void poly_degenerate(void** state)
+{
+	(void)state;
+	const double pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, NAN, 0, 0, 5, 5, 5, 0.5, 0, 0};
+	/* square (0,1,2,3); 2-corner (0, 2); empty; zero-area (0, 6, 1, 6); NaN (1, 4, 2); vertex 5 unused */
+	const uint32_t idx[] = {0, 1, 2, 3, 0, 2, 0, 6, 1, 6, 1, 4, 2};
+	const uint32_t off[] = {0, 4, 6, 6, 10, 13};
+	for (unsigned m = 0; m < vn_method_count; ++m)
+		for (int t = 0; t < 2; ++t) {
+			double out[13 * 3];
+			vn_stats st;
+			assert_int_equal(pcorners(pos, 7, idx, off, 5, (vn_method)m, t ? 0.1 : PI, NULL, 1, out, &st),
+			                 vn_result_success);
+			for (int c = 0; c < 13; ++c)
+				for (int a = 0; a < 3; ++a)
+					assert_false(isnan(out[3 * c + a]));
+			const int zero[13] = {0, 0, 0, 0, 0, 0, 0, 1, 0, 1, 0, 1, 0};
+			for (int c = 0; c < 13; ++c)
+				if (zero[c])
+					assert_vec(out + 3 * c, 0, 0, 0, 0);
+				else if (m != vn_method_mewcsa)
+					assert_vec(out + 3 * c, 0, 0, 1, 1e-15);
+			assert_int_equal(st.faces, 5);
+			assert_int_equal(st.degenerate_faces, 4);
+			assert_int_equal(st.zero_normals, 3);
+			assert_int_equal(st.nonfinite_vertices, 1);
+		}
+}
+
+static void poly_errors(void** state)
+{
+	(void)state;
+	double out[24 * 3];
+	for (int i = 0; i < 72; ++i)
+		out[i] = 42.0;
+	uint32_t bad[24];
+	memcpy(bad, qcube_idx, sizeof(bad));
+	bad[23] = 8;
+	for (unsigned threads = 1; threads <= 2; ++threads)
+		assert_int_equal(pcorners(cube_pos, 8, bad, qcube_off, 6, vn_method_mwe, PI, NULL, threads, out, NULL),
+		                 vn_result_index_out_of_range);
+	for (int i = 0; i < 72; ++i)
+		assert_true(out[i] == 42.0);
+	assert_int_equal(pcorners(cube_pos, 8, qcube_idx, qcube_off, 6, vn_method_mwe, -0.5, NULL, 1, out, NULL),
+	                 vn_result_invalid_argument);
+	assert_int_equal(pcorners(cube_pos, 8, qcube_idx, qcube_off, 6, vn_method_mwe, NAN, NULL, 1, out, NULL),
+	                 vn_result_invalid_argument);
+	assert_int_equal(pcorners(cube_pos, 8, qcube_idx, NULL, 6, vn_method_mwe, PI, NULL, 1, out, NULL),
+	                 vn_result_invalid_argument);
+	const uint32_t backwards[] = {0, 4, 3, 12};
+	assert_int_equal(pcorners(cube_pos, 8, qcube_idx, backwards, 3, vn_method_mwe, PI, NULL, 1, out, NULL),
+	                 vn_result_invalid_argument);
+	assert_int_equal(pcorners(cube_pos, 8, qcube_idx, qcube_off, 6, vn_method_count, PI, NULL, 1, out, NULL),
+	                 vn_result_unknown_method);
+	assert_int_equal(pcorners(cube_pos, 8, NULL, qcube_off, 6, vn_method_mwe, PI, NULL, 1, out, NULL),
+	                 vn_result_invalid_argument);
+	for (int i = 0; i < 72; ++i)
+		assert_true(out[i] == 42.0);
+	/* No corners: success, nothing written. */
+	const uint32_t none[] = {0, 0};
+	vn_stats st;
+	assert_int_equal(pcorners(cube_pos, 8, NULL, none, 1, vn_method_mwe, PI, NULL, 1, NULL, &st), vn_result_success);
+	assert_int_equal(st.faces, 1);
+	assert_int_equal(st.degenerate_faces, 1);
+}
+
+/* Work memory: from the allocator (every failure reported, nothing leaked
+ * or written), or none at all from a workspace of vn.h's size. */
+static void poly_memory(void** state)
+{
+	(void)state;
+	double out[24 * 3];
+	const vn_positions p = {cube_pos, 8, 0, vn_scalar_float64};
+	const vn_vectors o = {out, 0, vn_scalar_float64};
+	counting c = {0, 0, -1};
+	vn_options opt = counting_options(&c);
+	assert_int_equal(vn_polygon_corner_normals(&o, &p, qcube_idx, qcube_off, 6, vn_method_mwe, DEG30, NULL, &opt, NULL),
+	                 vn_result_success);
+	assert_true(c.allocations > 0);
+	assert_int_equal(c.allocations, c.frees);
+	const int total = c.allocations;
+	for (int k = 0; k < total; ++k) {
+		counting f = {0, 0, k};
+		const vn_options fail = counting_options(&f);
+		out[0] = 42.0;
+		assert_int_equal(
+		    vn_polygon_corner_normals(&o, &p, qcube_idx, qcube_off, 6, vn_method_mwe, DEG30, NULL, &fail, NULL),
+		    vn_result_out_of_memory);
+		assert_true(out[0] == 42.0);
+		assert_int_equal(f.allocations, f.frees);
+	}
+	/* 36 bytes a corner + 24 a face + 4 a vertex + 64 a thread + 64. */
+	unsigned char ws[36 * 24 + 24 * 6 + 4 * 8 + 64 + 64];
+	counting none = {0, 0, 0};
+	opt = counting_options(&none);
+	opt.workspace = ws;
+	opt.workspace_size = sizeof(ws);
+	assert_int_equal(vn_polygon_corner_normals(&o, &p, qcube_idx, qcube_off, 6, vn_method_mwe, DEG30, NULL, &opt, NULL),
+	                 vn_result_success);
+	assert_int_equal(none.allocations, 0);
+	assert_vec(out, 0, 0, -1, 0);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -856,6 +1413,16 @@ int main(void)
 	    cmocka_unit_test(corner_types_and_strides),
 	    cmocka_unit_test(corner_allocator),
 	    cmocka_unit_test(uv_seam_welded),
+	    cmocka_unit_test(poly_cube),
+	    cmocka_unit_test(poly_hinge),
+	    cmocka_unit_test(poly_matches_vertex_normals),
+	    cmocka_unit_test(poly_matches_brute_force),
+	    cmocka_unit_test(poly_matches_triangle_corners),
+	    cmocka_unit_test(poly_threads_bit_identical),
+	    cmocka_unit_test(poly_repeated_index),
+	    cmocka_unit_test(poly_degenerate),
+	    cmocka_unit_test(poly_errors),
+	    cmocka_unit_test(poly_memory),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }
