@@ -258,10 +258,23 @@ VN_API vn_result vn_corner_normals(const vn_vectors* normals, const vn_positions
  * between its two faces' unit normals exceeds crease_angle, radians; >= pi
  * disables it). A flat-shaded face is one whose every edge is flagged: its
  * corners get its own normal. normals receives face_offsets[face_count]
- * vectors; a corner no face contributes to gets (0, 0, 0). Computed on
- * options->threads threads, bit-identical whatever their number. On
- * triangles it agrees with vn_corner_normals; with nothing sharp each corner
- * gets its vertex's vn_polygon_normals normal. */
+ * vectors; a corner no face contributes to gets (0, 0, 0).
+ * A degenerate face (fewer than 3 corners, zero or non-finite Newell normal)
+ * takes part in no edge, and its corners get their vertex's normal over all
+ * its other faces (vn_polygon_normals' normal), or zero. An edge i -> i of
+ * a repeated index has zero length and joins its two corners (one corner of
+ * the face; they contribute nothing, as in vn_polygon_normals). Every index
+ * is checked before anything is written; a negative or NaN crease_angle,
+ * NULL face_offsets or decreasing offsets are invalid_argument.
+ * Computed on options->threads threads (fewer below 4096 vertices a thread),
+ * bit-identical whatever their number. With nothing sharp each corner gets
+ * its vertex's vn_polygon_normals normal bit for bit; on triangles it
+ * agrees with vn_corner_normals to rounding (that one uses the triangle
+ * kernels' arithmetic, and runs on this code: same threads, same memory).
+ * Work memory comes from options->workspace when workspace_size is at least
+ * 36 bytes a corner + 24 a face + 4 a vertex + 64 a thread + 64, else from
+ * the allocator; a vertex with more than 24 corners also takes about 60
+ * bytes per corner of the largest such star, per thread, from the allocator. */
 VN_API vn_result vn_polygon_corner_normals(const vn_vectors* normals, const vn_positions* positions,
                                            const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
                                            vn_method method, double crease_angle, const uint8_t* sharp_edges,
