@@ -277,6 +277,77 @@ VN_INLINE void join_edge(const job* j, const fan_scratch* s, const uint32_t* L, 
  * (k^2 predictable compares), above by sorting. */
 #define FEW 24
 
+/* Steps 3 and 4 for the usual vertex: at most SMALL corners, all of usable
+ * faces, no zero-length edge. Fixed-size arrays and loops, labels instead
+ * of union-find (a corner's label is its fan's lowest corner), so that the
+ * work has few unpredictable branches. Returns the number of zero normals
+ * written, or SIZE_MAX (nothing written) when the vertex is not usual. */
+#define SMALL 8
+static size_t small_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t k)
+{
+	const uint32_t* idx = j->w.indices;
+	const uint32_t* off = j->w.offsets;
+	uint32_t out[SMALL], in[SMALL], face[SMALL], prev[SMALL], label[SMALL];
+	for (uint32_t i = 0; i < SMALL; ++i)
+		out[i] = in[i] = NONE, label[i] = i;
+	for (uint32_t i = 0; i < k; ++i) {
+		const uint32_t c = L[i];
+		uint32_t f, lo, hi;
+		if (off) {
+			f = j->face_of[c];
+			if (f >= UNUSABLE)
+				return SIZE_MAX;
+			lo = off[f], hi = off[f + 1];
+		} else {
+			f = c / 3, lo = 3 * f, hi = lo + 3;
+			if (!usable(j->unit + 3 * (size_t)f))
+				return SIZE_MAX;
+		}
+		const uint32_t next = c + 1 == hi ? lo : c + 1, pc = c == lo ? hi - 1 : c - 1;
+		out[i] = idx[next], in[i] = idx[pc], face[i] = f, prev[i] = pc;
+		if (out[i] == v || in[i] == v)
+			return SIZE_MAX;
+	}
+	/* Each edge v -> b with an out use io: manifold when it has no other out
+	 * use and exactly one in use ii (b -> v). */
+	for (uint32_t io = 0; io < k; ++io) {
+		const uint32_t b = out[io];
+		uint32_t outs = 0, ins = 0, ii = 0;
+		for (uint32_t i = 0; i < SMALL; ++i) {
+			outs += out[i] == b;
+			ins += in[i] == b;
+			ii |= in[i] == b ? i : 0;
+		}
+		if (outs != 1 || ins != 1)
+			continue;
+		if (j->sharp && (j->sharp[L[io]] || j->sharp[prev[ii]]))
+			continue;
+		if (j->crease && creased(j->unit + 3 * (size_t)face[io], j->unit + 3 * (size_t)face[ii], j->cos_c, j->sin_c))
+			continue;
+		const uint32_t la = label[io], lb = label[ii], keep = la < lb ? la : lb, drop = la < lb ? lb : la;
+		for (uint32_t i = 0; i < SMALL; ++i)
+			label[i] = label[i] == drop ? keep : label[i];
+	}
+	size_t zero = 0;
+	for (uint32_t r = 0; r < k; ++r) {
+		if (label[r] != r)
+			continue;
+		double a[3] = {0.0, 0.0, 0.0};
+		for (uint32_t i = r; i < k; ++i)
+			if (label[i] == r) {
+				const double* c = j->contrib + 3 * (size_t)L[i];
+				a[0] += c[0], a[1] += c[1], a[2] += c[2];
+			}
+		const int z = vn_normalize(a);
+		for (uint32_t i = r; i < k; ++i)
+			if (label[i] == r) {
+				zero += (size_t)z;
+				vn_store(&j->out, L[i], a);
+			}
+	}
+	return zero;
+}
+
 /* Steps 3 and 4 for vertex v, whose corners are L[0..k). Returns the number
  * of zero normals written. */
 static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t k, const fan_scratch* s)
@@ -447,8 +518,11 @@ static void phase_fans(void* ctx, unsigned t)
 	const fan_scratch s = j->scratch ? scratch_at(j->scratch + j->scratch_bytes * t, j->workers[0].valence)
 	                                 : scratch_at((unsigned char*)small, FEW);
 	size_t zero = 0;
-	for (uint32_t v = v0, begin = wk->base; v < v1; begin = end[v++])
-		zero += vertex_fans(j, v, j->list + begin, end[v] - begin, &s);
+	for (uint32_t v = v0, begin = wk->base; v < v1; begin = end[v++]) {
+		const uint32_t k = end[v] - begin;
+		const size_t z = k <= SMALL ? small_fans(j, v, j->list + begin, k) : SIZE_MAX;
+		zero += z != SIZE_MAX ? z : vertex_fans(j, v, j->list + begin, k, &s);
+	}
 	wk->zero = zero;
 	if (j->want_stats)
 		wk->nonfinite = vn_count_nonfinite(&j->w, v0, v1);

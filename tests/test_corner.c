@@ -1153,6 +1153,50 @@ static void poly_matches_brute_force(void** state)
 	free(out);
 }
 
+/* A vertex with many corners (a closed fan of N triangles and quads around
+ * vertex 0, rim jittered in height, random flags): 12 and 40 corners take
+ * the star paths that a mesh's usual vertices do not; the brute force
+ * agrees within 1e-12. */
+static void poly_high_valence(void** state)
+{
+	(void)state;
+	for (int big = 0; big < 2; ++big) {
+		const uint32_t N = big ? 40 : 12;
+		double pos[3 * (2 * 40 + 1)];
+		uint32_t idx[4 * 40], off[41];
+		uint32_t seed = 23 + N;
+		pos[0] = pos[1] = 0, pos[2] = 1;
+		for (uint32_t i = 0; i < 2 * N; ++i) { /* rim i at even angles, outer ring at odd */
+			const double a = 2 * PI * (double)(i / 2) / N, rr = i % 2 ? 2.0 : 1.0;
+			pos[3 + 3 * i] = rr * cos(a), pos[4 + 3 * i] = rr * sin(a);
+			pos[5 + 3 * i] = 0.3 * (double)(next_random(&seed) % 1000) / 1000.0;
+		}
+		size_t c = 0;
+		for (uint32_t i = 0; i < N; ++i) {
+			const uint32_t a = 1 + 2 * i, b = 1 + 2 * ((i + 1) % N);
+			off[i] = (uint32_t)c;
+			idx[c++] = 0, idx[c++] = a;
+			if (i % 3 == 1) /* a quad now and then */
+				idx[c++] = a + 1;
+			idx[c++] = b;
+		}
+		off[N] = (uint32_t)c;
+		double out[3 * 4 * 40], want[3 * 4 * 40];
+		uint8_t sharp[4 * 40];
+		for (unsigned m = 0; m < vn_method_count; ++m)
+			for (int t = 0; t < 3; ++t) {
+				for (size_t k = 0; k < c; ++k)
+					sharp[k] = t == 2 && next_random(&seed) % 4 == 0;
+				const double crease = t == 1 ? 0.25 : PI;
+				assert_int_equal(pcorners(pos, 2 * N + 1, idx, off, N, (vn_method)m, crease, sharp, 1, out, NULL),
+				                 vn_result_success);
+				brute_corner_normals(pos, idx, off, N, (int)m, crease, sharp, want);
+				for (size_t k = 0; k < c; ++k)
+					assert_vec(out + 3 * k, want[3 * k], want[3 * k + 1], want[3 * k + 2], 1e-12);
+			}
+	}
+}
+
 /* On triangles the polygon arithmetic (Newell normal, per-corner weights)
  * differs from vn_corner_normals' triangle arithmetic in the last bits
  * only, and the fans are the same: agreement within 1e-13. */
@@ -1417,6 +1461,7 @@ int main(void)
 	    cmocka_unit_test(poly_hinge),
 	    cmocka_unit_test(poly_matches_vertex_normals),
 	    cmocka_unit_test(poly_matches_brute_force),
+	    cmocka_unit_test(poly_high_valence),
 	    cmocka_unit_test(poly_matches_triangle_corners),
 	    cmocka_unit_test(poly_threads_bit_identical),
 	    cmocka_unit_test(poly_repeated_index),
