@@ -1,0 +1,281 @@
+"""The Blender add-on, in real Blender, headless:
+
+    blender -b --factory-startup -noaudio --python-exit-code 1 \
+        --python tests/blender/test_addon.py -- --zip build/vn_blender.zip
+
+Installs the zip as a user does (a legacy add-on before 4.2, an extension
+from 4.2), enables it, then checks that Blender's corner normals after the
+operator equal the C library's per-corner normals (called through the
+add-on's own ctypes binding on the same mesh data), that sharp edges stay
+sharp, that "selected only" leaves the other corners alone, that undo
+restores the previous normals, and that a wrong library path is a clear
+error report rather than a traceback. Any failure raises (exit status 1).
+"""
+
+import importlib
+import math
+import os
+import sys
+import time
+
+import bmesh
+import bpy
+import numpy as np
+
+args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+ZIP = args[args.index("--zip") + 1]
+V = bpy.app.version
+# Blender's custom normals are stored as two 16-bit angles in each fan's
+# space: about 0.1 degree worst at high valence, far less typically.
+MAX_DEG, MEDIAN_DEG = 0.15, 0.01
+failures = []
+
+
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what, flush=True)
+    if not cond:
+        failures.append(what)
+
+
+# Background Blender has no undo stack until a script pushes a step: create
+# it now, as the UI has one from the start (before any mode switch, after
+# which undo's poll fails in background mode).
+bpy.ops.ed.undo_push(message="test start")
+
+# ------------------------------------------------------------------ install
+t0 = time.perf_counter()
+if V >= (4, 2, 0):
+    r = bpy.ops.extensions.package_install_files(filepath=ZIP, repo="user_default", enable_on_install=True)
+    check(r == {"FINISHED"}, "extension installed from %s" % ZIP)
+else:
+    r = bpy.ops.preferences.addon_install(filepath=ZIP, overwrite=True)
+    check(r == {"FINISHED"}, "legacy add-on installed from %s" % ZIP)
+    bpy.ops.preferences.addon_enable(module="vn_normals")
+module = [k for k in bpy.context.preferences.addons.keys() if k.split(".")[-1] == "vn_normals"]
+check(len(module) == 1, "add-on enabled: %s" % module)
+MODULE = module[0]
+binding = importlib.import_module(MODULE + ".binding")
+mesh_io = importlib.import_module(MODULE + ".mesh_io")
+prefs = bpy.context.preferences.addons[MODULE].preferences
+print("installed and enabled in %.2f s; Blender %s" % (time.perf_counter() - t0, bpy.app.version_string))
+lib = binding.load_configured("")
+check(lib.path == os.path.join(os.path.dirname(os.path.abspath(binding.__file__)), "lib", "libvn.so")
+      and os.path.isfile(lib.path), "bundled library used: %s" % lib.path)
+names = [m[0].upper() for m in lib.methods]
+check(len(names) >= 7 and names[:2] == ["MWE", "MWA"], "schemes from the library: %s" % names)
+props = bpy.ops.mesh.vn_recompute_normals.get_rna_type().properties
+items = [i.identifier for i in props["method"].enum_items]
+check(items == names, "operator method items are the library's schemes")
+check(props["method"].default == "MWA", "default method MWA")
+check(all(props["method"].enum_items[n].description for n in names), "descriptions from the library")
+for menu in ("VIEW3D_MT_object", "VIEW3D_MT_edit_mesh_normals"):
+    funcs = getattr(bpy.types, menu)._dyn_ui_initialize()
+    check(any(getattr(f, "__module__", "").endswith("vn_normals") for f in funcs), "menu entries in " + menu)
+
+
+# ------------------------------------------------------------------ helpers
+def new_scene_object(make):
+    bpy.ops.object.select_all(action="DESELECT")
+    make()
+    obj = bpy.context.active_object
+    obj.select_set(True)
+    return obj
+
+
+def shade_smooth(mesh):
+    mesh.polygons.foreach_set("use_smooth", np.ones(len(mesh.polygons), dtype=bool))
+    mesh.update()
+
+
+def blender_normals(mesh):
+    return mesh_io.corner_normals(mesh).astype(np.float64)
+
+
+def reference(mesh, method):
+    """The C library's per-corner normals (through the add-on's binding) on
+    this mesh, fans split at marked sharp edges and flat faces."""
+    a = mesh_io.MeshArrays(mesh)
+    n = lib.polygon_corner_normals(a.co, a.corner_vert, a.face_offsets, method.lower(), math.pi,
+                                   a.sharp_corner_flags(True))
+    return a.to_loops(n)
+
+
+def angles_deg(a, b):
+    a = a / np.maximum(np.linalg.norm(a, axis=1), 1e-30)[:, None]
+    b = b / np.maximum(np.linalg.norm(b, axis=1), 1e-30)[:, None]
+    return np.degrees(np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), (a * b).sum(axis=1)))
+
+
+def compare(label, got, ref, max_deg=MAX_DEG, median_deg=MEDIAN_DEG):
+    nonzero = np.linalg.norm(ref, axis=1) > 0.5  # zero: no face contributed; Blender keeps its own
+    d = angles_deg(got[nonzero], ref[nonzero])
+    worst, med = float(d.max(initial=0)), float(np.median(d)) if d.size else 0.0
+    check(nonzero.sum() > 0 and worst <= max_deg and med <= median_deg,
+          "%s: %d corners (%d zero), max %.4f deg, median %.5f deg" % (
+              label, nonzero.size, (~nonzero).sum(), worst, med))
+    return d
+
+
+# ------------------------------------------------------------------ meshes
+rng = np.random.default_rng(9)
+
+
+def ico_sphere():
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3, radius=1.0)
+
+
+def jittered_uv_sphere():
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=1.0)
+    me = bpy.context.active_object.data
+    co = np.empty(len(me.vertices) * 3, dtype=np.float32)
+    me.vertices.foreach_get("co", co)
+    co += rng.uniform(-0.02, 0.02, co.size).astype(np.float32)
+    me.vertices.foreach_set("co", co)
+
+
+def torus_mixed():
+    bpy.ops.mesh.primitive_torus_add(major_segments=24, minor_segments=12)
+    me = bpy.context.active_object.data
+    bm = bmesh.new()
+    bm.from_mesh(me)
+    bm.faces.ensure_lookup_table()
+    bmesh.ops.triangulate(bm, faces=[f for i, f in enumerate(bm.faces) if i % 3 == 0])
+    bm.to_mesh(me)
+    bm.free()
+
+
+def cube_sharp():
+    bpy.ops.mesh.primitive_cube_add(size=2.0)
+    me = bpy.context.active_object.data
+    bm = bmesh.new()
+    bm.from_mesh(me)
+    bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=2, use_grid_fill=True)
+    bm.to_mesh(me)
+    bm.free()
+    # the edges of the original cube's top face (z = 1, on its rim) are marked sharp
+    co = np.array([v.co[:] for v in me.vertices])
+    ev = np.array([e.vertices[:] for e in me.edges])
+    top = (np.abs(co[ev][:, :, 2] - 1) < 1e-6).all(axis=1)
+    rim = (np.abs(np.abs(co[ev][:, :, :2]) - 1) < 1e-6).any(axis=2).all(axis=1)
+    me.edges.foreach_set("use_edge_sharp", top & rim)
+
+
+def cylinder_ngon():
+    bpy.ops.mesh.primitive_cylinder_add(vertices=24, depth=2.0, end_fill_type="NGON")
+
+
+MESHES = [("ico sphere", ico_sphere), ("jittered UV sphere", jittered_uv_sphere),
+          ("torus of triangles and quads", torus_mixed), ("cube with marked sharp edges", cube_sharp),
+          ("cylinder with n-gon caps", cylinder_ngon)]
+
+# ------------------------------------------------------------------ every scheme on every mesh
+t0 = time.perf_counter()
+for label, make in MESHES:
+    obj = new_scene_object(make)
+    me = obj.data
+    shade_smooth(me)
+    if V < (4, 1, 0):
+        me.use_auto_smooth = True
+        me.auto_smooth_angle = math.pi
+    for method in names:
+        r = bpy.ops.mesh.vn_recompute_normals(method=method)
+        check(r == {"FINISHED"}, "%s %s: operator finished" % (label, method))
+        compare("%s %s" % (label, method), blender_normals(me), reference(me, method))
+    if label.startswith("cube"):
+        # across each marked sharp edge, the corners at a shared vertex differ (90 degrees)
+        bpy.ops.mesh.vn_recompute_normals()
+        n = blender_normals(me)
+        a = mesh_io.MeshArrays(me)
+        k = np.flatnonzero(a.edge_sharp[a.corner_edge])  # corners whose outgoing edge is sharp
+        vtx = a.corner_vert[k]
+        diffs = []
+        for c, v in zip(k[:8], vtx[:8]):
+            same_v = np.flatnonzero(a.corner_vert == v)
+            diffs.append(angles_deg(n[same_v], np.repeat(n[c][None], same_v.size, 0)).max())
+        check(len(diffs) == 8 and min(diffs) > 45.0, "cube: marked sharp edges stay sharp (%s deg)"
+              % np.round(diffs, 1).tolist())
+    bpy.data.objects.remove(obj)
+print("schemes x meshes in %.2f s" % (time.perf_counter() - t0))
+
+# ------------------------------------------------------------------ object mode: all selected meshes at once
+a_obj = new_scene_object(ico_sphere)
+b_obj = new_scene_object(cylinder_ngon)
+for o in (a_obj, b_obj):
+    shade_smooth(o.data)
+    o.select_set(True)
+r = bpy.ops.mesh.vn_recompute_normals(method="MWSELR")
+check(r == {"FINISHED"}, "two selected objects: operator finished")
+for o in (a_obj, b_obj):
+    compare("two selected objects, " + o.name, blender_normals(o.data), reference(o.data, "MWSELR"))
+bpy.data.objects.remove(a_obj)
+bpy.data.objects.remove(b_obj)
+
+# ------------------------------------------------------------------ edit mode, selected only
+obj = new_scene_object(jittered_uv_sphere)
+me = obj.data
+shade_smooth(me)
+bpy.ops.mesh.vn_recompute_normals(method="MWE")
+before = blender_normals(me)
+bpy.ops.object.mode_set(mode="EDIT")
+bpy.ops.mesh.select_mode(type="FACE")
+bpy.ops.mesh.select_all(action="DESELECT")
+bm = bmesh.from_edit_mesh(me)
+bm.faces.ensure_lookup_table()
+for f in bm.faces[: len(bm.faces) // 3]:  # the top third of the sphere
+    f.select_set(True)
+bmesh.update_edit_mesh(me)
+r = bpy.ops.mesh.vn_recompute_normals(method="MWAAT", selected_only=True)
+check(r == {"FINISHED"}, "edit mode, selected only: operator finished")
+bpy.ops.object.mode_set(mode="OBJECT")
+after = blender_normals(me)
+a = mesh_io.MeshArrays(me)
+changed = a.to_loops(a.face_select[a.face_of_corner].astype(np.uint8)).astype(bool)
+check(changed.any() and not changed.all(), "selected only: %d of %d corners selected" % (changed.sum(), changed.size))
+# unchanged up to storage precision: where the selection's border splits a
+# fan, Blender stores the kept normals again in the new, smaller fan's space
+compare("selected only: other corners unchanged", after[~changed], before[~changed])
+# the selected corners get the full mesh's MWAAT normals (no selection-made seams)
+obj2 = obj.copy()
+obj2.data = me.copy()
+obj2.data.edges.foreach_set("use_edge_sharp", np.zeros(len(me.edges), dtype=bool))
+ref = reference(obj2.data, "MWAAT")
+compare("selected only: selected corners", after[changed], ref[changed])
+check(angles_deg(after[changed], before[changed]).max() > 0.1, "selected only: selected corners changed")
+bpy.data.objects.remove(obj2)
+bpy.data.objects.remove(obj)
+
+# ------------------------------------------------------------------ undo
+obj = new_scene_object(torus_mixed)
+me_name = obj.data.name
+shade_smooth(obj.data)
+bpy.ops.ed.undo_push(message="before vn")
+# undo=True: the operator pushes its undo step as when run from the UI
+bpy.ops.mesh.vn_recompute_normals("EXEC_DEFAULT", True, method="MWE")
+first = blender_normals(bpy.data.meshes[me_name])
+bpy.ops.mesh.vn_recompute_normals("EXEC_DEFAULT", True, method="MWELR")
+second = blender_normals(bpy.data.meshes[me_name])
+check(angles_deg(first, second).max() > 0.1, "undo: the two schemes differ")
+bpy.ops.ed.undo()
+restored = blender_normals(bpy.data.meshes[me_name])
+d = angles_deg(restored, first)
+check(d.max() < 1e-3, "undo restores the previous normals (max %.5f deg)" % d.max())
+bpy.data.objects.remove(bpy.data.objects[obj.name] if obj.name in bpy.data.objects else obj)
+
+# ------------------------------------------------------------------ wrong library path
+obj = new_scene_object(ico_sphere)
+prefs = bpy.context.preferences.addons[MODULE].preferences
+prefs.library_path = "/nonexistent/libvn.so"
+try:
+    bpy.ops.mesh.vn_recompute_normals()
+    message = ""
+except RuntimeError as e:
+    message = str(e)
+print("wrong library path reports: %r" % message)
+check("/nonexistent/libvn.so" in message and "does not exist" in message and "preference" in message
+      and "Traceback" not in message, "wrong library path: a clear error report, no traceback")
+prefs.library_path = ""
+check(bpy.ops.mesh.vn_recompute_normals() == {"FINISHED"}, "library path fixed: operator works again")
+
+if failures:
+    raise SystemExit("%d failure(s):\n  %s" % (len(failures), "\n  ".join(failures)))
+print("all Blender add-on tests passed")
