@@ -31,9 +31,10 @@
  * whole star and every corner gets vn_triangle_normals' (triangles) or
  * vn_polygon_normals' (polygons) vertex normal bit for bit.
  *
- * Work memory, from the options' allocator (the workspace is not used):
- * 32 bytes a corner (36 for polygons), 24 a face, 4 a vertex, and per worker
- * 60 bytes per corner of the largest vertex star. */
+ * Work memory, from options->workspace when it is large enough, else from
+ * the allocator: 32 bytes a corner (36 for polygons), 24 a face, 4 a vertex;
+ * a vertex of more than FEW corners adds 60 bytes per corner of the largest
+ * star per worker, from the allocator. */
 #include <stdlib.h>
 
 #include "fastmath.h" /* VN_PI */

@@ -29,7 +29,8 @@ static void usage(FILE* out)
 	        "                         (--corners: method,threads,faces,polygon_ns_per_face,\n"
 	        "                         corner_ns_per_face,ratio)\n"
 	        "      --corners          time per-corner normals (vn_polygon_corner_normals) next to\n"
-	        "                         vertex normals (vn_polygon_normals), both per face\n"
+	        "                         vertex normals (vn_polygon_normals), both per face, and on\n"
+	        "                         triangle meshes vn_corner_normals too\n"
 	        "      --sharp-every K    with --corners: flag every K-th corner's edge sharp (default 0: none)\n"
 	        "      --crease DEG       with --corners: crease angle in degrees (default 180: none)\n"
 	        "      --list-methods     list the schemes\n"
@@ -60,7 +61,7 @@ typedef struct bench {
 	int tri;
 } bench;
 
-enum { run_vertex, run_polygon, run_corner };
+enum { run_vertex, run_polygon, run_corner, run_triangle_corner };
 
 static vn_result run_once(const bench* b, int kind, vn_method m)
 {
@@ -73,6 +74,8 @@ static vn_result run_once(const bench* b, int kind, vn_method m)
 		/* fall through */
 	case run_polygon:
 		return vn_polygon_normals(b->out, b->pos, mesh->indices, mesh->face_offsets, nf, m, b->opt, NULL);
+	case run_triangle_corner:
+		return vn_corner_normals(b->corner_out, b->pos, mesh->indices, 3 * nf, m, b->crease, b->sharp, b->opt, NULL);
 	default:
 		return vn_polygon_corner_normals(b->corner_out, b->pos, mesh->indices, mesh->face_offsets, nf, m, b->crease,
 		                                 b->sharp, b->opt, NULL);
@@ -213,7 +216,7 @@ int main(int argc, char** argv)
 
 	if (corners) {
 		if (csv)
-			printf("method,threads,faces,polygon_ns_per_face,corner_ns_per_face,ratio\n");
+			printf("method,threads,faces,polygon_ns_per_face,corner_ns_per_face,ratio,triangle_corner_ns_per_face\n");
 		else
 			printf("%s: %zu vertices, %zu faces, %zu corners, %lu thread(s), median of %lu after 1 warm-up;\n"
 			       "corner normals with every %lu-th edge flagged (0: none), crease %g degrees\n",
@@ -230,11 +233,21 @@ int main(int argc, char** argv)
 		if (corners) {
 			const double tp = 1e9 * median_time(&b, run_polygon, (vn_method)m, repeat, times) / (double)nf;
 			const double tc = 1e9 * median_time(&b, run_corner, (vn_method)m, repeat, times) / (double)nf;
-			if (csv)
-				printf("%s,%lu,%zu,%.3f,%.3f,%.3f\n", vn_method_name((vn_method)m), threads, nf, tp, tc, tc / tp);
-			else
-				printf("%-7s polygon %8.2f ns/face  corner %8.2f ns/face  ratio %5.2f\n",
-				       vn_method_name((vn_method)m), tp, tc, tc / tp);
+			/* Triangle meshes: vn_corner_normals too (the triangle kernels' arithmetic). */
+			const double tt = tri ? 1e9 * median_time(&b, run_triangle_corner, (vn_method)m, repeat, times) / (double)nf
+			                      : 0.0;
+			if (csv) {
+				printf("%s,%lu,%zu,%.3f,%.3f,%.3f,", vn_method_name((vn_method)m), threads, nf, tp, tc, tc / tp);
+				if (tri)
+					printf("%.3f", tt);
+				printf("\n");
+			} else {
+				printf("%-7s polygon %8.2f ns/face  corner %8.2f ns/face  ratio %5.2f", vn_method_name((vn_method)m),
+				       tp, tc, tc / tp);
+				if (tri)
+					printf("  (vn_corner_normals %8.2f ns/face)", tt);
+				printf("\n");
+			}
 			fflush(stdout);
 			continue;
 		}
