@@ -144,8 +144,10 @@ typedef struct vn_options {
 	 * is not NULL and workspace_size >= vn_workspace_size(); the call then
 	 * allocates nothing. Otherwise it comes from `allocator`. A workspace
 	 * serves one call at a time. threads, simd and the workspace apply to
-	 * vn_triangle_normals and vn_polygon_normals; the other functions run on
-	 * the calling thread and use only the allocator. */
+	 * vn_triangle_normals and vn_polygon_normals; threads and a workspace
+	 * (of the size their comments give) to vn_corner_normals and
+	 * vn_polygon_corner_normals; the other functions run on the calling
+	 * thread and use only the allocator. */
 	void* workspace;
 	size_t workspace_size;
 	vn_allocator allocator;
