@@ -57,9 +57,17 @@
  * No trigonometry per edge. */
 static int creased(const double a[3], const double b[3], double cos_c, double sin_c)
 {
+	const double d = vn_dot(a, b);
+	/* The usual smooth edge, without the square root: for c <= pi/2 and
+	 * d > cos c + 2^-20, c - theta lies in (0, pi/2] and
+	 * sin(c - theta) >= (2/pi)(c - theta) >= (2/pi)(cos theta - cos c), far
+	 * above the few ulps of error of the test below (a and b are unit to
+	 * rounding), which therefore says "not creased" too. */
+	if (cos_c >= 0.0 && d > cos_c + 0x1p-20)
+		return 0;
 	double x[3];
 	vn_cross(a, b, x);
-	const double s = sqrt(vn_dot(x, x)), d = vn_dot(a, b);
+	const double s = sqrt(vn_dot(x, x));
 	return s * cos_c - d * sin_c > 0.0 || (s == 0.0 && d < 0.0);
 }
 
@@ -78,7 +86,7 @@ typedef struct job {
 	uint32_t n, nv;     /* corners, vertices */
 	unsigned nt;
 	const uint8_t* sharp;
-	int crease, want_stats;
+	int crease, want_stats, avx2;
 	double cos_c, sin_c;
 	vn_vectors out;
 	double* contrib;   /* 3 per corner */
@@ -278,12 +286,45 @@ VN_INLINE void join_edge(const job* j, const fan_scratch* s, const uint32_t* L, 
  * (k^2 predictable compares), above by sorting. */
 #define FEW 24
 
+#define SMALL 8
+
+/* For each out use io < k of small_fans' edges v -> out[io], the in use ii
+ * (in[ii] == out[io]) when the edge has exactly one of each, else NONE.
+ * Unused entries of out and in are NONE, which no vertex is. */
+static void pairs(const uint32_t out[SMALL], const uint32_t in[SMALL], uint32_t k, uint32_t pair[SMALL])
+{
+	for (uint32_t io = 0; io < k; ++io) {
+		const uint32_t b = out[io];
+		uint32_t outs = 0, ins = 0, ii = 0;
+		for (uint32_t i = 0; i < SMALL; ++i) {
+			outs += out[i] == b;
+			ins += in[i] == b;
+			ii |= in[i] == b ? i : 0;
+		}
+		pair[io] = outs == 1 && ins == 1 ? ii : NONE;
+	}
+}
+
+#ifdef VN_HAVE_AVX2
+/* pairs() with the eight entries compared at once. */
+static VN_AVX2 void pairs_avx2(const uint32_t out[SMALL], const uint32_t in[SMALL], uint32_t k, uint32_t pair[SMALL])
+{
+	const __m256i o = _mm256_loadu_si256((const __m256i*)out), i8 = _mm256_loadu_si256((const __m256i*)in);
+	for (uint32_t io = 0; io < k; ++io) {
+		const __m256i b = _mm256_set1_epi32((int)out[io]);
+		const unsigned mo = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(o, b)));
+		const unsigned mi = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(i8, b)));
+		/* exactly one bit each: mo is never 0 (io itself) */
+		pair[io] = (mo & (mo - 1)) == 0 && mi && (mi & (mi - 1)) == 0 ? (uint32_t)__builtin_ctz(mi) : NONE;
+	}
+}
+#endif
+
 /* Steps 3 and 4 for the usual vertex: at most SMALL corners, all of usable
  * faces, no zero-length edge. Fixed-size arrays and loops, labels instead
  * of union-find (a corner's label is its fan's lowest corner), so that the
  * work has few unpredictable branches. Returns the number of zero normals
  * written, or SIZE_MAX (nothing written) when the vertex is not usual. */
-#define SMALL 8
 static size_t small_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t k)
 {
 	const uint32_t* idx = j->w.indices;
@@ -311,15 +352,16 @@ static size_t small_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t k
 	}
 	/* Each edge v -> b with an out use io: manifold when it has no other out
 	 * use and exactly one in use ii (b -> v). */
+	uint32_t pair[SMALL];
+#ifdef VN_HAVE_AVX2
+	if (j->avx2)
+		pairs_avx2(out, in, k, pair);
+	else
+#endif
+		pairs(out, in, k, pair);
 	for (uint32_t io = 0; io < k; ++io) {
-		const uint32_t b = out[io];
-		uint32_t outs = 0, ins = 0, ii = 0;
-		for (uint32_t i = 0; i < SMALL; ++i) {
-			outs += out[i] == b;
-			ins += in[i] == b;
-			ii |= in[i] == b ? i : 0;
-		}
-		if (outs != 1 || ins != 1)
+		const uint32_t ii = pair[io];
+		if (ii == NONE)
 			continue;
 		if (j->sharp && (j->sharp[L[io]] || j->sharp[prev[ii]]))
 			continue;
@@ -627,6 +669,7 @@ static vn_result prepare(job* j, const vn_vectors* normals, const vn_positions* 
 	j->cos_c = cos(crease_angle);
 	j->sin_c = sin(crease_angle);
 	j->want_stats = stats != NULL;
+	j->avx2 = vn_cpu_has_avx2();
 	j->out = *normals;
 	j->out.stride = out_stride;
 	return vn_result_success;
