@@ -122,15 +122,6 @@ static vn_result prepare(vn_work* w, const vn_vectors* normals, const vn_positio
 	return vn_result_success;
 }
 
-static vn_result check_indices(const uint32_t* indices, size_t count, uint32_t vertex_count)
-{
-	/* A max reduction has no early exit, so it vectorizes; errors are rare. */
-	uint32_t top = 0;
-	for (size_t i = 0; i < count; ++i)
-		top = indices[i] > top ? indices[i] : top;
-	return count && top >= vertex_count ? vn_result_index_out_of_range : vn_result_success;
-}
-
 static vn_result compute(vn_work* w, const vn_vectors* normals, vn_accumulate_fn accumulate, const vn_options* options,
                          vn_stats* stats)
 {
@@ -197,7 +188,7 @@ vn_result vn_polygon_normals(const vn_vectors* normals, const vn_positions* posi
 	const size_t index_count = face_offsets[face_count];
 	if (index_count && !indices)
 		return vn_result_invalid_argument;
-	if ((r = check_indices(indices, index_count, w.vertex_count)) != vn_result_success)
+	if ((r = vn_check_indices(indices, index_count, w.vertex_count)) != vn_result_success)
 		return r;
 	w.indices = indices;
 	w.offsets = face_offsets;

@@ -675,14 +675,6 @@ static vn_result prepare(job* j, const vn_vectors* normals, const vn_positions* 
 	return vn_result_success;
 }
 
-static vn_result check_indices(const uint32_t* indices, size_t count, uint32_t vertex_count)
-{
-	uint32_t top = 0;
-	for (size_t i = 0; i < count; ++i)
-		top = indices[i] > top ? indices[i] : top;
-	return count && top >= vertex_count ? vn_result_index_out_of_range : vn_result_success;
-}
-
 static void empty_stats(vn_stats* stats, size_t faces, size_t degenerate)
 {
 	if (stats) {
@@ -702,7 +694,7 @@ vn_result vn_corner_normals(const vn_vectors* normals, const vn_positions* posit
 		return r;
 	if (index_count % 3 || index_count > UINT32_MAX || (index_count && (!indices || !normals->data)))
 		return vn_result_invalid_argument;
-	if ((r = check_indices(indices, index_count, j.nv)) != vn_result_success)
+	if ((r = vn_check_indices(indices, index_count, j.nv)) != vn_result_success)
 		return r;
 	if (!index_count) {
 		empty_stats(stats, 0, 0);
@@ -732,7 +724,7 @@ vn_result vn_polygon_corner_normals(const vn_vectors* normals, const vn_position
 	const size_t index_count = face_offsets[face_count];
 	if (index_count && (!indices || !normals->data))
 		return vn_result_invalid_argument;
-	if ((r = check_indices(indices, index_count, j.nv)) != vn_result_success)
+	if ((r = vn_check_indices(indices, index_count, j.nv)) != vn_result_success)
 		return r;
 	if (!index_count) { /* only cornerless faces, if any */
 		empty_stats(stats, face_count, face_count);

@@ -79,6 +79,16 @@ VN_INLINE size_t vn_triple_bytes(vn_scalar t)
 	return 3 * (t == vn_scalar_float64 ? sizeof(double) : sizeof(float));
 }
 
+/* index_out_of_range when an index is >= vertex_count. A max reduction has
+ * no early exit, so it vectorizes; errors are rare. */
+static inline vn_result vn_check_indices(const uint32_t* indices, size_t count, uint32_t vertex_count)
+{
+	uint32_t top = 0;
+	for (size_t i = 0; i < count; ++i)
+		top = indices[i] > top ? indices[i] : top;
+	return count && top >= vertex_count ? vn_result_index_out_of_range : vn_result_success;
+}
+
 /* The byte stride of valid positions (0 resolved to packed), or 0 when they
  * are not: NULL, an unknown type, a stride shorter than a triple, more
  * vertices than 32-bit indices reach, or no data for a non-zero count. */
