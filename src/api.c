@@ -1,6 +1,5 @@
 /* Public entry points: version, names, argument checks and dispatch. */
 #include <ctype.h>
-#include <stdlib.h>
 
 #include "internal.h"
 #include "simd.h"
@@ -81,28 +80,6 @@ vn_result vn_method_from_name(const char* name, vn_method* out)
 		}
 	}
 	return vn_result_unknown_method;
-}
-
-/* ---------------------------------------------------------------- memory */
-
-static void* default_allocate(void* user, size_t size)
-{
-	(void)user;
-	return malloc(size);
-}
-
-static void default_deallocate(void* user, void* ptr)
-{
-	(void)user;
-	free(ptr);
-}
-
-vn_allocator vn_heap(const vn_allocator* a)
-{
-	if (a && a->allocate && a->deallocate)
-		return *a;
-	const vn_allocator heap = {default_allocate, default_deallocate, NULL};
-	return heap;
 }
 
 /* ---------------------------------------------------------------- checks */

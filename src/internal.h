@@ -155,7 +155,7 @@ VN_INLINE void vn_unite(uint32_t* parent, uint32_t a, uint32_t b)
 		parent[a] = b;
 }
 
-/* api.c: `a` when it has both functions, else malloc/free (for an all-NULL
+/* alloc.c: `a` when it has both functions, else malloc/free (for an all-NULL
  * allocator; callers reject half-set ones first). */
 vn_allocator vn_heap(const vn_allocator* a);
 

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "vn.h"
+#include "vn_paper.h" /* test meshes: vn_model_generate */
 #include "test_util.h"
 
 #define PI 3.141592653589793

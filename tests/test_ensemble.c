@@ -13,8 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "vn.h"
-#include "ensemble.h" /* internal: the fBm and turbulence sums, VN_MT_MIN_T */
+#include "vn_paper.h"
+#include "paper.h" /* internal: the fBm and turbulence sums, VN_MT_MIN_T */
 
 #define NM vn_model_count
 #define NR vn_resolution_count

@@ -1,5 +1,5 @@
 /* vneval: the paper's accuracy and speed comparison (Jin, Lewis, West 2005,
- * section 3.2), on the test ensemble that libvn generates.
+ * section 3.2), on the test ensemble that libvnpaper (src/paper/) generates.
  *
  *   vneval [--csv FILE] [--svg-dir DIR] [--table FILE] [--model M,..] ...
  *
@@ -13,6 +13,7 @@
  * CSV, tables and accuracy charts. */
 #include "common.h"
 #include "svgplot.h"
+#include "vn_paper.h"
 
 #include <ctype.h>
 #include <math.h>

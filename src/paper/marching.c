@@ -45,7 +45,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "ensemble.h"
+#include "paper.h"
 
 /* The 6 Kuhn tetrahedra as corner masks (bit 0: +x, bit 1: +y, bit 2: +z),
  * each listed with positive orientation: for an odd axis order the middle
@@ -230,8 +230,8 @@ vn_result vn_marching_tetrahedra(const vn_implicit* s, const vn_allocator* heap,
 	memset(mesh, 0, sizeof(*mesh));
 	grid g = {s, (size_t)s->cells + 1, NULL, NULL};
 	const size_t n = g.np * g.np * g.np;
-	double* f = (double*)vn_heap_allocate(heap, n * sizeof(double));
-	g.vertex = (uint32_t*)vn_heap_allocate(heap, 7 * n * sizeof(uint32_t));
+	double* f = (double*)vn_paper_allocate(heap, n * sizeof(double));
+	g.vertex = (uint32_t*)vn_paper_allocate(heap, 7 * n * sizeof(uint32_t));
 	vn_result r = vn_result_out_of_memory;
 	if (f && g.vertex) {
 		for (size_t c = 0; c < n; ++c) {
@@ -248,7 +248,7 @@ vn_result vn_marching_tetrahedra(const vn_implicit* s, const vn_allocator* heap,
 		place_vertices(&g, mesh);
 		march(&g, mesh->positions, mesh->indices);
 	}
-	vn_heap_free(heap, g.vertex);
-	vn_heap_free(heap, f);
+	vn_paper_free(heap, g.vertex);
+	vn_paper_free(heap, f);
 	return r;
 }

@@ -62,8 +62,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ensemble.h"
-#include "internal.h"
+#include "paper.h"
 
 /* ---------------------------------------------------------------- names */
 
@@ -98,43 +97,6 @@ const char* vn_model_description(vn_model m)
 const char* vn_resolution_name(vn_resolution r)
 {
 	return (unsigned)r < vn_resolution_count ? resolutions[r] : NULL;
-}
-
-/* ---------------------------------------------------------------- memory */
-
-void* vn_heap_allocate(const vn_allocator* heap, size_t size)
-{
-	return heap->allocate(heap->user, size);
-}
-
-void vn_heap_free(const vn_allocator* heap, void* ptr)
-{
-	if (ptr)
-		heap->deallocate(heap->user, ptr);
-}
-
-void vn_mesh_release(const vn_allocator* heap, vn_model_mesh* mesh)
-{
-	vn_heap_free(heap, mesh->indices);
-	vn_heap_free(heap, mesh->boundary);
-	vn_heap_free(heap, mesh->normals);
-	vn_heap_free(heap, mesh->positions);
-	memset(mesh, 0, sizeof(*mesh));
-}
-
-vn_result vn_mesh_allocate(const vn_allocator* heap, vn_model_mesh* mesh)
-{
-	const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
-	mesh->positions = (double*)vn_heap_allocate(heap, 3 * nv * sizeof(double));
-	mesh->normals = mesh->positions ? (double*)vn_heap_allocate(heap, 3 * nv * sizeof(double)) : NULL;
-	mesh->boundary = mesh->normals ? (uint8_t*)vn_heap_allocate(heap, nv) : NULL;
-	mesh->indices = mesh->boundary ? (uint32_t*)vn_heap_allocate(heap, 3 * nt * sizeof(uint32_t)) : NULL;
-	if (mesh->indices) {
-		memset(mesh->boundary, 0, nv);
-		return vn_result_success;
-	}
-	vn_mesh_release(heap, mesh);
-	return vn_result_out_of_memory;
 }
 
 /* ---------------------------------------------------------------- helpers */
@@ -399,7 +361,7 @@ static int compare_keys(const void* a, const void* b)
 static vn_result mark_boundary(const vn_allocator* heap, vn_model_mesh* mesh)
 {
 	const size_t ne = 3 * mesh->triangle_count;
-	uint64_t* keys = (uint64_t*)vn_heap_allocate(heap, ne * sizeof(uint64_t));
+	uint64_t* keys = (uint64_t*)vn_paper_allocate(heap, ne * sizeof(uint64_t));
 	if (!keys)
 		return vn_result_out_of_memory;
 	for (size_t t = 0; t < mesh->triangle_count; ++t) {
@@ -418,7 +380,7 @@ static vn_result mark_boundary(const vn_allocator* heap, vn_model_mesh* mesh)
 			mesh->boundary[keys[i] >> 32] = mesh->boundary[keys[i] & UINT32_MAX] = 1;
 		i = j;
 	}
-	vn_heap_free(heap, keys);
+	vn_paper_free(heap, keys);
 	return vn_result_success;
 }
 
@@ -451,7 +413,7 @@ vn_result vn_model_generate(vn_model m, vn_resolution r, const vn_allocator* all
 	memset(mesh, 0, sizeof(*mesh));
 	if (allocator && !allocator->allocate != !allocator->deallocate)
 		return vn_result_invalid_argument;
-	const vn_allocator heap = vn_heap(allocator);
+	const vn_allocator heap = allocator ? *allocator : (vn_allocator){NULL, NULL, NULL};
 	if ((unsigned)m >= vn_model_count || (unsigned)r >= vn_resolution_count)
 		return vn_result_invalid_argument;
 
@@ -467,6 +429,6 @@ void vn_model_free(vn_model_mesh* mesh, const vn_allocator* allocator)
 {
 	if (!mesh)
 		return;
-	const vn_allocator heap = vn_heap(allocator);
+	const vn_allocator heap = allocator ? *allocator : (vn_allocator){NULL, NULL, NULL};
 	vn_mesh_release(&heap, mesh);
 }

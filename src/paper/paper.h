@@ -1,10 +1,10 @@
-/* Internal interfaces of the test ensemble (vn.h's "test ensemble" section):
- * the noise sums of noise.c, the marching tetrahedra of marching.c and the
- * allocator helpers of ensemble.c. Not installed. */
-#ifndef VN_ENSEMBLE_H
-#define VN_ENSEMBLE_H
+/* Internal interfaces of the paper library (vn_paper.h): the memory helpers
+ * of model_mesh.c, the noise sums of noise.c and the marching tetrahedra of
+ * marching.c, which ensemble.c builds the models from. Not installed. */
+#ifndef VN_PAPER_INTERNAL_H
+#define VN_PAPER_INTERNAL_H
 
-#include "vn.h"
+#include "vn_paper.h"
 
 #define VN_PI 3.14159265358979323846
 
@@ -21,13 +21,13 @@ double vn_fbm_noise(const double p[3], unsigned octaves, double h, double* gradi
  * creases where some noise_i is 0; there it is one of the one-sided values. */
 double vn_turbulence_noise(const double p[3], unsigned octaves, double* gradient);
 
-/* ---------------------------------------------------------------- ensemble.c */
+/* ---------------------------------------------------------------- model_mesh.c */
 
-/* A "heap" is a vn_allocator with both functions set: vn_model_generate
- * puts malloc/free in place of an all-NULL one, once. */
-void* vn_heap_allocate(const vn_allocator* heap, size_t size);
+/* Memory from a vn_allocator with both functions set, or neither (then
+ * malloc/free); vn_model_generate refuses one with a single function. */
+void* vn_paper_allocate(const vn_allocator* heap, size_t size);
 /* NULL is ignored (a user deallocator need not accept it). */
-void vn_heap_free(const vn_allocator* heap, void* ptr);
+void vn_paper_free(const vn_allocator* heap, void* ptr);
 
 /* Allocates the four arrays of *mesh for its vertex_count and triangle_count
  * (boundary zeroed); on failure frees what it got, zeroes *mesh and returns
@@ -59,4 +59,4 @@ vn_result vn_marching_tetrahedra(const vn_implicit* s, const vn_allocator* heap,
  * of the edge, so that no two vertices coincide (see marching.c). */
 #define VN_MT_MIN_T (1.0 / 1048576.0)
 
-#endif /* VN_ENSEMBLE_H */
+#endif /* VN_PAPER_INTERNAL_H */

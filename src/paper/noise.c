@@ -13,7 +13,7 @@
  * 6t^5 - 15t^4 + 10t^3, that is 30t^4 - 60t^3 + 30t^2. */
 #include <math.h>
 
-#include "ensemble.h"
+#include "paper.h"
 
 /* Perlin's reference permutation of 0..255. */
 #define PERLIN_PERMUTATION                                                                                        \
