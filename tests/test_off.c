@@ -1155,7 +1155,8 @@ static vn_io_result failing_write(FILE* out, const char* path, const vn_io_mesh*
 	return vn_io_fail(error, vn_io_error_write, "%s: disk full", path);
 }
 
-static const vn_io_format failing_format = {"failing", ".fail", "fails after writing a line", NULL, failing_write, 0};
+static const vn_io_format failing_format = {
+    .name = "failing", .extensions = ".fail", .description = "fails after writing a line", .write = failing_write};
 
 /* The names in folder/sub, sorted, joined by spaces. */
 static void list_folder(const char* sub, char* out, size_t size)

@@ -864,7 +864,9 @@ vn_io_result convert(const char* in, const char* out, const vn_drc_convert_optio
 	vn_io_result r = encode(&h, st.used.compression_level, false, out, &bytes, error);
 	if (r != vn_io_success)
 		return r;
-	const vn_io_format writer = {"drc", ".drc", "Draco", nullptr, write_bytes, 0};
+	vn_io_format writer{}; /* the bytes as they are, through vn_io_write_file's atomic output */
+	writer.name = "drc";
+	writer.write = write_bytes;
 	vn_io_mesh none;
 	std::memset(&none, 0, sizeof none);
 	if ((r = vn_io_write_file(out, &writer, &none, &bytes, error)) != vn_io_success)

@@ -69,11 +69,8 @@ vn_io_result vn_io_read_all(const char* path, char** data, size_t* size, vn_io_e
 
 static vn_io_result unknown_extension(const char* path, vn_io_error* error)
 {
-	char known[256] = "";
-	for (size_t i = 0; vn_io_format_at(i); i++) {
-		size_t used = strlen(known);
-		snprintf(known + used, sizeof known - used, "%s%s", i ? " " : "", vn_io_format_at(i)->extensions);
-	}
+	char known[256];
+	vn_io_format_list(vn_io_list_extensions, known, sizeof known);
 	return vn_io_fail(error, vn_io_error_format, "%s: unknown file extension (vn knows %s)", path, known);
 }
 

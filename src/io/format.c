@@ -1,27 +1,72 @@
 /*
- * The table of file formats. A new format is one more row: its reader and
- * writer live in their own file and are declared in their own internal header.
+ * The table of file formats: every fact vn has about a format is in its row
+ * (vn_io.h, "formats"). Its reader and writer live in the format's own file
+ * and are declared in that file's header; vnconvert's dispatch, --help, the
+ * messages about formats and the README's "What vnconvert keeps" table are
+ * made from the rows. A new format is its own file and one more row.
  */
 #include "vn_io.h"
 
+#include <stdarg.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "draco.h"
 #include "gltf.h"
 #include "off.h"
 
+/* What the glTF reader (both gltf and glb) brings. */
+#define GLTF_READS                                                                                               \
+	{{vn_io_holds_texcoords, "TEXCOORD_0", NULL},                                                              \
+	 {vn_io_holds_colors, "COLOR_0 (RGBA)", NULL},                                                             \
+	 {vn_io_holds_attributes, "every other vertex attribute in its type (TEXCOORD_n, COLOR_n, JOINTS_n, "      \
+	                          "WEIGHTS_n, TANGENT, `_NAME`)",                                                  \
+	  "other vertex attributes (named)"}}
+#define GLTF_NEVER_READ "materials, nodes, skins, animations, points and lines (triangle primitives are merged)"
+#define GLTF_DOCUMENT_KEEPS "everything: the document is edited, not rebuilt (see glTF)"
+#define GLTF_DOCUMENT_LOSES "TANGENT with `--tangents drop`; Draco compression with `--draco off`"
+
 static const vn_io_format formats[] = {
-	{"off", ".off", "Geomview Object File Format (reads ASCII and binary, writes ASCII)", vn_io_off_read,
-	 vn_io_off_write, vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_face_colors | vn_io_holds_polygons},
-	{"gltf", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)", vn_io_gltf_read,
-	 vn_io_gltf_write, vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes},
-	{"glb", ".glb", "glTF 2.0 binary (as gltf)", vn_io_gltf_read, vn_io_glb_write,
-	 vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes},
-	{"drc", ".drc", "Draco mesh (triangles; positions, normals, texcoords, colours; quantized)", vn_io_drc_read,
-	 vn_io_drc_write, vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes},
+    {"off", "OFF", "OFF", ".off", "Geomview Object File Format (reads ASCII and binary, writes ASCII)",
+     vn_io_off_read, vn_io_off_write,
+     vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_face_colors | vn_io_holds_polygons |
+         vn_io_holds_loose_vertices,
+     vn_io_path_mesh, 0, "the zero vector",
+     {{vn_io_holds_colors, "vertex colours with alpha", NULL},
+      {vn_io_holds_texcoords, "texture coordinates", NULL},
+      {vn_io_holds_face_colors, "face colours", "face colours (named)"},
+      {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"}},
+     "comments", NULL, NULL},
+    {"gltf", "glTF", "glTF", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)",
+     vn_io_gltf_read, vn_io_gltf_write,
+     vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes | vn_io_holds_loose_vertices,
+     vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
+     GLTF_DOCUMENT_LOSES},
+    {"glb", "GLB", "glTF", ".glb", "glTF 2.0 binary (as gltf)", vn_io_gltf_read, vn_io_glb_write,
+     vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes | vn_io_holds_loose_vertices,
+     vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
+     GLTF_DOCUMENT_LOSES},
+    {"drc", "Draco", "Draco", ".drc", "Draco mesh (triangles; positions, normals, texcoords, colours; quantized)",
+     vn_io_drc_read, vn_io_drc_write, vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes,
+     vn_io_path_drc, vn_io_draco_output, "the zero vector",
+     {{vn_io_holds_texcoords, "the first TEX_COORD (2 floats)", NULL},
+      {vn_io_holds_colors, "the first COLOR (RGBA)", NULL},
+      {vn_io_holds_attributes, "every other attribute in its type (TEX_COORD and COLOR sets, GENERIC as `_NAME`)",
+       "other attributes (named)"}},
+     "metadata",
+     "every attribute with its type, unique id, quantization grid and metadata; only NORMAL is replaced (see Draco)",
+     "nothing"},
 };
 
 #define FORMAT_COUNT (sizeof formats / sizeof formats[0])
+
+/* Formats people try that vn neither reads nor writes: naming a format with
+ * --input-format or --format cannot help. */
+static const struct {
+	const char* extension;
+	const char* what;
+} foreign[] = {{".ply", "a PLY"}, {".obj", "an OBJ"}, {".stl", "an STL"},
+               {".fbx", "an FBX"}, {".dae", "a COLLADA"}, {".3ds", "a 3DS"}};
 
 /* ASCII only: extensions and names are ASCII, and tolower() would follow the
  * program's locale. */
@@ -38,6 +83,12 @@ static int equal_ignoring_case(const char* a, const char* b, size_t n)
 	return 1;
 }
 
+/* True when path ends with extension (case-insensitive). */
+static int ends_with(const char* path, size_t length, const char* extension, size_t n)
+{
+	return n > 0 && n <= length && equal_ignoring_case(path + length - n, extension, n);
+}
+
 const vn_io_format* vn_io_format_for_path(const char* path)
 {
 	if (!path)
@@ -47,7 +98,7 @@ const vn_io_format* vn_io_format_for_path(const char* path)
 		const char* extension = formats[i].extensions;
 		while (*extension) {
 			size_t n = strcspn(extension, " ");
-			if (n > 0 && n <= length && equal_ignoring_case(path + length - n, extension, n))
+			if (ends_with(path, length, extension, n))
 				return &formats[i];
 			extension += n;
 			extension += strspn(extension, " ");
@@ -70,4 +121,185 @@ const vn_io_format* vn_io_format_by_name(const char* name)
 const vn_io_format* vn_io_format_at(size_t i)
 {
 	return i < FORMAT_COUNT ? &formats[i] : NULL;
+}
+
+vn_io_path vn_io_conversion_path(const vn_io_format* in, const vn_io_format* out)
+{
+	return in && out && in->path == out->path ? in->path : vn_io_path_mesh;
+}
+
+/* ------------------------------------------------------------------ text */
+
+/* Appends printf-style text to text[size], truncating. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 4)))
+#endif
+static void append(char* text, size_t size, const char* fmt, ...)
+{
+	const size_t used = strlen(text);
+	if (used + 1 >= size)
+		return;
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(text + used, size - used, fmt, ap);
+	va_end(ap);
+}
+
+/* The first row of each family, in table order: i is such a row. */
+static int first_of_family(size_t i)
+{
+	for (size_t k = 0; k < i; k++)
+		if (!strcmp(formats[k].family, formats[i].family))
+			return 0;
+	return 1;
+}
+
+/* The separator before item k of n in an English list: "", ", " or " and ". */
+static const char* separator(size_t k, size_t n)
+{
+	return k == 0 ? "" : k + 1 == n ? " and " : ", ";
+}
+
+/* The extensions of a family, as "(.gltf, .glb)" or ".gltf or .glb". */
+static void family_extensions(const char* family, const char* between, char* text, size_t size)
+{
+	size_t k = 0;
+	for (size_t i = 0; i < FORMAT_COUNT; i++) {
+		if (strcmp(formats[i].family, family))
+			continue;
+		const char* extension = formats[i].extensions;
+		while (*extension) {
+			const size_t n = strcspn(extension, " ");
+			append(text, size, "%s%.*s", k++ ? between : "", (int)n, extension);
+			extension += n;
+			extension += strspn(extension, " ");
+		}
+	}
+}
+
+void vn_io_format_list(vn_io_listing style, char* text, size_t size)
+{
+	if (!size)
+		return;
+	text[0] = '\0';
+	size_t families = 0, draco = 0;
+	for (size_t i = 0; i < FORMAT_COUNT; i++) {
+		families += first_of_family(i);
+		draco += (formats[i].draco & vn_io_draco_output) ||
+		         ((formats[i].draco & vn_io_draco_document) && first_of_family(i));
+	}
+	size_t k = 0;
+	for (size_t i = 0; i < FORMAT_COUNT; i++) {
+		const vn_io_format* f = &formats[i];
+		switch (style) {
+		case vn_io_list_names:
+			append(text, size, "%s%s", i ? ", " : "", f->name);
+			break;
+		case vn_io_list_titles:
+			append(text, size, "%s%s", separator(i, FORMAT_COUNT), f->title);
+			break;
+		case vn_io_list_extensions:
+			append(text, size, "%s%s", i ? " " : "", f->extensions);
+			break;
+		case vn_io_list_families:
+			if (first_of_family(i)) {
+				append(text, size, "%s%s (", separator(k++, families), f->family);
+				family_extensions(f->family, ", ", text, size);
+				append(text, size, ")");
+			}
+			break;
+		case vn_io_list_draco:
+			if (f->draco & vn_io_draco_output)
+				append(text, size, "%s%s (%s) output", separator(k++, draco), f->title, f->extensions);
+			break;
+		}
+	}
+	/* Then the document paths: "... output and to glTF to glTF conversions". */
+	for (size_t i = 0; style == vn_io_list_draco && i < FORMAT_COUNT; i++)
+		if ((formats[i].draco & vn_io_draco_document) && first_of_family(i)) {
+			append(text, size, "%s%s%s to %s conversions", separator(k, draco), k ? "to " : "", formats[i].family,
+			       formats[i].family);
+			k++;
+		}
+}
+
+void vn_io_path_description(vn_io_path p, char* text, size_t size)
+{
+	if (!size)
+		return;
+	text[0] = '\0';
+	for (size_t i = 0; i < FORMAT_COUNT; i++)
+		if (formats[i].path == p && first_of_family(i)) {
+			append(text, size, "%s to %s conversions (", formats[i].family, formats[i].family);
+			family_extensions(formats[i].family, " or ", text, size);
+			append(text, size, " in and out)");
+			return;
+		}
+}
+
+void vn_io_unknown_format(const char* path, int input, char* text, size_t size)
+{
+	if (!size)
+		return;
+	text[0] = '\0';
+	const char* advice = input ? "convert it to one of these first (e.g. with meshlabserver or Blender)"
+	                           : "write one of these and convert that (e.g. with meshlabserver or Blender)";
+	char list[256];
+	const size_t length = path ? strlen(path) : 0;
+	for (size_t i = 0; i < sizeof foreign / sizeof foreign[0]; ++i)
+		if (ends_with(path, length, foreign[i].extension, strlen(foreign[i].extension))) {
+			vn_io_format_list(vn_io_list_titles, list, sizeof list);
+			append(text, size, "'%s' is %s file, and vn %s only %s files: %s", path, foreign[i].what,
+			       input ? "reads" : "writes", list, advice);
+			return;
+		}
+	vn_io_format_list(vn_io_list_families, list, sizeof list);
+	append(text, size,
+	       "cannot tell the format of '%s' from its extension: vn %s %s; name the format with %s if the file is one "
+	       "of these, else %s",
+	       path, input ? "reads" : "writes", list, input ? "--input-format" : "--format", advice);
+}
+
+/* ------------------------------------------------------------------ the README's table */
+
+/* The items of `in`'s reader that `out`'s writer keeps (keep 1) or leaves out
+ * (keep 0), then, when leaving out, what reading never brings; "nothing"
+ * when there are none. */
+static void items(const vn_io_format* in, const vn_io_format* out, int keep, char* text, size_t size)
+{
+	text[0] = '\0';
+	size_t n = 0;
+	for (const vn_io_item* it = in->reads; it < in->reads + VN_IO_MAX_ITEMS && it->text; ++it) {
+		const int kept = it->needs && (out->holds & it->needs) == it->needs;
+		if (kept == keep)
+			append(text, size, "%s%s", n++ ? ", " : "", keep || !it->lost ? it->text : it->lost);
+	}
+	if (!keep && in->never_read)
+		append(text, size, "%s%s", n++ ? ", " : "", in->never_read);
+	if (!n)
+		append(text, size, "nothing");
+}
+
+void vn_io_conversions_table(FILE* out)
+{
+	fprintf(out, "| input → output | kept | left out (vnconvert names the attributes it leaves out, in a warning) |\n");
+	fprintf(out, "|---|---|---|\n");
+	for (size_t i = 0; i < FORMAT_COUNT; i++) {
+		if (!first_of_family(i))
+			continue;
+		for (size_t o = 0; o < FORMAT_COUNT; o++) {
+			if (!first_of_family(o))
+				continue;
+			const vn_io_format *a = &formats[i], *b = &formats[o];
+			char kept[512], lost[512];
+			if (vn_io_conversion_path(a, b) != vn_io_path_mesh) {
+				snprintf(kept, sizeof kept, "%s", a->document_keeps);
+				snprintf(lost, sizeof lost, "%s", a->document_loses);
+			} else {
+				items(a, b, 1, kept, sizeof kept);
+				items(a, b, 0, lost, sizeof lost);
+			}
+			fprintf(out, "| %s → %s | %s | %s |\n", a->family, b->family, kept, lost);
+		}
+	}
 }

@@ -112,20 +112,57 @@ size_t vn_io_component_size(int component_type);
  * format vn writes can hold NaN or infinite positions. */
 size_t vn_io_mesh_first_nonfinite(const vn_io_mesh* mesh);
 
-/* ------------------------------------------------------------------ formats */
+/* ------------------------------------------------------------------ formats
+ *
+ * One table (format.c) holds every fact about a file format: its names and
+ * extensions, its reader and writer, what each keeps, and which conversion
+ * path two formats of one family take. vnconvert's dispatch, --help, its
+ * messages about formats and the README's "What vnconvert keeps" table
+ * (vn_io_conversions_table) are made from it. A new format is its own
+ * source file plus one row. */
 
 /* What a format's writer keeps of a vn_io_mesh besides positions, normals
- * and triangles (vn_io_format.holds). */
+ * and triangles (vn_io_format.holds), and what a read item needs. */
 enum {
-	vn_io_holds_colors = 1,      /* `colors`, RGBA */
-	vn_io_holds_texcoords = 2,   /* `texcoords` */
-	vn_io_holds_attributes = 4,  /* `attributes` */
-	vn_io_holds_face_colors = 8, /* `face_colors` */
-	vn_io_holds_polygons = 16    /* faces of more than 3 corners (else fan-triangulated) */
+	vn_io_holds_colors = 1,        /* `colors`, RGBA */
+	vn_io_holds_texcoords = 2,     /* `texcoords` */
+	vn_io_holds_attributes = 4,    /* `attributes` */
+	vn_io_holds_face_colors = 8,   /* `face_colors` */
+	vn_io_holds_polygons = 16,     /* faces of more than 3 corners (else fan-triangulated) */
+	vn_io_holds_loose_vertices = 32 /* vertices no face uses (else only the vertices faces use are written) */
 };
 
+/* How vnconvert converts between two formats of one family (both ends with
+ * the same path); any other pair goes through a vn_io_mesh. */
+typedef enum vn_io_path {
+	vn_io_path_mesh = 0, /* read into a vn_io_mesh, compute, write */
+	vn_io_path_gltf,     /* the glTF document is edited, only normals change (vn_gltf_convert);
+	                        the glTF-only options apply */
+	vn_io_path_drc       /* the Draco stream is kept but NORMAL (vn_drc_convert) */
+} vn_io_path;
+
+/* Where the Draco options (--draco-qp ... --draco-cl) apply (vn_io_format.draco). */
+enum {
+	vn_io_draco_output = 1,  /* whenever this format is written */
+	vn_io_draco_document = 2 /* in conversions on its document path */
+};
+
+/* One thing a reader brings into a vn_io_mesh besides positions and faces:
+ * a writer keeps it when its holds has every bit of `needs` (0: no writer
+ * does). Named as the README's "What vnconvert keeps" table names it;
+ * `lost` names it where it is left out (NULL: `text`). */
+typedef struct vn_io_item {
+	unsigned needs;
+	const char* text;
+	const char* lost;
+} vn_io_item;
+
+#define VN_IO_MAX_ITEMS 6
+
 typedef struct vn_io_format {
-	const char* name;       /* "off" */
+	const char* name;       /* "glb": as --format and --input-format take it */
+	const char* title;      /* "GLB": as messages name the format */
+	const char* family;     /* "glTF": formats of one family share a reader and a conversion path */
 	const char* extensions; /* space-separated, lower case, with dot: ".off" */
 	const char* description;
 	/* Reads `path` into *mesh (zeroed on entry). */
@@ -136,7 +173,18 @@ typedef struct vn_io_format {
 	 * (vn_io_write_file) takes care of atomicity. */
 	vn_io_result (*write)(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings,
 	                      vn_io_error* error);
-	unsigned holds; /* vn_io_holds_* bits */
+	unsigned holds;        /* vn_io_holds_* bits */
+	vn_io_path path;       /* between two formats of this path */
+	unsigned draco;        /* vn_io_draco_* bits */
+	const char* no_normal; /* what the writer gives a vertex without a normal: "the zero vector" */
+	/* What the reader brings (text NULL ends the list), and what reading
+	 * always leaves out (NULL: nothing). */
+	vn_io_item reads[VN_IO_MAX_ITEMS];
+	const char* never_read;
+	/* Between two formats of the family on its document path (path !=
+	 * vn_io_path_mesh): what is kept and what is left out. */
+	const char* document_keeps;
+	const char* document_loses;
 } vn_io_format;
 
 /* Names what writing mesh as `format` leaves out ("face colours, TEXCOORD_1,
@@ -150,6 +198,35 @@ const vn_io_format* vn_io_format_for_path(const char* path);
 const vn_io_format* vn_io_format_by_name(const char* name);
 /* The i-th known format, or NULL past the end (for --help listings). */
 const vn_io_format* vn_io_format_at(size_t i);
+
+/* The conversion path from `in` to `out`: theirs when both have the same,
+ * else vn_io_path_mesh. */
+vn_io_path vn_io_conversion_path(const vn_io_format* in, const vn_io_format* out);
+
+/* Lists the known formats into text (truncated to size) in one of these
+ * styles, for messages: */
+typedef enum vn_io_listing {
+	vn_io_list_names,      /* "off, gltf, glb, drc" */
+	vn_io_list_titles,     /* "OFF, glTF, GLB and Draco" */
+	vn_io_list_families,   /* "OFF (.off), glTF (.gltf, .glb) and Draco (.drc)" */
+	vn_io_list_extensions, /* ".off .gltf .glb .drc" */
+	vn_io_list_draco       /* where the Draco options apply: "Draco (.drc) output and glTF to glTF conversions" */
+} vn_io_listing;
+void vn_io_format_list(vn_io_listing style, char* text, size_t size);
+
+/* The families (with their extensions) of path `p`: "glTF to glTF
+ * conversions (.gltf or .glb in and out)", into text. */
+void vn_io_path_description(vn_io_path p, char* text, size_t size);
+
+/* One line telling why `path`, whose extension names no format vn knows,
+ * cannot be read (input) or written, and what to do: a known foreign
+ * format's name ("an OBJ file") and the formats vn has, into text. */
+void vn_io_unknown_format(const char* path, int input, char* text, size_t size);
+
+/* Writes the README's "What vnconvert keeps" table, in Markdown, to out: a
+ * row for every pair of families, made from each format's reads, holds and
+ * document_keeps/loses. */
+void vn_io_conversions_table(FILE* out);
 
 /* Reads path with `format`, or the format its extension names when NULL. */
 vn_io_result vn_io_read_file(const char* path, const vn_io_format* format, vn_io_mesh* mesh, vn_io_error* error);

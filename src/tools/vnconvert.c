@@ -8,7 +8,6 @@
 #include "common.h"
 
 #include <stdarg.h>
-#include <strings.h> /* strcasecmp */
 
 #include "draco.h"
 #include "gltf.h"
@@ -25,6 +24,7 @@ static void usage(FILE* out)
 	        "  -m, --method M         weighting scheme (default mwa, the paper's overall choice);\n"
 	        "                         one of mwe mwa mwselr mwaat mwelr mwrelr mewcsa\n"
 	        "      --list-methods     list the schemes with a description and reference\n"
+	        "      --list-conversions what each pair of formats keeps (a Markdown table)\n"
 	        "  -f, --format F         output format, overriding OUT's extension\n"
 	        "      --input-format F   input format, overriding IN's extension\n"
 	        "  -j, --threads N        worker threads (default: all %u cores; results do not depend on it)\n"
@@ -130,47 +130,19 @@ static const vn_io_format* need_format(const char* flag, const char* name)
 {
 	const vn_io_format* f = vn_io_format_by_name(name);
 	if (!f) {
-		char names[64] = "";
-		for (size_t i = 0; vn_io_format_at(i); ++i) {
-			const size_t used = strlen(names);
-			snprintf(names + used, sizeof names - used, "%s%s", i ? ", " : "", vn_io_format_at(i)->name);
-		}
+		char names[128];
+		vn_io_format_list(vn_io_list_names, names, sizeof names);
 		die(2, "%s is one of %s, not '%s'", flag, names, name);
 	}
 	return f;
 }
 
-/* Other mesh formats people try: vn cannot read or write them, and naming
- * a format with --input-format or --format cannot help. */
-static const char* foreign_format(const char* path)
-{
-	static const char* const formats[][2] = {{".ply", "a PLY"}, {".obj", "an OBJ"}, {".stl", "an STL"},
-	                                         {".fbx", "an FBX"}, {".dae", "a COLLADA"}, {".3ds", "a 3DS"}};
-	const size_t length = strlen(path);
-	for (size_t i = 0; i < sizeof formats / sizeof formats[0]; ++i)
-		if (length >= 4 && !strcasecmp(path + length - 4, formats[i][0]))
-			return formats[i][1];
-	return NULL;
-}
-
 /* IN or OUT whose extension names no format vn knows. */
 static void unknown_extension(const char* path, int input)
 {
-	const char* foreign = foreign_format(path);
-	const char* advice = input ? "convert it to one of these first (e.g. with meshlabserver or Blender)"
-	                           : "write one of these and convert that (e.g. with meshlabserver or Blender)";
-	if (foreign)
-		die(2, "'%s' is %s file, and vn %s only OFF, glTF, GLB and Draco files: %s", path, foreign,
-		    input ? "reads" : "writes", advice);
-	die(2,
-	    "cannot tell the format of '%s' from its extension: vn %s OFF (.off), glTF (.gltf, .glb) and Draco (.drc); "
-	    "name the format with %s if the file is one of these, else %s",
-	    path, input ? "reads" : "writes", input ? "--input-format" : "--format", advice);
-}
-
-static int is_gltf(const vn_io_format* f)
-{
-	return f == vn_io_format_by_name("gltf") || f == vn_io_format_by_name("glb");
+	char text[512];
+	vn_io_unknown_format(path, input, text, sizeof text);
+	die(2, "%s", text);
 }
 
 static args parse(int argc, char** argv)
@@ -192,6 +164,9 @@ static args parse(int argc, char** argv)
 			exit(0);
 		} else if (!strcmp(s, "--list-methods")) {
 			tool_list_methods(stdout);
+			exit(0);
+		} else if (!strcmp(s, "--list-conversions")) {
+			vn_io_conversions_table(stdout);
 			exit(0);
 		} else if (!strcmp(s, "-m") || !strcmp(s, "--method")) {
 			const char* v = need_value(argc, argv, &i);
@@ -286,13 +261,20 @@ static args parse(int argc, char** argv)
 		unknown_extension(a.in, 1);
 	if (!a.out_format && !(a.out_format = vn_io_format_for_path(a.out)))
 		unknown_extension(a.out, 0);
-	const int gltf_to_gltf = is_gltf(a.in_format) && is_gltf(a.out_format);
-	if (drc_given && a.out_format != vn_io_format_by_name("drc") && !gltf_to_gltf)
-		die(2, "%s applies to Draco (.drc) output and to glTF to glTF conversions, and this one is %s to %s: leave it out",
-		    drc_given, a.in_format->name, a.out_format->name);
-	if (gltf_only && !gltf_to_gltf)
-		die(2, "%s applies only to glTF to glTF conversions (.gltf or .glb in and out), and this one is %s to %s: leave it out",
-		    gltf_only, a.in_format->name, a.out_format->name);
+	const vn_io_path path = vn_io_conversion_path(a.in_format, a.out_format);
+	if (drc_given && !(a.out_format->draco & vn_io_draco_output) &&
+	    !(path != vn_io_path_mesh && (a.in_format->draco & vn_io_draco_document))) {
+		char where[256];
+		vn_io_format_list(vn_io_list_draco, where, sizeof where);
+		die(2, "%s applies to %s, and this one is %s to %s: leave it out", drc_given, where, a.in_format->name,
+		    a.out_format->name);
+	}
+	if (gltf_only && path != vn_io_path_gltf) {
+		char where[256];
+		vn_io_path_description(vn_io_path_gltf, where, sizeof where);
+		die(2, "%s applies only to %s, and this one is %s to %s: leave it out", gltf_only, where,
+		    a.in_format->name, a.out_format->name);
+	}
 	return a;
 }
 
@@ -429,23 +411,24 @@ int main(int argc, char** argv)
 	/* A missing folder or an OUT that is a device is told before any work. */
 	if (vn_io_output_check(a.out, NULL, &err) != vn_io_success)
 		die(1, "%s", err.message);
-	if (is_gltf(a.in_format) && is_gltf(a.out_format))
+	switch (vn_io_conversion_path(a.in_format, a.out_format)) {
+	case vn_io_path_gltf:
 		return convert_gltf(&a);
-	if (a.in_format == vn_io_format_by_name("drc") && a.out_format == vn_io_format_by_name("drc"))
+	case vn_io_path_drc:
 		return convert_drc(&a);
+	case vn_io_path_mesh:
+		break;
+	}
 
 	vn_io_mesh mesh;
 	memset(&mesh, 0, sizeof(mesh));
 
 	progress(&a, "reading", a.in);
 	const double t0 = tool_now();
-	const int drc_out = a.out_format == vn_io_format_by_name("drc");
+	const int drc_out = (a.out_format->draco & vn_io_draco_output) != 0;
 	vn_drc_options drc;
 	vn_drc_default_options(&drc);
-	const vn_io_result read = a.in_format == vn_io_format_by_name("drc")
-	                              ? vn_drc_read_file(a.in, &mesh, &drc, &err)
-	                              : vn_io_read_file(a.in, a.in_format, &mesh, &err);
-	if (read != vn_io_success)
+	if (vn_io_read_file(a.in, a.in_format, &mesh, &err) != vn_io_success)
 		die(1, "%s", err.message);
 	const size_t nonfinite = vn_io_mesh_first_nonfinite(&mesh);
 	if (nonfinite < mesh.vertex_count) {
@@ -483,9 +466,9 @@ int main(int argc, char** argv)
 		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); "
 		        "written as %s\n",
 		        prog, st.zero_normals, mesh.vertex_count, noun(mesh.vertex_count, "vertex", "vertices"),
-		        noun(st.zero_normals, "has", "have"), is_gltf(a.out_format) ? "(0, 0, 1)" : "the zero vector");
+		        noun(st.zero_normals, "has", "have"), a.out_format->no_normal);
 
-	if (drc_out && !a.quiet) {
+	if (!(a.out_format->holds & vn_io_holds_loose_vertices) && !a.quiet) {
 		/* Draco 1.5.5's decoder refuses more points than 3 per triangle: the writer
 		 * then keeps only the vertices faces use. */
 		size_t corners = 0;
@@ -495,9 +478,10 @@ int main(int argc, char** argv)
 		}
 		if (mesh.vertex_count > corners)
 			fprintf(stderr,
-			        "%s: warning: %zu vertices and %zu %s: only the vertices faces use are written, as Draco "
+			        "%s: warning: %zu vertices and %zu %s: only the vertices faces use are written, as %s "
 			        "cannot store more than 3 points per triangle\n",
-			        prog, mesh.vertex_count, corners / 3, noun(corners / 3, "triangle", "triangles"));
+			        prog, mesh.vertex_count, corners / 3, noun(corners / 3, "triangle", "triangles"),
+			        a.out_format->title);
 	}
 	progress(&a, "writing", a.out);
 	if (vn_io_write_file(a.out, a.out_format, &mesh, drc_out ? &drc : NULL, &err) !=
