@@ -21,7 +21,7 @@
  *    writing with settings goes through vn_io_write_file with a
  *    vn_drc_options* as its settings; vn_drc_normal_error for --stats.
  *
- * Implemented in C++ (draco.cpp) behind this C interface.
+ * Implemented in C++ (draco.cpp, draco_mesh.cpp) behind this C interface.
  */
 #ifndef VN_IO_DRACO_H
 #define VN_IO_DRACO_H

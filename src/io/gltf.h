@@ -22,8 +22,8 @@
  *    primitive) compressed: vn_gltf_options.draco. What these changes
  *    leave unused is removed. See README.md, "glTF".
  *
- * Implemented in C++ (gltf.cpp, on nlohmann json, with tinygltf's data-URI
- * decoding) behind this C interface.
+ * Implemented in C++ (gltf*.cpp, one file per stage: see gltf.cpp; on
+ * nlohmann json, with tinygltf's data-URI decoding) behind this C interface.
  */
 #ifndef VN_IO_GLTF_H
 #define VN_IO_GLTF_H

@@ -1,16 +1,22 @@
 /*
- * The glTF document as gltf.cpp edits it, shared with gltf_prune.cpp (C++
- * only, internal to vn_io): the original JSON, the buffers in place, and the
- * removal of what the edits left unused.
+ * The glTF document as the glTF stages edit it (C++ only, internal to
+ * vn_io): the original JSON, the buffers in place, the failures thrown on
+ * the way, reading and appending accessors (gltf_document.cpp), the removal
+ * of what the edits left unused (gltf_prune.cpp) and writing the files
+ * (gltf_save.cpp). The triangle primitives built on it are in
+ * gltf_primitive.h.
  */
 #ifndef VN_IO_GLTF_DOCUMENT_H
 #define VN_IO_GLTF_DOCUMENT_H
 
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <new>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gltf.h"
@@ -82,6 +88,147 @@ std::string unknown_extension(const json& j);
  * input used (before: used() of the document as loaded) and the output
  * does not, with their bytes; see gltf_prune.cpp. */
 void prune(document& d, const usage& before, vn_gltf_stats& st, std::string* unknown);
+
+/* ------------------------------------------------------------------ failures (gltf_document.cpp) */
+
+/* Every failure is thrown as one of these and turned into a vn_io_error at
+ * the C boundary. msg never names the file: the boundary prefixes it. */
+struct failure {
+	vn_io_result result;
+	std::string msg;
+	bool names_file; /* msg starts with the file it is about */
+};
+
+/* A failure about the file being read (the caller prefixes its name). */
+[[noreturn]] void fail(vn_io_result r, const std::string& msg);
+
+/* A failure whose message names its own file ("out.bin: cannot write"). */
+[[noreturn]] void fail_named(vn_io_result r, const std::string& msg);
+
+/* printf into a std::string (up to 511 characters). */
+std::string str(const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+
+/* f as a vn_io_error about path (unless its message names its own file). */
+vn_io_result to_error(const failure& f, const char* path, vn_io_error* error);
+
+/* Runs body, turning every failure and exception into a vn_io_result. */
+template <typename F> vn_io_result guarded(const char* path, vn_io_error* error, F body)
+{
+	try {
+		body();
+		return vn_io_success;
+	} catch (const failure& f) {
+		return to_error(f, path, error);
+	} catch (const std::bad_alloc&) {
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);
+	} catch (const std::exception& x) {
+		return vn_io_fail(error, vn_io_error_parse, "%s: %s", path, x.what());
+	}
+}
+
+/* ------------------------------------------------------------------ the document (gltf_document.cpp) */
+
+const uint32_t glb_magic = 0x46546C67, chunk_json = 0x4E4F534A, chunk_bin = 0x004E4942;
+
+/* The folder part of path, with its final '/' ("" for none). */
+std::string folder_of(const std::string& path);
+/* A URI's %XX escapes decoded. */
+std::string uri_decode(const std::string& s);
+
+long long get_int(const json& o, const char* key, long long def, const std::string& what);
+/* doc[array][i], which must exist and be an object. */
+const json& element(const json& doc, const char* array, long long i, const std::string& what);
+/* Bytes per component of glTF component type `type` (0: not one). */
+size_t component_size(long long type);
+
+/* Where an accessor's or sparse part's elements lie in a buffer. */
+struct span {
+	int buffer = -1; /* -1: no bufferView (zeros) */
+	size_t offset = 0, stride = 0;
+};
+
+struct accessor {
+	long long count = 0, component = 0;
+	size_t components = 0, element = 0;
+	bool normalized = false;
+	span data;
+	/* sparse */
+	long long sparse_count = 0, sparse_index_component = 0;
+	span sparse_indices, sparse_values;
+};
+
+unsigned char* element_at(const document& d, const span& s, size_t i);
+span view_span(const document& d, long long view, size_t offset, size_t needed, size_t element_size,
+               const std::string& what);
+/* Accessor `index`, checked against its bufferViews and buffers. */
+accessor get_accessor(const document& d, long long index);
+double read_component(const unsigned char* p, long long type, bool normalized);
+double normalized_value(double v, long long type);
+void write_component(unsigned char* p, long long type, double v);
+std::vector<double> read_accessor(const document& d, const accessor& a);
+
+/* Reads the .gltf or .glb file at path with its buffers. */
+document load(const std::string& path);
+
+/* An accessor's min and max replaced, where it has them. */
+void set_bounds(json& a, const std::vector<double>& lo, const std::vector<double>& hi, long long component);
+void set_bounds(json& j, const bytes& data, size_t stride, const accessor& a, size_t count);
+
+/* A new bufferView holding data, a new accessor: their indices. */
+size_t append_view(document& d, const bytes& data, size_t stride, int target);
+long long append_accessor(document& d, json a);
+
+/* ------------------------------------------------------------------ writing (gltf_save.cpp) */
+
+/* A file's contents: byte ranges written one after the other, and the
+ * small pieces (headers, JSON, padding) they include, owned here. */
+struct pieces {
+	std::vector<std::pair<const unsigned char*, size_t>> list;
+	std::vector<std::unique_ptr<std::string>> owned;
+	void add(const void* data, size_t n)
+	{
+		if (n)
+			list.emplace_back((const unsigned char*)data, n);
+	}
+	void add(std::string text)
+	{
+		owned.emplace_back(new std::string(std::move(text)));
+		add(owned.back()->data(), owned.back()->size());
+	}
+	/* Buffer b, padded with zeros to a multiple of 4 bytes when `pad`. */
+	void add(const buffer& b, bool pad)
+	{
+		add(b.base, b.size);
+		if (!b.tail.empty()) {
+			add(std::string(b.tail_start() - b.size, '\0'));
+			add(b.tail.data(), b.tail.size());
+		}
+		if (pad)
+			add(std::string((4 - b.total() % 4) % 4, '\0'));
+	}
+	/* The pieces in one block (for a data URI). */
+	bytes joined() const
+	{
+		bytes out;
+		for (const auto& piece : list)
+			out.insert(out.end(), piece.first, piece.first + piece.second);
+		return out;
+	}
+};
+
+/* buffer's "uri" for data, as a base64 data URI (with its media type when
+ * it had one). */
+std::string data_uri(const json& buffer, const bytes& data);
+
+/* A GLB of JSON j and the BIN chunk bin (null: none). */
+pieces glb_file(const json& j, const buffer* bin);
+
+/* Writes the document to path as GLB or .gltf; see gltf_save.cpp. */
+void save(document& d, const std::string& path, bool glb, bool in_place, const std::string& unknown);
 
 } // namespace vn_gltf
 

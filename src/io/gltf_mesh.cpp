@@ -1,0 +1,310 @@
+/*
+ * glTF as a vn_io format (gltf.h): every triangle primitive of a document
+ * merged into one vn_io_mesh (vn_io_gltf_read), and a minimal glTF or GLB
+ * written from a vn_io_mesh (vn_io_gltf_write, vn_io_glb_write).
+ */
+#include "gltf.h"
+#include "gltf_primitive.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <functional>
+
+namespace vn_gltf {
+
+/* The values of attribute `name` of primitive p (decoded Draco data or its
+ * accessor), as doubles, with its type; false when p lacks it. */
+static bool attribute_values(const document& d, const primitive& p, const std::string& name, std::vector<double>& values,
+                             accessor& type)
+{
+	const json& attributes = d.j["meshes"][p.mesh]["primitives"][p.index]["attributes"];
+	if (!attributes.contains(name))
+		return false;
+	if (p.draco && p.draco->by_name.count(name)) {
+		const vn_drc_attribute& a = *p.draco->by_name.at(name);
+		type = accessor{};
+		type.count = (long long)p.vertices();
+		type.component = a.component_type;
+		type.components = (size_t)a.components;
+		type.normalized = a.normalized != 0;
+		const size_t csize = vn_io_component_size(a.component_type);
+		values.resize(p.vertices() * type.components);
+		for (size_t i = 0; i < values.size(); ++i)
+			values[i] = read_component((const unsigned char*)a.data + i * csize, a.component_type, false);
+		return true;
+	}
+	type = get_accessor(d, get_int(attributes, name.c_str(), 0, "attributes"));
+	if ((size_t)type.count != p.vertices() || type.components > 4)
+		return false;
+	const bool normalized = type.normalized;
+	type.normalized = false; /* the stored values */
+	values = read_accessor(d, type);
+	type.normalized = normalized;
+	return true;
+}
+
+/* Every triangle primitive merged into one mesh: positions, triangles, the
+ * first colour set (COLOR_0) into colors, TEXCOORD_0 into texcoords, every
+ * other vertex attribute (TEXCOORD_n, COLOR_n, JOINTS_n, WEIGHTS_n,
+ * TANGENT, _NAME) into attributes in its own type; a primitive without an
+ * attribute another one has gets zeros there. */
+static void mesh_from_document(const document& d, vn_io_mesh* mesh)
+{
+	std::vector<primitive> prims = triangle_primitives(d, nullptr);
+	size_t vertices = 0, triangles = 0;
+	for (const primitive& p : prims) {
+		vertices += p.vertices();
+		triangles += p.triangles.size() / 3;
+	}
+	if (vertices > UINT32_MAX || 3 * triangles > UINT32_MAX)
+		fail(vn_io_error_unsupported, "the meshes have more than 2^32 vertices or indices");
+	mesh->vertex_count = vertices;
+	mesh->face_count = triangles;
+	mesh->positions = (double*)malloc(3 * sizeof(double) * (vertices ? vertices : 1));
+	mesh->indices = (uint32_t*)malloc(3 * sizeof(uint32_t) * (triangles ? triangles : 1));
+	mesh->face_offsets = (uint32_t*)malloc(sizeof(uint32_t) * (triangles + 1));
+	if (!mesh->positions || !mesh->indices || !mesh->face_offsets)
+		fail(vn_io_error_memory, "out of memory");
+	size_t v = 0, t = 0;
+	for (const primitive& p : prims) {
+		for (size_t i = 0; i < p.vertices(); ++i)
+			p.positions.load(i, mesh->positions + 3 * (v + i));
+		for (uint32_t i : p.triangles)
+			mesh->indices[t++] = (uint32_t)(v + i);
+		v += p.vertices();
+	}
+	for (size_t f = 0; f <= triangles; ++f)
+		mesh->face_offsets[f] = (uint32_t)(3 * f);
+
+	/* Attribute names in first-seen order. */
+	std::vector<std::string> names;
+	for (const primitive& p : prims)
+		for (auto& kv : d.j["meshes"][p.mesh]["primitives"][p.index]["attributes"].items())
+			if (kv.key() != "POSITION" && kv.key() != "NORMAL" &&
+			    std::find(names.begin(), names.end(), kv.key()) == names.end())
+				names.push_back(kv.key());
+	for (const std::string& name : names) {
+		/* Each primitive's values (read once), and the type: the first
+		 * primitive's, or floats, as they stand for, where primitives
+		 * disagree. */
+		std::vector<std::vector<double>> values(prims.size());
+		std::vector<accessor> types(prims.size());
+		std::vector<bool> has(prims.size(), false);
+		accessor type;
+		bool any = false;
+		for (size_t k = 0; k < prims.size(); ++k) {
+			has[k] = attribute_values(d, prims[k], name, values[k], types[k]);
+			if (!has[k])
+				continue;
+			const accessor& here = types[k];
+			if (!any) {
+				type = here;
+			} else if (here.component != type.component || here.normalized != type.normalized ||
+			           here.components > type.components) {
+				type.component = 5126;
+				type.normalized = false;
+				type.components = std::max(here.components, type.components);
+			}
+			any = true;
+		}
+		if (!any)
+			continue;
+		const bool color = name == "COLOR_0" && (type.components == 3 || type.components == 4);
+		const bool texcoord = name == "TEXCOORD_0" && type.components == 2;
+		const int semantic = name.rfind("TEXCOORD_", 0) == 0 ? vn_io_semantic_texcoord
+		                     : name.rfind("COLOR_", 0) == 0  ? vn_io_semantic_color
+		                                                     : vn_io_semantic_generic;
+		float* floats = nullptr;
+		vn_io_attribute* a = nullptr;
+		if (color) {
+			floats = mesh->colors = (float*)calloc(4 * (vertices ? vertices : 1), sizeof(float));
+			mesh->colors_are_bytes = type.component == 5121;
+		} else if (texcoord) {
+			floats = mesh->texcoords = (float*)calloc(2 * (vertices ? vertices : 1), sizeof(float));
+		} else {
+			a = vn_io_mesh_add_attribute(mesh, name.c_str(), semantic, (int)type.component, (int)type.components,
+			                             type.normalized);
+		}
+		if (!floats && !a)
+			fail(vn_io_error_memory, "out of memory");
+		const size_t k = color ? 4 : texcoord ? 2 : type.components, csize = component_size(type.component);
+		v = 0;
+		for (size_t j = 0; j < prims.size(); ++j) {
+			const primitive& p = prims[j];
+			const accessor& here = types[j];
+			if (has[j])
+				for (size_t i = 0; i < p.vertices(); ++i)
+					for (size_t c = 0; c < k; ++c) {
+						/* Colours and texture coordinates as the floats they
+						 * stand for; other attributes in their own type. */
+						const bool have = c < here.components;
+						double x = have ? values[j][i * here.components + c] : 1.0; /* missing alpha: opaque */
+						if ((floats || type.component == 5126) && have && here.normalized)
+							x = normalized_value(x, here.component);
+						if (floats)
+							floats[(v + i) * k + c] = (float)x;
+						else if (have)
+							write_component((unsigned char*)a->data + ((v + i) * k + c) * csize, type.component, x);
+					}
+			else if (color)
+				for (size_t i = 0; i < p.vertices(); ++i)
+					std::fill_n(&floats[(v + i) * 4], 4, 1.0f); /* white where a primitive has no colours */
+			v += p.vertices();
+		}
+	}
+}
+
+/* glTF's name for mesh attribute a, given the TEXCOORD_n and COLOR_n sets
+ * already written (numbered on from them: glTF wants them consecutive), or
+ * "" when glTF cannot hold it as such: TEXCOORD is VEC2, COLOR VEC3/VEC4,
+ * of float or normalized unsigned byte/short; an application-specific name
+ * starts with '_'. */
+static std::string gltf_name(const vn_io_attribute& a, int* texcoords, int* colors)
+{
+	const bool allowed = a.component_type == 5126 || (a.normalized && (a.component_type == 5121 || a.component_type == 5123));
+	if (a.semantic == vn_io_semantic_texcoord && a.components == 2 && allowed)
+		return str("TEXCOORD_%d", (*texcoords)++);
+	if (a.semantic == vn_io_semantic_color && (a.components == 3 || a.components == 4) && allowed)
+		return str("COLOR_%d", (*colors)++);
+	return a.name[0] == '_' ? std::string(a.name) : "_" + std::string(a.name);
+}
+
+/* A minimal document for mesh: one node, one mesh, one primitive with
+ * POSITION, NORMAL, COLOR_0 (vertex colours), TEXCOORD_0 and every other
+ * attribute (in its type; 32-bit integers, which glTF allows only for
+ * indices, as floats). */
+static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
+{
+	if (mesh->vertex_count == 0 || mesh->face_count == 0)
+		fail(vn_io_error_unsupported, "glTF needs at least one vertex and one face");
+	std::vector<uint32_t> indices;
+	for (size_t f = 0; f < mesh->face_count; ++f)
+		for (uint32_t c = mesh->face_offsets[f] + 1; c + 1 < mesh->face_offsets[f + 1]; ++c)
+			indices.insert(indices.end(), {mesh->indices[mesh->face_offsets[f]], mesh->indices[c], mesh->indices[c + 1]});
+	if (indices.empty())
+		fail(vn_io_error_unsupported, "glTF needs at least one face with 3 or more corners");
+	const size_t n = mesh->vertex_count;
+	bytes bin;
+	json accessors = json::array(), views = json::array(), attributes = json::object();
+	/* One bufferView per accessor, each element padded to 4 bytes (vertex
+	 * attributes need it). */
+	auto add = [&](const std::string& name, int component, size_t components, bool normalized, size_t count,
+	               const std::function<double(size_t, size_t)>& value, bool bounds, int target) {
+		const size_t csize = component_size(component), element = csize * components;
+		const size_t stride = target == 34962 ? (element + 3) / 4 * 4 : element;
+		bin.resize((bin.size() + 3) / 4 * 4, 0);
+		const size_t offset = bin.size();
+		bin.resize(offset + stride * count, 0);
+		for (size_t i = 0; i < count; ++i)
+			for (size_t c = 0; c < components; ++c)
+				write_component(&bin[offset + i * stride + c * csize], component, value(i, c));
+		json view = {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", stride * count}};
+		if (stride != element)
+			view["byteStride"] = stride;
+		view["target"] = target;
+		views.push_back(view);
+		json a = {{"bufferView", views.size() - 1}, {"componentType", component}, {"count", count},
+		          {"type", components == 1 ? "SCALAR" : str("VEC%zu", components)}};
+		if (normalized)
+			a["normalized"] = true;
+		if (bounds) {
+			a["min"] = json::array(), a["max"] = json::array();
+			accessor info;
+			info.component = component;
+			info.components = components;
+			set_bounds(a, bytes(bin.begin() + (long)offset, bin.end()), stride, info, count);
+		}
+		accessors.push_back(a);
+		if (!name.empty())
+			attributes[name] = accessors.size() - 1;
+	};
+	add("POSITION", 5126, 3, false, n, [&](size_t i, size_t c) { return mesh->positions[3 * i + c]; }, true, 34962);
+	add("NORMAL", 5126, 3, false, n, [&](size_t i, size_t c) {
+		const double* v = mesh->normals ? &mesh->normals[3 * i] : nullptr;
+		const bool zero = !v || (v[0] == 0 && v[1] == 0 && v[2] == 0);
+		return zero ? (c == 2 ? 1.0 : 0.0) : v[c]; }, false, 34962);
+	int texcoords = 0, colors = 0;
+	if (mesh->texcoords)
+		add(str("TEXCOORD_%d", texcoords++), 5126, 2, false, n, [&](size_t i, size_t c) { return mesh->texcoords[2 * i + c]; },
+		    false, 34962);
+	if (mesh->colors) {
+		bool alpha = false;
+		for (size_t i = 0; i < n && !alpha; ++i)
+			alpha = mesh->colors[4 * i + 3] != 1.0f;
+		add(str("COLOR_%d", colors++), mesh->colors_are_bytes ? 5121 : 5126, alpha ? 4 : 3, mesh->colors_are_bytes != 0, n,
+		    [&](size_t i, size_t c) {
+			    const double v = mesh->colors[4 * i + c];
+			    return mesh->colors_are_bytes ? std::lround(std::min(1.0, std::max(0.0, v)) * 255) : v; },
+		    false, 34962);
+	}
+	for (size_t k = 0; k < mesh->attribute_count; ++k) {
+		const vn_io_attribute& a = mesh->attributes[k];
+		const size_t csize = vn_io_component_size(a.component_type);
+		const bool wide = a.component_type == 5124 || a.component_type == 5125; /* glTF: indices only */
+		add(gltf_name(a, &texcoords, &colors), wide ? 5126 : a.component_type, (size_t)a.components,
+		    a.normalized && !wide, n, [&](size_t i, size_t c) {
+			    return read_component((const unsigned char*)a.data + (i * a.components + c) * csize, a.component_type, false); },
+		    false, 34962);
+	}
+	add("", 5125, 1, false, indices.size(), [&](size_t i, size_t) { return (double)indices[i]; }, false, 34963);
+	j = json{{"asset", {{"version", "2.0"}, {"generator", "vn"}}},
+	         {"scene", 0},
+	         {"scenes", json::array({json{{"nodes", {0}}}})},
+	         {"nodes", json::array({json{{"mesh", 0}}})},
+	         {"meshes", json::array({json{{"primitives", json::array({json{
+	                                           {"attributes", attributes},
+	                                           {"indices", accessors.size() - 1},
+	                                           {"mode", 4}}})}}})},
+	         {"accessors", accessors},
+	         {"bufferViews", views},
+	         {"buffers", json::array({json{{"byteLength", bin.size()}}})}};
+	return bin;
+}
+
+static vn_io_result write_stream(FILE* out, const char* path, const vn_io_mesh* mesh, bool glb, vn_io_error* error)
+{
+	return guarded(path, error, [&] {
+		json j;
+		bytes bin = document_from_mesh(mesh, j);
+		buffer b;
+		b.base = bin.data();
+		b.size = bin.size();
+		pieces file;
+		if (glb) {
+			file = glb_file(j, &b);
+		} else {
+			j["buffers"][0]["uri"] = data_uri(json::object(), bin);
+			file.add(j.dump(2) + "\n");
+		}
+		for (const auto& piece : file.list)
+			if (fwrite(piece.first, 1, piece.second, out) != piece.second)
+				fail_named(vn_io_error_write, str("%s: cannot write: %s", path, strerror(errno)));
+	});
+}
+
+} // namespace vn_gltf
+
+using namespace vn_gltf;
+
+extern "C" vn_io_result vn_io_gltf_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)
+{
+	memset(mesh, 0, sizeof *mesh);
+	vn_io_result r = guarded(path, error, [&] { mesh_from_document(load(path), mesh); });
+	if (r != vn_io_success)
+		vn_io_mesh_free(mesh);
+	return r;
+}
+
+extern "C" vn_io_result vn_io_gltf_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error)
+{
+	(void)settings; /* a glTF written from a mesh has none */
+	return write_stream(out, path, mesh, false, error);
+}
+
+extern "C" vn_io_result vn_io_glb_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error)
+{
+	(void)settings;
+	return write_stream(out, path, mesh, true, error);
+}

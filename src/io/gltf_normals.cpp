@@ -1,0 +1,533 @@
+/*
+ * The normals plan (gltf_primitive.h): the triangle primitives read from
+ * the document (TRIANGLES, strips and fans as triangle lists, indices,
+ * morph targets, Draco data through gltf_draco.cpp), grouped (one
+ * primitive, or a whole mesh with --weld-mesh), welded, their hard edges
+ * found, split at a crease angle, and their normals and morph targets'
+ * NORMAL displacements computed with libvn.
+ */
+#include "gltf_primitive.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+
+namespace vn_gltf {
+
+/* Accessor a (VEC3) as vec3s: a view when it is plain aligned float32. */
+static vec3s read_vec3(const document& d, const accessor& a)
+{
+	if (a.component == 5126 && a.data.buffer >= 0 && a.sparse_count == 0) {
+		const unsigned char* p = element_at(d, a.data, 0);
+		if ((uintptr_t)p % 4 == 0 && a.data.stride % 4 == 0)
+			return vec3s(p, (size_t)a.count, a.data.stride, vn_scalar_float32);
+	}
+	return vec3s(read_accessor(d, a));
+}
+
+/* The vertex order of indices accessor ia (each checked < n). */
+static corners read_indices(const document& d, const accessor& ia, size_t n, bool whole_triangles, const std::string& what)
+{
+	if (ia.components != 1 || (ia.component != 5121 && ia.component != 5123 && ia.component != 5125))
+		fail(vn_io_error_parse, what + ": indices are not unsigned integer scalars");
+	auto checked = [&](uint32_t v) {
+		if (v >= n)
+			fail(vn_io_error_parse, str("%s: index %u is out of range (%zu vertices)", what.c_str(), v, n));
+		return v;
+	};
+	const size_t count = whole_triangles ? (size_t)ia.count / 3 * 3 : (size_t)ia.count;
+	if (ia.component == 5125 && ia.sparse_count == 0 && ia.data.buffer >= 0 && ia.data.stride == 4) {
+		const unsigned char* p = element_at(d, ia.data, 0);
+		if ((uintptr_t)p % 4 == 0) {
+			const uint32_t* v = (const uint32_t*)p;
+			for (size_t k = 0; k < count; ++k)
+				checked(v[k]);
+			return corners(v, count);
+		}
+	}
+	std::vector<uint32_t> order((size_t)ia.count, 0);
+	if (ia.data.buffer >= 0)
+		for (size_t k = 0; k < order.size(); ++k)
+			order[k] = (uint32_t)read_component(element_at(d, ia.data, k), ia.component, false);
+	for (size_t k = 0; k < (size_t)ia.sparse_count; ++k) {
+		const double i = read_component(element_at(d, ia.sparse_indices, k), ia.sparse_index_component, false);
+		if (i >= (double)ia.count)
+			fail(vn_io_error_parse, str("a sparse index (%.0f) is out of range (count %lld)", i, ia.count));
+		order[(size_t)i] = (uint32_t)read_component(element_at(d, ia.sparse_values, k), ia.component, false);
+	}
+	for (uint32_t v : order)
+		checked(v);
+	order.resize(count);
+	return corners(std::move(order));
+}
+
+/* Fails on the first non-finite position: no file vn writes may hold one
+ * (glTF's validator rejects them, Draco's encoder crashes on them). */
+static void check_finite(const vec3s& positions, const std::string& what)
+{
+	for (size_t i = 0; i < positions.size(); ++i) {
+		double p[3];
+		positions.load(i, p);
+		if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+			fail(vn_io_error_parse, str("%s of vertex %zu is not finite (%g, %g, %g); vn does not write meshes with NaN or "
+			                            "infinite positions: fix or remove that vertex", what.c_str(), i, p[0], p[1], p[2]));
+	}
+}
+
+/* Reads the triangle primitives; counts the others. */
+std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
+{
+	std::vector<primitive> out;
+	auto meshes = d.j.find("meshes");
+	if (meshes == d.j.end())
+		return out;
+	if (!meshes->is_array())
+		fail(vn_io_error_parse, "meshes is not an array");
+	for (size_t m = 0; m < meshes->size(); ++m) {
+		const json& mesh = (*meshes)[m];
+		if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array())
+			fail(vn_io_error_parse, str("meshes[%zu] has no primitives array", m));
+		for (size_t p = 0; p < mesh["primitives"].size(); ++p) {
+			const json& prim = mesh["primitives"][p];
+			const std::string what = str("meshes[%zu].primitives[%zu]", m, p);
+			if (!prim.is_object() || !prim.contains("attributes") || !prim["attributes"].is_object())
+				fail(vn_io_error_parse, what + " has no attributes object");
+			long long mode = get_int(prim, "mode", 4, what);
+			if (mode > 6)
+				fail(vn_io_error_parse, what + " has an invalid mode");
+			const json& attributes = prim["attributes"];
+			if (mode == 0 || mode == 1 || mode == 2 || mode == 3) {
+				if (st)
+					++(mode == 0 ? st->skipped_points : st->skipped_lines);
+				continue;
+			}
+			if (!attributes.contains("POSITION")) {
+				if (st)
+					++st->skipped_no_position;
+				continue;
+			}
+			primitive r;
+			r.mesh = m;
+			r.index = p;
+			r.position = get_int(attributes, "POSITION", 0, what + ".attributes");
+			r.tangent = attributes.contains("TANGENT");
+			if (const json* ext = draco_extension(prim)) {
+				r.draco = decode_draco(d, prim, *ext, what);
+				const vn_drc_geometry& g = r.draco->g;
+				r.positions = vec3s(r.draco->by_name.at("POSITION")->data, g.point_count, 0, vn_scalar_float32);
+				r.triangles = corners(g.indices, 3 * g.triangle_count);
+			} else {
+				accessor pa = get_accessor(d, r.position);
+				if (pa.components != 3 || pa.count > (long long)UINT32_MAX)
+					fail(vn_io_error_parse, what + ": POSITION is not VEC3");
+				r.positions = read_vec3(d, pa);
+			}
+			const size_t n = r.vertices();
+			check_finite(r.positions, what + ": POSITION");
+			if (attributes.contains("NORMAL")) {
+				r.normal = get_int(attributes, "NORMAL", 0, what + ".attributes");
+				const vn_drc_attribute* compressed = nullptr;
+				if (r.draco && r.draco->by_name.count("NORMAL"))
+					compressed = r.draco->by_name.at("NORMAL");
+				if (compressed) {
+					r.input_normals = vec3s(compressed->data, n, 0, vn_scalar_float32);
+				} else {
+					accessor na = get_accessor(d, r.normal);
+					if (na.components != 3 || (size_t)na.count != n)
+						fail(vn_io_error_parse, what + ": NORMAL is not VEC3 with one element per vertex");
+					r.input_normals = read_vec3(d, na);
+				}
+			}
+			if (prim.contains("targets")) {
+				if (!prim["targets"].is_array())
+					fail(vn_io_error_parse, what + ".targets is not an array");
+				for (size_t t = 0; t < prim["targets"].size(); ++t) {
+					const json& target = prim["targets"][t];
+					const std::string tw = str("%s.targets[%zu]", what.c_str(), t);
+					if (!target.is_object())
+						fail(vn_io_error_parse, tw + " is not an object");
+					std::vector<double> morphed;
+					if (target.contains("POSITION")) {
+						accessor ta = get_accessor(d, get_int(target, "POSITION", 0, tw));
+						if (ta.components != 3 || (size_t)ta.count != n)
+							fail(vn_io_error_parse, tw + ": POSITION is not VEC3 with one element per vertex");
+						morphed = read_accessor(d, ta);
+						for (size_t i = 0; i < n; ++i) {
+							double q[3];
+							r.positions.load(i, q);
+							for (int c = 0; c < 3; ++c)
+								morphed[3 * i + c] += q[c];
+						}
+						check_finite(vec3s(morphed.data(), n, 0, vn_scalar_float64), tw + ": POSITION");
+					}
+					long long normal = target.contains("NORMAL") ? get_int(target, "NORMAL", 0, tw) : -1;
+					if (normal >= 0) {
+						accessor tn = get_accessor(d, normal);
+						if (tn.components != 3 || (size_t)tn.count != n)
+							fail(vn_io_error_parse, tw + ": NORMAL is not VEC3 with one element per vertex");
+					}
+					r.target_positions.push_back(std::move(morphed));
+					r.target_normal.push_back(normal);
+				}
+			}
+			if (r.draco) {
+				out.push_back(std::move(r));
+				continue;
+			}
+
+			corners order;
+			if (prim.contains("indices")) {
+				order = read_indices(d, get_accessor(d, get_int(prim, "indices", 0, what)), n, mode == 4, what);
+			} else {
+				std::vector<uint32_t> all(mode == 4 ? n / 3 * 3 : n);
+				for (size_t i = 0; i < all.size(); ++i)
+					all[i] = (uint32_t)i;
+				order = corners(std::move(all));
+			}
+			if (mode == 4) {
+				r.triangles = std::move(order);
+			} else {
+				std::vector<uint32_t> triangles;
+				for (size_t i = 0; i + 2 < order.size(); ++i) {
+					uint32_t a = mode == 5 ? order[i + (i & 1)] : order[0];
+					uint32_t b = mode == 5 ? order[i + 1 - (i & 1)] : order[i + 1];
+					triangles.insert(triangles.end(), {a, b, order[i + 2]});
+				}
+				r.triangles = corners(std::move(triangles));
+			}
+			out.push_back(std::move(r));
+		}
+	}
+	return out;
+}
+
+static void check(vn_result r)
+{
+	if (r != vn_result_success)
+		fail(r == vn_result_out_of_memory ? vn_io_error_memory : vn_io_error_parse, vn_result_string(r));
+}
+
+/* Without --crease-angle, split copies whose input normals differ by more
+ * than this keep a hard edge between them. Small on purpose: exporters give
+ * the copies along UV seams the same normal, and converting vn's output
+ * again must find its hard edges again (a larger angle would smooth those
+ * whose two sides' normals came out closer than it). See README.md, "glTF". */
+const double default_hard_edge_angle = 0.1 * M_PI / 180;
+
+namespace {
+
+/* How a group of primitives (one primitive, or a whole mesh) gets its
+ * normals: the same plan serves the base shape and every morph target. A
+ * group of one primitive uses its data where they lie; a larger group
+ * joins copies. */
+struct group_plan {
+	std::vector<primitive*> prims;
+	std::vector<size_t> first;          /* first input vertex of each primitive */
+	std::vector<size_t> extra_first;    /* first split vertex of each primitive, counted from n */
+	size_t n = 0;                       /* input vertices */
+	size_t corners = 0;                 /* 3 per triangle */
+	std::vector<uint32_t> remap;        /* input vertex -> welded representative */
+	const uint32_t* corner_input = nullptr; /* input vertex of each corner */
+	const uint32_t* triangles = nullptr;    /* corners on welded vertices */
+	std::vector<uint32_t> joined_corners, welded_corners; /* what those point at, when not a primitive's */
+	vec3s input_normals;                /* one per input vertex, or empty */
+	bool corner_normals = false;        /* per-corner normals (sharp edges or a crease angle) */
+	double crease = M_PI;               /* radians; pi: no crease */
+	std::vector<uint8_t> sharp;         /* per corner: edges whose input normals differ */
+	std::vector<uint32_t> corner_output; /* per corner: output vertex, when splitting */
+	std::vector<uint32_t> extra_source; /* output vertex n + k -> input vertex */
+	vn_method method = vn_method_mwa;
+	vn_options options;
+};
+
+} // namespace
+
+/* The plan's normals for input positions q: one unit vector per output
+ * vertex (input vertices, then split ones), 3 floats each. A vertex no face
+ * contributes to gets its input normal when that is a unit vector, else +Z;
+ * *zeros counts them. */
+static std::vector<float> plan_normals(const group_plan& g, const vn_positions& q, size_t* zeros)
+{
+	const size_t n = g.n, outputs = n + g.extra_source.size();
+	std::vector<float> out(3 * outputs, 0.0f);
+	/* Welded vertex normals into v, then copied to every vertex of each
+	 * group (the representative is the group's lowest index, so it is
+	 * final by the time the others copy it). */
+	auto vertex_normals = [&](float* v) {
+		const vn_vectors vv = {v, 0, vn_scalar_float32};
+		check(vn_triangle_normals(&vv, &q, g.triangles, g.corners, g.method, &g.options, nullptr));
+		for (size_t i = 0; i < n; ++i)
+			if (g.remap[i] != i)
+				std::copy_n(&v[3 * g.remap[i]], 3, &v[3 * i]);
+	};
+	if (!g.corner_normals) {
+		vertex_normals(out.data());
+	} else {
+		std::vector<float> c(3 * g.corners);
+		const vn_vectors cv = {c.data(), 0, vn_scalar_float32};
+		check(vn_corner_normals(&cv, &q, g.triangles, g.corners, g.method, g.crease,
+		                        g.sharp.empty() ? nullptr : g.sharp.data(), &g.options, nullptr));
+		if (!g.corner_output.empty()) {
+			for (size_t k = 0; k < g.corners; ++k)
+				std::copy_n(&c[3 * k], 3, &out[3 * g.corner_output[k]]);
+		} else {
+			/* No splitting: a vertex whose corners disagree (its fans are
+			 * not separated in the file) gets the smooth normal. */
+			std::vector<uint32_t> seen(n, UINT32_MAX);
+			std::vector<uint8_t> conflict(n, 0);
+			for (size_t k = 0; k < g.corners; ++k) {
+				const uint32_t i = g.corner_input[k];
+				if (seen[i] == UINT32_MAX)
+					seen[i] = (uint32_t)k, std::copy_n(&c[3 * k], 3, &out[3 * i]);
+				else if (!std::equal(&c[3 * k], &c[3 * k] + 3, &c[3 * seen[i]]))
+					conflict[i] = 1;
+			}
+			if (std::find(conflict.begin(), conflict.end(), 1) != conflict.end()) {
+				std::vector<float> v(3 * n);
+				vertex_normals(v.data());
+				for (size_t i = 0; i < n; ++i)
+					if (conflict[i])
+						std::copy_n(&v[3 * i], 3, &out[3 * i]);
+			}
+		}
+	}
+	for (size_t k = 0; k < outputs; ++k) {
+		float* v = &out[3 * k];
+		if (v[0] != 0 || v[1] != 0 || v[2] != 0)
+			continue;
+		++*zeros;
+		double w[3] = {0, 0, 0};
+		if (!g.input_normals.empty())
+			g.input_normals.load(k < n ? k : g.extra_source[k - n], w);
+		double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+		if (std::isfinite(l) && std::fabs(l - 1) < 1e-3)
+			v[0] = (float)(w[0] / l), v[1] = (float)(w[1] / l), v[2] = (float)(w[2] / l);
+		else
+			v[2] = 1;
+	}
+	return out;
+}
+
+/* Flags the corners whose edge joins split copies with input normals more
+ * than `angle` apart at either end; returns how many edges that makes (an
+ * edge is flagged from both sides). */
+static size_t flag_hard_edges(group_plan& g, double angle)
+{
+	if (g.input_normals.empty())
+		return 0;
+	const double limit = std::cos(angle);
+	auto differ = [&](uint32_t a, uint32_t b) {
+		double x[3], y[3];
+		g.input_normals.load(a, x);
+		g.input_normals.load(b, y);
+		double lx = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+		double ly = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+		return a != b && lx > 0 && ly > 0 && (x[0] * y[0] + x[1] * y[1] + x[2] * y[2]) < limit * lx * ly;
+	};
+	auto next = [](size_t k) { return k - k % 3 + (k + 1) % 3; };
+	/* Only an edge with an end where welding merged copies can join copies
+	 * with different input normals: the others need no search (on a file
+	 * without split vertices, that is every edge). */
+	std::vector<uint8_t> merged(g.n, 0);
+	for (size_t i = 0; i < g.n; ++i)
+		if (g.remap[i] != i)
+			merged[g.remap[i]] = 1;
+	auto candidate = [&](size_t k) { return merged[g.triangles[k]] || merged[g.triangles[next(k)]]; };
+	std::vector<std::pair<uint64_t, uint32_t>> edges;
+	for (size_t k = 0; k < g.corners; ++k)
+		if (candidate(k))
+			edges.push_back({(uint64_t)g.triangles[k] << 32 | g.triangles[next(k)], (uint32_t)k});
+	std::sort(edges.begin(), edges.end());
+	g.sharp.assign(g.corners, 0);
+	size_t flagged = 0;
+	for (size_t k = 0; k < g.corners; ++k) {
+		if (!candidate(k) || g.triangles[k] == g.triangles[next(k)])
+			continue; /* no merged end, or a degenerate triangle (no edges) */
+		const uint64_t opposite = (uint64_t)g.triangles[next(k)] << 32 | g.triangles[k];
+		auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(opposite, (uint32_t)0));
+		for (; it != edges.end() && it->first == opposite && !g.sharp[k]; ++it) {
+			const size_t j = it->second;
+			g.sharp[k] = differ(g.corner_input[k], g.corner_input[next(j)]) ||
+			             differ(g.corner_input[next(k)], g.corner_input[j]);
+		}
+		flagged += g.sharp[k] && g.triangles[k] < g.triangles[next(k)];
+	}
+	return flagged;
+}
+
+/* Split vertices for per-corner normals c: a corner whose normal differs
+ * from the first one of its input vertex gets a new vertex, shared by the
+ * vertex's corners with the same normal. */
+static void split_corners(group_plan& g, const std::vector<float>& c)
+{
+	std::vector<uint32_t> owner(g.n, UINT32_MAX);
+	g.extra_first.assign(1, 0);
+	std::map<uint32_t, std::vector<uint32_t>> extras; /* input vertex -> its split vertices' first corner */
+	g.corner_output.assign(g.corners, 0);
+	size_t p = 0;
+	for (size_t k = 0; k < g.corners; ++k) {
+		const uint32_t i = g.corner_input[k];
+		while (p + 1 < g.prims.size() && i >= g.first[p + 1])
+			g.extra_first.push_back(g.extra_source.size()), ++p;
+		if (owner[i] == UINT32_MAX || std::equal(&c[3 * k], &c[3 * k] + 3, &c[3 * owner[i]])) {
+			if (owner[i] == UINT32_MAX)
+				owner[i] = (uint32_t)k;
+			g.corner_output[k] = i;
+			continue;
+		}
+		std::vector<uint32_t>& mine = extras[i];
+		size_t e = 0;
+		while (e < mine.size() && !std::equal(&c[3 * k], &c[3 * k] + 3, &c[3 * mine[e]]))
+			++e;
+		if (e == mine.size()) {
+			mine.push_back((uint32_t)k);
+			g.extra_source.push_back(i);
+			g.corner_output[k] = (uint32_t)(g.n + g.extra_source.size() - 1);
+		} else {
+			g.corner_output[k] = g.corner_output[mine[e]];
+		}
+	}
+	while (g.extra_first.size() < g.prims.size())
+		g.extra_first.push_back(g.extra_source.size());
+}
+
+/* Normals of a group of primitives computed together (one primitive, or a
+ * whole mesh): welded, computed (per corner where edges are hard), copied
+ * back to every split vertex; then every morph target's NORMAL
+ * displacement, by the same computation on the morphed positions. */
+void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_gltf_stats& st)
+{
+	group_plan g;
+	g.prims = prims;
+	g.method = o.method;
+	memset(&g.options, 0, sizeof g.options);
+	g.options.threads = o.threads;
+	std::vector<double> joined;
+	vn_positions pos = prims[0]->positions.view;
+	bool any_normals = false;
+	for (primitive* p : prims) {
+		g.first.push_back(g.n);
+		if (g.n + p->vertices() > UINT32_MAX)
+			fail(vn_io_error_unsupported, "a mesh has more than 2^32 vertices");
+		g.n += p->vertices();
+		g.corners += p->triangles.size();
+		any_normals = any_normals || !p->input_normals.empty();
+	}
+	if (prims.size() == 1) {
+		g.corner_input = prims[0]->triangles.data();
+		g.input_normals = vec3s(prims[0]->input_normals.view.data, prims[0]->input_normals.size(),
+		                        prims[0]->input_normals.view.stride, prims[0]->input_normals.view.type);
+	} else {
+		std::vector<double> joined_normals;
+		for (size_t k = 0; k < prims.size(); ++k) {
+			const primitive* p = prims[k];
+			p->positions.append_to(joined);
+			if (any_normals && p->input_normals.empty())
+				joined_normals.resize(joined.size(), 0.0);
+			else if (any_normals)
+				p->input_normals.append_to(joined_normals);
+			for (uint32_t v : p->triangles)
+				g.joined_corners.push_back((uint32_t)(g.first[k] + v));
+		}
+		pos = {joined.data(), g.n, 0, vn_scalar_float64};
+		g.corner_input = g.joined_corners.data();
+		g.input_normals = vec3s(std::move(joined_normals));
+	}
+	g.remap.resize(g.n);
+	for (size_t i = 0; i < g.n; ++i)
+		g.remap[i] = (uint32_t)i;
+	size_t welded = 0;
+	if (!o.no_weld) {
+		check(vn_weld_positions(g.remap.data(), &pos, o.weld_epsilon, &g.options));
+		for (size_t i = 0; i < g.n; ++i)
+			welded += g.remap[i] != i;
+		st.welded_vertices += welded;
+	}
+	g.triangles = g.corner_input;
+	if (welded) {
+		g.welded_corners.resize(g.corners);
+		for (size_t k = 0; k < g.corners; ++k)
+			g.welded_corners[k] = g.remap[g.corner_input[k]];
+		g.triangles = g.welded_corners.data();
+	}
+	/* Hard edges join welded copies: none without welding. */
+	const size_t hard = welded ? flag_hard_edges(g, o.crease ? o.crease_angle : default_hard_edge_angle) : 0;
+	if (!hard)
+		g.sharp.clear();
+	st.hard_edges += hard;
+	g.corner_normals = o.crease || !g.sharp.empty();
+	if (o.crease) {
+		g.crease = o.crease_angle;
+		std::vector<float> c(3 * g.corners);
+		const vn_vectors cv = {c.data(), 0, vn_scalar_float32};
+		check(vn_corner_normals(&cv, &pos, g.triangles, g.corners, g.method, g.crease,
+		                        g.sharp.empty() ? nullptr : g.sharp.data(), &g.options, nullptr));
+		split_corners(g, c);
+		st.split_vertices += g.extra_source.size();
+	}
+	size_t zeros = 0;
+	std::vector<float> base = plan_normals(g, pos, &zeros);
+	st.zero_normals += zeros;
+
+	/* Each primitive's output vertices: its input ones, then its split ones
+	 * (a group of one primitive is laid out so already). */
+	auto gather = [&](const std::vector<float>& all, size_t p, std::vector<float>& out, const std::vector<float>* minus) {
+		const primitive& pr = *prims[p];
+		out.resize(3 * pr.output_vertices());
+		for (size_t i = 0; i < out.size(); ++i) {
+			const size_t k = i < 3 * pr.vertices() ? 3 * g.first[p] + i : 3 * (g.n + g.extra_first[p]) + i - 3 * pr.vertices();
+			out[i] = minus ? all[k] - (*minus)[k] : all[k];
+		}
+	};
+	size_t corner_first = 0;
+	for (size_t p = 0; p < prims.size(); ++p) {
+		primitive& pr = *prims[p];
+		const size_t end = g.extra_source.empty() ? 0 : p + 1 < prims.size() ? g.extra_first[p + 1] : g.extra_source.size();
+		if (end > (g.extra_source.empty() ? 0 : g.extra_first[p])) {
+			for (size_t e = g.extra_first[p]; e < end; ++e)
+				pr.split_source.push_back((uint32_t)(g.extra_source[e] - g.first[p]));
+			for (size_t k = 0; k < pr.triangles.size(); ++k) {
+				const uint32_t v = g.corner_output[corner_first + k];
+				pr.split_triangles.push_back(v < g.n ? (uint32_t)(v - g.first[p])
+				                                     : (uint32_t)(pr.vertices() + v - g.n - g.extra_first[p]));
+			}
+		}
+		corner_first += pr.triangles.size();
+		st.vertices += pr.vertices();
+		st.triangles += pr.triangles.size() / 3;
+		++st.primitives;
+		st.tangent_primitives += pr.tangent;
+	}
+
+	size_t targets = 0;
+	for (primitive* p : prims)
+		targets = std::max(targets, p->target_positions.size());
+	for (size_t t = 0; t < targets; ++t) {
+		std::vector<double> morphed;
+		for (primitive* p : prims) {
+			if (t < p->target_positions.size() && !p->target_positions[t].empty())
+				morphed.insert(morphed.end(), p->target_positions[t].begin(), p->target_positions[t].end());
+			else
+				p->positions.append_to(morphed);
+		}
+		size_t ignored = 0;
+		const vn_positions q = {morphed.data(), g.n, 0, vn_scalar_float64};
+		const std::vector<float> normals = plan_normals(g, q, &ignored);
+		for (size_t p = 0; p < prims.size(); ++p) {
+			primitive& pr = *prims[p];
+			if (t >= pr.target_positions.size())
+				continue;
+			pr.target_normals.emplace_back();
+			if (!pr.target_positions[t].empty() || pr.target_normal[t] >= 0)
+				gather(normals, p, pr.target_normals.back(), &base);
+		}
+	}
+	if (prims.size() == 1)
+		prims[0]->normals = std::move(base);
+	else
+		for (size_t p = 0; p < prims.size(); ++p)
+			gather(base, p, prims[p]->normals, nullptr);
+}
+
+} // namespace vn_gltf

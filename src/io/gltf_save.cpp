@@ -1,0 +1,432 @@
+/*
+ * Writing the document (gltf_document.h): a GLB (every buffer and image
+ * merged into the BIN chunk) or a .gltf with its buffers in files beside it
+ * (data URIs stay data URIs) and its external images copied, all written
+ * to temporaries and renamed once complete.
+ */
+#include "gltf_document.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <map>
+#include <tiny_gltf.h>
+
+namespace vn_gltf {
+
+static std::string base64(const bytes& data)
+{
+	static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+	std::string out;
+	out.reserve((data.size() + 2) / 3 * 4);
+	for (size_t i = 0; i < data.size(); i += 3) {
+		uint32_t v = (uint32_t)data[i] << 16;
+		if (i + 1 < data.size())
+			v |= (uint32_t)data[i + 1] << 8;
+		if (i + 2 < data.size())
+			v |= data[i + 2];
+		out += digits[v >> 18 & 63];
+		out += digits[v >> 12 & 63];
+		out += i + 1 < data.size() ? digits[v >> 6 & 63] : '=';
+		out += i + 2 < data.size() ? digits[v & 63] : '=';
+	}
+	return out;
+}
+
+static std::string uri_encode(const std::string& s)
+{
+	std::string out;
+	for (unsigned char c : s) {
+		if (isalnum(c) || strchr("-._~", c))
+			out += (char)c;
+		else
+			out += str("%%%02X", c);
+	}
+	return out;
+}
+
+static bool is_data_uri(const json& o)
+{
+	auto it = o.find("uri");
+	return it != o.end() && it->is_string() && it->get<std::string>().rfind("data:", 0) == 0;
+}
+
+std::string data_uri(const json& buffer, const bytes& data)
+{
+	std::string prefix = "data:application/octet-stream;base64,";
+	if (is_data_uri(buffer)) {
+		std::string old = buffer["uri"].get<std::string>();
+		size_t comma = old.find(',');
+		if (comma != std::string::npos)
+			prefix = old.substr(0, comma + 1);
+	}
+	return prefix + base64(data);
+}
+
+static std::string le32_text(std::initializer_list<size_t> values)
+{
+	std::string out;
+	for (size_t v : values)
+		for (int i = 0; i < 4; ++i)
+			out.push_back((char)(v >> (8 * i) & 0xff));
+	return out;
+}
+
+/* A GLB of JSON j and the BIN chunk bin (null: none). */
+pieces glb_file(const json& j, const buffer* bin)
+{
+	std::string text = j.dump();
+	text.resize((text.size() + 3) / 4 * 4, ' ');
+	const size_t bin_padded = bin ? (bin->total() + 3) / 4 * 4 : 0;
+	const size_t total = 12 + 8 + text.size() + (bin ? 8 + bin_padded : 0);
+	if (total > UINT32_MAX)
+		fail(vn_io_error_unsupported, "the GLB would exceed 4 GiB");
+	pieces out;
+	out.add(le32_text({glb_magic, 2, total, text.size(), chunk_json}));
+	out.add(std::move(text));
+	if (bin) {
+		out.add(le32_text({bin_padded, chunk_bin}));
+		out.add(*bin, true);
+	}
+	return out;
+}
+
+namespace {
+
+/* Output files written as temporaries beside their final paths, then all
+ * renamed; the temporaries of an unfinished set are removed. vn_io_output
+ * does what every output file needs: links followed, devices refused, mode
+ * and owner kept, temporaries removed on a fatal signal too. */
+struct file_set {
+	std::vector<vn_io_output> files;
+	~file_set()
+	{
+		for (vn_io_output& f : files)
+			vn_io_output_discard(&f);
+	}
+	void add(const std::string& path, const pieces& contents)
+	{
+		files.reserve(files.size() + 1); /* push_back below cannot throw with the temporary open */
+		vn_io_output output;
+		vn_io_error e;
+		vn_io_result r = vn_io_output_open(&output, path.c_str(), &e);
+		if (r != vn_io_success)
+			fail_named(r, e.message);
+		files.push_back(output);
+		vn_io_output& f = files.back();
+		bool ok = true;
+		for (const auto& piece : contents.list)
+			for (size_t done = 0; ok && done < piece.second;) {
+				ssize_t n = write(f.fd, piece.first + done, piece.second - done);
+				if (n < 0 && errno == EINTR)
+					continue;
+				ok = n > 0;
+				done += ok ? (size_t)n : 0;
+			}
+		if (!ok)
+			fail_named(vn_io_error_write, str("%s: cannot write: %s", path.c_str(), strerror(errno)));
+		if ((r = vn_io_output_close(&f, &e)) != vn_io_success)
+			fail_named(r, e.message);
+	}
+	void add(const std::string& path, const std::string& text)
+	{
+		pieces p;
+		p.add(text.data(), text.size());
+		add(path, p);
+	}
+	void commit()
+	{
+		for (vn_io_output& f : files) {
+			vn_io_error e;
+			vn_io_result r = vn_io_output_commit(&f, &e);
+			if (r != vn_io_success)
+				fail_named(r, e.message);
+		}
+		files.clear();
+	}
+};
+
+} // namespace
+
+static bool read_file(const std::string& path, bytes& out)
+{
+	char* raw;
+	size_t size;
+	vn_io_error e;
+	if (vn_io_read_all(path.c_str(), &raw, &size, &e) != vn_io_success)
+		return false;
+	out.assign(raw, raw + size);
+	free(raw);
+	return true;
+}
+
+static bool same_folder(const std::string& a, const std::string& b)
+{
+	struct stat sa, sb;
+	return stat(a.empty() ? "." : a.c_str(), &sa) == 0 && stat(b.empty() ? "." : b.c_str(), &sb) == 0 &&
+	       sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+/* An external resource's URI (not a data URI, not another scheme's URL such
+ * as https://, which vn neither reads nor copies), decoded; "" otherwise. */
+static std::string file_uri(const json& o)
+{
+	auto it = o.find("uri");
+	if (it == o.end() || !it->is_string() || is_data_uri(o))
+		return "";
+	const std::string& uri = it->get_ref<const std::string&>();
+	const size_t colon = uri.find(':'), slash = uri.find('/');
+	if (colon != std::string::npos && (slash == std::string::npos || colon < slash))
+		return ""; /* a scheme */
+	return uri_decode(uri);
+}
+
+/* True when relative path `name` stays inside its folder: not absolute, no
+ * ".." component. */
+static bool stays_inside(const std::string& name)
+{
+	if (name.empty() || name[0] == '/')
+		return false;
+	for (size_t at = 0; at <= name.size();) {
+		size_t end = name.find('/', at);
+		if (end == std::string::npos)
+			end = name.size();
+		if (name.compare(at, end - at, "..") == 0)
+			return false;
+		at = end + 1;
+	}
+	return true;
+}
+
+/* An image's media type from its first bytes, "" when not one glTF uses. */
+static std::string image_type(const bytes& data)
+{
+	auto starts = [&](const char* magic, size_t n, size_t at = 0) {
+		return data.size() >= at + n && memcmp(data.data() + at, magic, n) == 0;
+	};
+	if (starts("\x89PNG\r\n\x1a\n", 8))
+		return "image/png";
+	if (starts("\xff\xd8\xff", 3))
+		return "image/jpeg";
+	if (starts("RIFF", 4) && starts("WEBP", 4, 8))
+		return "image/webp";
+	if (starts("\xabKTX 20\xbb\r\n\x1a\n", 12))
+		return "image/ktx2";
+	if (starts("ftypavif", 8, 4))
+		return "image/avif";
+	if (starts("DDS ", 4))
+		return "image/vnd-ms.dds";
+	return "";
+}
+
+/* A GLB holds its data in the BIN chunk: every buffer is appended to it
+ * (each at a multiple of 4, so views keep their alignment) and every image
+ * the GLB can hold goes into a bufferView with its mimeType. A document
+ * using an extension that may refer to buffers (e.g. EXT_meshopt_compression)
+ * keeps its buffers apart, the others as data URIs. */
+static void merge_for_glb(document& d, const std::string& unknown)
+{
+	json& jb = d.j["buffers"];
+	auto whole = [](const buffer& b) {
+		pieces p;
+		p.add(b, false);
+		return p.joined();
+	};
+	if (!unknown.empty()) {
+		for (size_t i = 0; i < d.buffers.size(); ++i) {
+			if (i == 0)
+				jb[i].erase("uri");
+			else
+				jb[i]["uri"] = data_uri(jb[i], whole(d.buffers[i]));
+		}
+		return;
+	}
+	std::vector<size_t> start(d.buffers.size());
+	size_t size = 0;
+	for (size_t b = 0; b < d.buffers.size(); ++b) {
+		start[b] = (size + 3) / 4 * 4;
+		size = start[b] + d.buffers[b].total();
+	}
+	/* Images: read first, so the block is allocated once. */
+	std::vector<std::pair<size_t, bytes>> images;
+	auto ji = d.j.find("images");
+	for (size_t i = 0; ji != d.j.end() && ji->is_array() && i < ji->size(); ++i) {
+		json& image = (*ji)[i];
+		if (!image.is_object() || !image.contains("uri"))
+			continue;
+		bytes data;
+		std::string type;
+		if (is_data_uri(image)) {
+			const std::string& text = image["uri"].get_ref<const std::string&>();
+			std::vector<unsigned char> decoded;
+			if (!tinygltf::DecodeDataURI(&decoded, type, text, 0, false))
+				fail(vn_io_error_parse, str("images[%zu]: cannot decode its data URI", i));
+			data.assign(decoded.begin(), decoded.end());
+			const size_t semicolon = text.find(';');
+			type = text.substr(5, semicolon == std::string::npos ? 0 : semicolon - 5);
+		} else {
+			const std::string name = file_uri(image);
+			if (name.empty())
+				continue; /* a URL: stays one */
+			if (!read_file(d.folder + name, data))
+				fail_named(vn_io_error_open, str("%s: cannot read images[%zu] ('%s') to put it into the GLB",
+				                                 (d.folder + name).c_str(), i, name.c_str()));
+		}
+		if (type.empty() || type == "application/octet-stream")
+			type = image_type(data);
+		if (type.empty() && image.contains("mimeType") && image["mimeType"].is_string())
+			type = image["mimeType"].get<std::string>();
+		if (type.empty())
+			fail(vn_io_error_unsupported,
+			     str("images[%zu] is neither PNG, JPEG, WebP, KTX2, AVIF nor DDS and has no mimeType, which a GLB "
+			         "needs to hold it (write .gltf instead)", i));
+		image["mimeType"] = type;
+		images.emplace_back(i, std::move(data));
+	}
+	std::vector<size_t> image_start;
+	for (const auto& im : images) {
+		image_start.push_back((size + 3) / 4 * 4);
+		size = image_start.back() + im.second.size();
+	}
+	if (d.buffers.size() <= 1 && images.empty()) {
+		if (!d.buffers.empty())
+			jb[0].erase("uri");
+		return;
+	}
+	buffer merged;
+	merged.owner = block(size);
+	merged.base = merged.owner.get();
+	merged.size = size;
+	memset(merged.base, 0, size);
+	for (size_t b = 0; b < d.buffers.size(); ++b) {
+		const buffer& from = d.buffers[b];
+		memcpy(merged.base + start[b], from.base, from.size);
+		if (!from.tail.empty())
+			memcpy(merged.base + start[b] + from.tail_start(), from.tail.data(), from.tail.size());
+	}
+	auto views = d.j.find("bufferViews");
+	for (size_t v = 0; views != d.j.end() && views->is_array() && v < views->size(); ++v) {
+		json& view = (*views)[v];
+		const long long b = get_int(view, "buffer", -1, str("bufferViews[%zu]", v));
+		if (b >= 0 && (size_t)b < start.size()) {
+			view["buffer"] = 0;
+			view["byteOffset"] = start[(size_t)b] + (size_t)get_int(view, "byteOffset", 0, "bufferView");
+		}
+	}
+	json first = d.buffers.empty() ? json::object() : jb[0];
+	first.erase("uri");
+	first["byteLength"] = size;
+	d.j["buffers"] = json::array({first});
+	d.buffers.assign(1, std::move(merged));
+	for (size_t k = 0; k < images.size(); ++k) {
+		memcpy(d.buffers[0].base + image_start[k], images[k].second.data(), images[k].second.size());
+		if (!d.j.contains("bufferViews"))
+			d.j["bufferViews"] = json::array();
+		d.j["bufferViews"].push_back(json{{"buffer", 0}, {"byteOffset", image_start[k]}, {"byteLength", images[k].second.size()}});
+		json& image = d.j["images"][images[k].first];
+		image.erase("uri");
+		image["bufferView"] = d.j["bufferViews"].size() - 1;
+	}
+}
+
+/* Creates the folders of relative path `name` below `folder` that are
+ * missing. */
+static void make_folders(const std::string& folder, const std::string& name)
+{
+	for (size_t slash = name.find('/'); slash != std::string::npos; slash = name.find('/', slash + 1)) {
+		const std::string sub = folder + name.substr(0, slash);
+		if (mkdir(sub.c_str(), 0777) != 0 && errno != EEXIST)
+			fail_named(vn_io_error_write, str("%s: cannot create the folder: %s", sub.c_str(), strerror(errno)));
+	}
+}
+
+/* Writes the document to path: a GLB with everything in its BIN chunk, or a
+ * .gltf with its buffers in files beside it (the input's own names when
+ * writing in place, else OUTSTEM.bin, OUTSTEM_1.bin, ...) and its external
+ * images copied next to it when the folder differs, never outside path's
+ * folder. unknown: an extension vn does not know, or "". */
+void save(document& d, const std::string& path, bool glb, bool in_place, const std::string& unknown)
+{
+	file_set files;
+	const std::string folder = folder_of(path);
+	if (glb) {
+		merge_for_glb(d, unknown);
+		files.add(path, glb_file(d.j, d.buffers.empty() ? nullptr : &d.buffers[0]));
+		files.commit();
+		return;
+	}
+	json& jb = d.j["buffers"];
+	/* The input's files, which a new buffer file must not replace. */
+	std::vector<std::string> inputs;
+	for (size_t i = 0; i < d.buffers.size(); ++i)
+		if (!file_uri(jb[i]).empty())
+			inputs.push_back(d.folder + file_uri(jb[i]));
+	auto is_input = [&](const std::string& p) {
+		return std::any_of(inputs.begin(), inputs.end(), [&](const std::string& q) { return vn_io_same_file(p.c_str(), q.c_str()); });
+	};
+	std::string stem = path.substr(folder.size());
+	size_t dot = stem.rfind('.');
+	if (dot != std::string::npos && dot > 0)
+		stem.resize(dot);
+	size_t k = 0;
+	for (size_t i = 0; i < d.buffers.size(); ++i) {
+		if (is_data_uri(jb[i])) {
+			pieces p;
+			p.add(d.buffers[i], false);
+			jb[i]["uri"] = data_uri(jb[i], p.joined());
+			continue;
+		}
+		std::string name = in_place ? file_uri(jb[i]) : "";
+		while (name.empty() || (!in_place && is_input(folder + name)))
+			name = stem + (k ? str("_%zu", k) : "") + ".bin", ++k;
+		if (!in_place)
+			jb[i]["uri"] = uri_encode(name);
+		pieces contents;
+		contents.add(d.buffers[i], false);
+		files.add(folder + name, contents);
+	}
+	/* External images keep their URIs when they stay inside the output's
+	 * folder (copied there, folders made as needed); one that would land
+	 * outside it ("../tex/a.png") is copied into it under its own name. */
+	auto images = d.j.find("images");
+	if (images != d.j.end() && images->is_array() && !same_folder(d.folder, folder)) {
+		std::map<std::string, bytes> placed; /* name in the output folder -> contents */
+		for (json& image : *images) {
+			const std::string name = image.is_object() ? file_uri(image) : "";
+			if (name.empty())
+				continue;
+			bytes data, existing;
+			if (!read_file(d.folder + name, data))
+				fail_named(vn_io_error_open, str("%s: cannot read the image '%s'", (d.folder + name).c_str(), name.c_str()));
+			std::string to = name;
+			if (!stays_inside(name)) {
+				const std::string base = name.substr(name.rfind('/') == std::string::npos ? 0 : name.rfind('/') + 1);
+				const size_t ext = base.rfind('.');
+				to = base;
+				for (size_t n = 1; placed.count(to) && placed[to] != data; ++n)
+					to = (ext == std::string::npos || ext == 0 ? base : base.substr(0, ext)) + str("_%zu", n) +
+					     (ext == std::string::npos || ext == 0 ? "" : base.substr(ext));
+				image["uri"] = uri_encode(to);
+			}
+			if (placed.count(to))
+				continue;
+			placed[to] = data;
+			if (read_file(folder + to, existing)) {
+				if (existing != data)
+					fail_named(vn_io_error_write, str("%s exists and differs from the input's image; not overwritten",
+					                                  (folder + to).c_str()));
+				continue;
+			}
+			make_folders(folder, to);
+			files.add(folder + to, std::string(data.begin(), data.end()));
+		}
+	}
+	files.add(path, d.j.dump(2) + "\n");
+	files.commit();
+}
+
+} // namespace vn_gltf
