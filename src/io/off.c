@@ -11,13 +11,11 @@
  *
  * Writer: ASCII [ST][C][N]OFF (Geomview's prefix order), colours as RGBA.
  */
-#define _POSIX_C_SOURCE 200809L /* newlocale, uselocale */
-
 #include "off.h"
+#include "text.h"
 
 #include <errno.h>
 #include <inttypes.h>
-#include <locale.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,31 +31,6 @@
 #define OFF_TOKEN_MAX 255
 /* Numbers on a vertex line: x y z w, nx ny nz, r g b a, s t. */
 #define OFF_VERTEX_MAX 13
-
-/* ------------------------------------------------------------------ locale */
-
-/* strtod and printf follow LC_NUMERIC: in a program that called
- * setlocale(LC_ALL, "") under, say, de_DE, "0.5" would read as 0 and print
- * as "0,5". OFF always uses '.', so this thread uses the C locale meanwhile. */
-typedef struct c_locale {
-	locale_t c;
-	locale_t previous;
-} c_locale;
-
-static int c_locale_enter(c_locale* l)
-{
-	l->c = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0);
-	if (!l->c)
-		return 0;
-	l->previous = uselocale(l->c);
-	return 1;
-}
-
-static void c_locale_leave(c_locale* l)
-{
-	uselocale(l->previous);
-	freelocale(l->c);
-}
 
 /* ------------------------------------------------------------------ reader state */
 
@@ -773,11 +746,11 @@ vn_io_result vn_io_off_read_memory(const char* data, size_t size, const char* na
 	if (r.end - r.p >= 3 && memcmp(r.p, "\xEF\xBB\xBF", 3) == 0)
 		r.p += 3;
 
-	c_locale locale;
-	if (!c_locale_enter(&locale))
+	vn_io_c_locale locale;
+	if (!vn_io_c_locale_enter(&locale))
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	vn_io_result result = read_off(&r, mesh);
-	c_locale_leave(&locale);
+	vn_io_c_locale_leave(&locale);
 	if (result != vn_io_success)
 		vn_io_mesh_free(mesh);
 	return result;
@@ -798,56 +771,6 @@ vn_io_result vn_io_off_read(const char* path, vn_io_mesh* mesh, vn_io_error* err
 
 /* ------------------------------------------------------------------ writer */
 
-typedef struct off_writer {
-	FILE* out;
-	int failed;
-	int error_number; /* errno of the first failed write */
-} off_writer;
-
-static void put(off_writer* w, const char* text)
-{
-	if (!w->failed && fputs(text, w->out) == EOF) {
-		w->failed = 1;
-		w->error_number = errno;
-	}
-}
-
-/* 9 significant digits: enough for a float to read back unchanged. */
-static void put_float9(off_writer* w, double v)
-{
-	char text[40];
-	snprintf(text, sizeof text, " %.9g", v);
-	put(w, text);
-}
-
-/* Colours and texture coordinates are floats: the shortest of 6 to 9
- * significant digits that reads back as the same float, so that 0.2 stays
- * "0.2" rather than "0.200000003". */
-static void put_float(off_writer* w, float v)
-{
-	char text[40];
-	for (int digits = 6;; digits++) {
-		snprintf(text, sizeof text, " %.*g", digits, (double)v);
-		if (digits == 9 || (float)strtod(text, NULL) == v)
-			break;
-	}
-	put(w, text);
-}
-
-/* Positions are doubles: the shortest of 15, 16 or 17 significant digits that
- * reads back as the same double, so that 0.1 stays "0.1" and every double
- * survives a round trip exactly. */
-static void put_exact(off_writer* w, const char* separator, double v)
-{
-	char text[40];
-	for (int digits = 15;; digits++) {
-		snprintf(text, sizeof text, "%s%.*g", separator, digits, v);
-		if (digits == 17 || strtod(text, NULL) == v)
-			break;
-	}
-	put(w, text);
-}
-
 static int colour_byte(float c)
 {
 	return !(c > 0.0f) ? 0 : c >= 1.0f ? 255 : (int)(c * 255.0f + 0.5f);
@@ -856,15 +779,15 @@ static int colour_byte(float c)
 /* Always RGBA: Geomview defines a vertex colour as 4 numbers (it reads the
  * 4th from the next line when a line has 3), and a file whose alphas are all
  * opaque keeps them. */
-static void put_colour(off_writer* w, const float* rgba, int bytes)
+static void put_colour(vn_io_text_out* w, const float* rgba, int bytes)
 {
 	for (size_t k = 0; k < 4; k++) {
 		if (bytes) {
 			char text[16];
 			snprintf(text, sizeof text, " %d", colour_byte(rgba[k]));
-			put(w, text);
+			vn_io_put(w, text);
 		} else {
-			put_float(w, rgba[k]);
+			vn_io_put_float(w, rgba[k]);
 		}
 	}
 }
@@ -872,43 +795,43 @@ static void put_colour(off_writer* w, const float* rgba, int bytes)
 vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error)
 {
 	(void)settings; /* OFF has none */
-	c_locale locale;
-	if (!c_locale_enter(&locale))
+	vn_io_c_locale locale;
+	if (!vn_io_c_locale_enter(&locale))
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);
-	off_writer w = {out, 0, 0};
+	vn_io_text_out w = {out, 0, 0};
 
 	char text[64];
 	/* The edge count is not used by anyone; 0 is what most writers put. */
 	snprintf(text, sizeof text, "%s%s%sOFF\n%zu %zu 0\n", mesh->texcoords ? "ST" : "", mesh->colors ? "C" : "",
 	         mesh->normals ? "N" : "", mesh->vertex_count, mesh->face_count);
-	put(&w, text);
+	vn_io_put(&w, text);
 	for (size_t i = 0; i < mesh->vertex_count && !w.failed; i++) {
 		for (size_t k = 0; k < 3; k++)
-			put_exact(&w, k ? " " : "", mesh->positions[3 * i + k]);
+			vn_io_put_exact(&w, k ? " " : "", mesh->positions[3 * i + k]);
 		/* Normals are unit vectors made for rendering: float precision. */
 		if (mesh->normals)
 			for (size_t k = 0; k < 3; k++)
-				put_float9(&w, mesh->normals[3 * i + k]);
+				vn_io_put_float9(&w, mesh->normals[3 * i + k]);
 		if (mesh->colors)
 			put_colour(&w, mesh->colors + 4 * i, mesh->colors_are_bytes);
 		if (mesh->texcoords)
 			for (size_t k = 0; k < 2; k++)
-				put_float(&w, mesh->texcoords[2 * i + k]);
-		put(&w, "\n");
+				vn_io_put_float(&w, mesh->texcoords[2 * i + k]);
+		vn_io_put(&w, "\n");
 	}
 	for (size_t f = 0; f < mesh->face_count && !w.failed; f++) {
 		uint32_t begin = mesh->face_offsets[f], end = mesh->face_offsets[f + 1];
 		snprintf(text, sizeof text, "%" PRIu32, end - begin);
-		put(&w, text);
+		vn_io_put(&w, text);
 		for (uint32_t k = begin; k < end; k++) {
 			snprintf(text, sizeof text, " %" PRIu32, mesh->indices[k]);
-			put(&w, text);
+			vn_io_put(&w, text);
 		}
 		if (mesh->face_colors)
 			put_colour(&w, mesh->face_colors + 4 * f, mesh->face_colors_are_bytes);
-		put(&w, "\n");
+		vn_io_put(&w, "\n");
 	}
-	c_locale_leave(&locale);
+	vn_io_c_locale_leave(&locale);
 	if (w.failed)
 		return vn_io_fail(error, vn_io_error_write, "%s: cannot write: %s", path, strerror(w.error_number));
 	return vn_io_success;
