@@ -208,7 +208,8 @@ VN_AVX2_INLINE void vn_triangles_avx2(const vn_work* w, vn_scalar type, vn_metho
 		vn_scatter_group(w->acc, idx, usable, range, cx, cy, cz);
 	}
 	st->degenerate_faces += degenerate;
-	rest.indices = w->indices + 12 * groups;
+	/* No arithmetic on a NULL indices (a mesh without faces). */
+	rest.indices = groups ? w->indices + 12 * groups : w->indices;
 	rest.face_count = w->face_count - 4 * groups;
 	scalar(&rest, lo, hi, st);
 }

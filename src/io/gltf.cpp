@@ -40,6 +40,7 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 	memset(&st, 0, sizeof st);
 	vn_io_result r = guarded(in, error, [&] {
 		document d = load(in);
+		snprintf(st.warnings, sizeof st.warnings, "%s", warning_lines(d).c_str());
 		const usage before = used(d.j);
 		if (options->draco == vn_gltf_draco_off)
 			decompress_draco(d);
@@ -83,7 +84,7 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 			fail_named(vn_io_error_write, e.message);
 		const std::string resolved = target;
 		free(target);
-		save(d, resolved, out_glb != 0, vn_io_same_file(in, out), unknown_extension(d.j));
+		save(d, resolved, out_glb != 0, vn_io_same_file(in, out));
 	});
 	if (stats)
 		*stats = st;

@@ -90,6 +90,9 @@ typedef struct vn_gltf_stats {
 	 * whose name is then in unpruned_extension ("" otherwise). */
 	size_t pruned_accessors, pruned_views;
 	char unpruned_extension[64];
+	/* What vn read anyway but the input should not have (GLB_EXTRA_DATA):
+	 * one line each, "\n"-separated, not naming the file; "" for none. */
+	char warnings[1024];
 	/* The angle normal quantization adds to the new normals of those, per
 	 * normal bits (index: bits; compared 0 when no primitive has them). */
 	vn_drc_normal_error draco_normal_error[VN_DRC_MAX_BITS + 1];

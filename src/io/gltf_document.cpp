@@ -12,8 +12,9 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstring>
+#include <iterator>
 #include <map>
-#include <tiny_gltf.h>
+#include <strings.h> /* strcasecmp */
 
 namespace vn_gltf {
 
@@ -62,6 +63,66 @@ std::string uri_decode(const std::string& s)
 		}
 	}
 	return out;
+}
+
+bool is_data_uri(const std::string& uri)
+{
+	return uri.size() >= 5 && strncasecmp(uri.c_str(), "data:", 5) == 0;
+}
+
+/* The value of base64 digit c (RFC 4648, and its URL-safe alphabet), or -1. */
+static int base64_digit(unsigned char c)
+{
+	if (c >= 'A' && c <= 'Z')
+		return c - 'A';
+	if (c >= 'a' && c <= 'z')
+		return c - 'a' + 26;
+	if (c >= '0' && c <= '9')
+		return c - '0' + 52;
+	return c == '+' || c == '-' ? 62 : c == '/' || c == '_' ? 63 : -1;
+}
+
+bool decode_data_uri(const std::string& uri, bytes& data, std::string& media_type)
+{
+	const size_t comma = uri.find(',');
+	if (!is_data_uri(uri) || comma == std::string::npos)
+		return false;
+	/* The header: [type/subtype][;attribute=value]*[;base64]. */
+	std::string header = uri.substr(5, comma - 5);
+	bool base64 = false;
+	if (header.size() >= 7 && strcasecmp(header.c_str() + header.size() - 7, ";base64") == 0) {
+		base64 = true;
+		header.resize(header.size() - 7);
+	}
+	media_type = header.substr(0, header.find(';'));
+	/* The data are URL-encoded (RFC 2397 section 3), also when base64. */
+	const std::string text = uri_decode(uri.substr(comma + 1));
+	data.clear();
+	if (!base64) {
+		data.assign(text.begin(), text.end());
+		return true;
+	}
+	data.reserve(text.size() / 4 * 3);
+	uint32_t bits = 0;
+	int have = 0;
+	size_t padding = 0;
+	for (unsigned char c : text) {
+		if (isspace(c))
+			continue;
+		if (c == '=') {
+			++padding;
+			continue;
+		}
+		const int v = base64_digit(c);
+		if (v < 0 || padding)
+			return false; /* not a base64 digit, or a digit after the padding */
+		bits = bits << 6 | (uint32_t)v;
+		if ((have += 6) >= 8) {
+			have -= 8;
+			data.push_back((unsigned char)(bits >> have));
+		}
+	}
+	return padding <= 2;
 }
 
 /* ------------------------------------------------------------------ loading */
@@ -127,6 +188,9 @@ span view_span(const document& d, long long view, size_t offset, size_t needed, 
 	if (length < 0)
 		fail(vn_io_error_parse, vw + " has no byteLength");
 	const auto& b = d.buffers[(size_t)buffer];
+	if (b.absent)
+		fail(vn_io_error_parse, str("%s is in buffers[%lld], which has no data: no uri, and no extension "
+		                            "(such as EXT_meshopt_compression) that gives it", vw.c_str(), buffer));
 	const size_t bound = (size_t)view < d.input_views ? b.size : b.total();
 	if ((unsigned long long)begin + (unsigned long long)length > bound)
 		fail(vn_io_error_parse, str("%s overflows buffers[%lld]: it ends at byte %llu, the buffer has %zu",
@@ -262,7 +326,8 @@ std::vector<double> read_accessor(const document& d, const accessor& a)
 }
 
 /* Buffer i's bytes: the GLB's BIN chunk (bin: its first byte, null when the
- * file has none), a data URI or an external file. */
+ * file has none), a data URI or an external file; absent without uri
+ * otherwise (a view of it fails when read, see view_span). */
 static buffer load_buffer(const document& d, size_t i, const std::shared_ptr<unsigned char>& file, const unsigned char* bin,
                           size_t bin_length)
 {
@@ -272,28 +337,29 @@ static buffer load_buffer(const document& d, size_t i, const std::shared_ptr<uns
 	if (length < 0)
 		fail(vn_io_error_parse, what + " has no byteLength");
 	buffer out;
-	out.size = (size_t)length;
 	auto uri = b.find("uri");
 	if (uri == b.end()) {
-		if (!d.glb || i != 0)
-			fail(vn_io_error_parse, what + " has no uri");
-		if (!bin)
-			fail(vn_io_error_parse, what + " is the GLB's BIN chunk, which the file does not have");
-		if (out.size > bin_length)
+		if (!d.glb || i != 0 || !bin) {
+			out.absent = true;
+			return out;
+		}
+		if ((size_t)length > bin_length)
 			fail(vn_io_error_parse, str("%s.byteLength %lld exceeds the BIN chunk (%zu bytes)", what.c_str(), length, bin_length));
+		out.size = (size_t)length;
 		out.owner = file;
 		out.base = const_cast<unsigned char*>(bin);
 		return out;
 	}
 	if (!uri->is_string())
 		fail(vn_io_error_parse, what + ".uri is not a string");
+	out.size = (size_t)length;
 	const std::string& text = uri->get_ref<const std::string&>();
 	size_t have;
-	if (tinygltf::IsDataURI(text)) {
-		std::vector<unsigned char> data;
-		std::string mime;
-		if (!tinygltf::DecodeDataURI(&data, mime, text, 0, false))
-			fail(vn_io_error_parse, what + ": cannot decode its data URI");
+	if (is_data_uri(text)) {
+		bytes data;
+		std::string type;
+		if (!decode_data_uri(text, data, type))
+			fail(vn_io_error_parse, what + ": its data URI is malformed (RFC 2397: data:[type][;base64],data)");
 		have = data.size();
 		out.owner = block(have);
 		memcpy(out.owner.get(), data.data(), have);
@@ -309,6 +375,55 @@ static buffer load_buffer(const document& d, size_t i, const std::shared_ptr<uns
 		fail(vn_io_error_parse, str("%s has %zu bytes, fewer than its byteLength %lld", what.c_str(), have, length));
 	out.base = out.owner.get();
 	return out;
+}
+
+/* JSON has one number type, and a glTF index may be written 1.0 or 1e0
+ * (valid: the validator's integer_written_as_float). Such values of the
+ * properties glTF defines as integers (and of extensions that reuse their
+ * names) become integers, so that every stage can treat indices as the
+ * integers they are. extras are the application's and stay as they are. */
+static void integral(json& v)
+{
+	if (v.is_number_float()) {
+		const double x = v.get<double>();
+		if (x >= 0 && x <= 9007199254740992.0 && x == std::floor(x))
+			v = (long long)x;
+	} else if (v.is_array()) {
+		for (json& e : v)
+			if (e.is_number_float())
+				integral(e);
+	}
+}
+
+static void canonical_integers(json& j)
+{
+	static const char* const integers[] = {"buffer", "bufferView", "byteOffset", "byteLength", "byteStride", "count",
+	                                       "componentType", "target", "mesh", "skin", "camera", "material", "indices",
+	                                       "mode", "source", "sampler", "index", "texCoord", "node", "input", "output",
+	                                       "scene", "skeleton", "inverseBindMatrices", "children", "nodes", "joints"};
+	auto members = [](json& o) {
+		if (o.is_object())
+			for (auto& kv : o.items())
+				integral(kv.value());
+	};
+	if (j.is_object()) {
+		for (auto& kv : j.items()) {
+			if (kv.key() == "extras")
+				continue;
+			json& v = kv.value();
+			if (std::any_of(std::begin(integers), std::end(integers), [&](const char* k) { return kv.key() == k; }))
+				integral(v);
+			else if (kv.key() == "attributes")
+				members(v); /* name -> accessor (Draco: -> unique id) */
+			else if (kv.key() == "targets" && v.is_array())
+				for (json& t : v)
+					members(t);
+			canonical_integers(v);
+		}
+	} else if (j.is_array()) {
+		for (json& e : j)
+			canonical_integers(e);
+	}
 }
 
 /* Reads the file in one piece and parses its JSON; the GLB's BIN chunk
@@ -335,9 +450,16 @@ document load(const std::string& path)
 			fail(vn_io_error_parse, str("truncated GLB: %zu bytes, less than a header and a chunk header", size));
 		if (le32(u + 4) != 2)
 			fail(vn_io_error_unsupported, str("GLB version %u (vn reads version 2)", le32(u + 4)));
-		if (le32(u + 8) != size)
-			fail(vn_io_error_parse, str("%s GLB: the header says %u bytes, the file has %zu",
-			                            le32(u + 8) > size ? "truncated" : "malformed", le32(u + 8), size));
+		if (le32(u + 8) > size)
+			fail(vn_io_error_parse, str("truncated GLB: the header says %u bytes, the file has %zu", le32(u + 8), size));
+		if (le32(u + 8) < size) {
+			/* The validator's GLB_EXTRA_DATA: a warning, and readers stop where the header says. */
+			d.warnings.push_back(str("the GLB header says %u bytes, the file has %zu: the %zu bytes after them are "
+			                         "ignored, and not written", le32(u + 8), size, size - le32(u + 8)));
+			size = le32(u + 8);
+			if (size < 20)
+				fail(vn_io_error_parse, str("truncated GLB: the header says %zu bytes, less than a header and a chunk header", size));
+		}
 		uint32_t length = le32(u + 12);
 		if (le32(u + 16) != chunk_json)
 			fail(vn_io_error_parse, "malformed GLB: the first chunk is not JSON");
@@ -380,7 +502,16 @@ document load(const std::string& path)
 	}
 	if (!d.j.is_object())
 		fail(vn_io_error_parse, "invalid JSON: the document is not an object");
+	canonical_integers(d.j);
+	/* glTF 1.0 has asset.version "1.0" (or none) and keeps its buffers,
+	 * meshes and accessors in objects, not arrays. */
+	auto asset = d.j.find("asset");
+	const json* version = asset != d.j.end() && asset->is_object() && asset->contains("version") ? &(*asset)["version"] : nullptr;
 	auto jb = d.j.find("buffers");
+	if ((version && version->is_string() && version->get<std::string>().rfind("1.", 0) == 0) ||
+	    (!version && jb != d.j.end() && jb->is_object()))
+		fail(vn_io_error_unsupported, "glTF 1.0 (vn reads glTF 2.0): convert it first, e.g. with gltf-pipeline "
+		                              "(npm): gltf-pipeline -i IN -o OUT");
 	if (jb != d.j.end() && !jb->is_array())
 		fail(vn_io_error_parse, "buffers is not an array");
 	for (size_t i = 0; jb != d.j.end() && i < jb->size(); ++i)
@@ -388,6 +519,14 @@ document load(const std::string& path)
 	auto views = d.j.find("bufferViews");
 	d.input_views = views != d.j.end() && views->is_array() ? views->size() : 0;
 	return d;
+}
+
+std::string warning_lines(const document& d)
+{
+	std::string text;
+	for (const std::string& w : d.warnings)
+		text += (text.empty() ? "" : "\n") + w;
+	return text;
 }
 
 /* ------------------------------------------------------------------ appending */
@@ -423,13 +562,20 @@ void set_bounds(json& j, const bytes& data, size_t stride, const accessor& a, si
  * GLB, the BIN chunk) and returns its index. stride, target: 0 for none. */
 size_t append_view(document& d, const bytes& data, size_t stride, int target)
 {
-	if (d.buffers.empty()) {
-		d.j["buffers"] = json::array({json{{"byteLength", 0}}});
+	/* The last buffer with data, but in a GLB the BIN chunk's (buffer 0
+	 * without uri); a new one when there is none. */
+	size_t b = d.buffers.size();
+	while (b > 0 && d.buffers[b - 1].absent)
+		--b;
+	if (b == 0) {
+		if (!d.j.contains("buffers"))
+			d.j["buffers"] = json::array();
+		d.j["buffers"].push_back(json{{"byteLength", 0}});
 		d.buffers.emplace_back();
+		b = d.buffers.size();
 	}
-	/* The last buffer, but in a GLB the BIN chunk's (buffer 0 without uri). */
-	size_t b = d.buffers.size() - 1;
-	if (d.glb && !d.j["buffers"][0].contains("uri"))
+	--b;
+	if (d.glb && !d.buffers[0].absent && !d.j["buffers"][0].contains("uri"))
 		b = 0;
 	buffer& to = d.buffers[b];
 	to.tail.resize((to.tail.size() + 3) / 4 * 4, 0);

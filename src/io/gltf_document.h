@@ -37,11 +37,15 @@ inline std::shared_ptr<unsigned char> block(size_t n)
 
 /* A buffer's bytes: `size` bytes at `base`, inside `owner` (a malloc'ed
  * block: for a GLB's BIN chunk, the whole file as read), then what vn
- * appends, from tail_start() on. No view straddles the two parts. */
+ * appends, from tail_start() on. No view straddles the two parts. A buffer
+ * without data (no uri, and not a GLB's BIN chunk: a placeholder, or a
+ * compression extension's fallback) is `absent`: size 0, and reading a view
+ * of it is an error; it is written back as it was. */
 struct buffer {
 	std::shared_ptr<unsigned char> owner;
 	unsigned char* base = nullptr;
 	size_t size = 0;
+	bool absent = false;
 	bytes tail;
 	size_t tail_start() const { return (size + 3) / 4 * 4; }
 	size_t total() const { return tail.empty() ? size : tail_start() + tail.size(); }
@@ -57,6 +61,7 @@ struct document {
 	json j;
 	std::vector<buffer> buffers;
 	size_t input_views = 0; /* the file's bufferViews (lie in the buffers' first parts) */
+	std::vector<std::string> warnings; /* about the input, read anyway ("the GLB has 4 bytes after ...") */
 };
 
 inline constexpr const char* draco_name = "KHR_draco_mesh_compression";
@@ -138,6 +143,12 @@ const uint32_t glb_magic = 0x46546C67, chunk_json = 0x4E4F534A, chunk_bin = 0x00
 std::string folder_of(const std::string& path);
 /* A URI's %XX escapes decoded. */
 std::string uri_decode(const std::string& s);
+/* True when uri is a data URI ("data:", any case). */
+bool is_data_uri(const std::string& uri);
+/* Decodes a data URI as RFC 2397 defines it: "data:[type][;params][;base64],
+ * data", the data base64 or percent-encoded. Sets the media type ("" when
+ * the URI gives none); false when it is not a well-formed data URI. */
+bool decode_data_uri(const std::string& uri, bytes& data, std::string& media_type);
 
 long long get_int(const json& o, const char* key, long long def, const std::string& what);
 /* doc[array][i], which must exist and be an object. */
@@ -173,6 +184,8 @@ std::vector<double> read_accessor(const document& d, const accessor& a);
 
 /* Reads the .gltf or .glb file at path with its buffers. */
 document load(const std::string& path);
+/* d's warnings, one a line. */
+std::string warning_lines(const document& d);
 
 /* An accessor's min and max replaced, where it has them. */
 void set_bounds(json& a, const std::vector<double>& lo, const std::vector<double>& hi, long long component);
@@ -228,7 +241,7 @@ std::string data_uri(const json& buffer, const bytes& data);
 pieces glb_file(const json& j, const buffer* bin);
 
 /* Writes the document to path as GLB or .gltf; see gltf_save.cpp. */
-void save(document& d, const std::string& path, bool glb, bool in_place, const std::string& unknown);
+void save(document& d, const std::string& path, bool glb, bool in_place);
 
 } // namespace vn_gltf
 

@@ -291,7 +291,13 @@ using namespace vn_gltf;
 extern "C" vn_io_result vn_io_gltf_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)
 {
 	memset(mesh, 0, sizeof *mesh);
-	vn_io_result r = guarded(path, error, [&] { mesh_from_document(load(path), mesh); });
+	vn_io_result r = guarded(path, error, [&] {
+		const document d = load(path);
+		mesh_from_document(d, mesh);
+		const std::string warnings = warning_lines(d);
+		if (!warnings.empty() && !(mesh->warnings = strdup(warnings.c_str())))
+			throw std::bad_alloc();
+	});
 	if (r != vn_io_success)
 		vn_io_mesh_free(mesh);
 	return r;

@@ -14,7 +14,7 @@
 #include <cerrno>
 #include <cstring>
 #include <map>
-#include <tiny_gltf.h>
+#include <set>
 
 namespace vn_gltf {
 
@@ -49,22 +49,21 @@ static std::string uri_encode(const std::string& s)
 	return out;
 }
 
-static bool is_data_uri(const json& o)
+/* True when o's "uri" is a data URI. */
+static bool has_data_uri(const json& o)
 {
 	auto it = o.find("uri");
-	return it != o.end() && it->is_string() && it->get<std::string>().rfind("data:", 0) == 0;
+	return it != o.end() && it->is_string() && is_data_uri(it->get_ref<const std::string&>());
 }
 
 std::string data_uri(const json& buffer, const bytes& data)
 {
-	std::string prefix = "data:application/octet-stream;base64,";
-	if (is_data_uri(buffer)) {
-		std::string old = buffer["uri"].get<std::string>();
-		size_t comma = old.find(',');
-		if (comma != std::string::npos)
-			prefix = old.substr(0, comma + 1);
-	}
-	return prefix + base64(data);
+	std::string type = "application/octet-stream";
+	bytes ignored;
+	std::string old;
+	if (has_data_uri(buffer) && decode_data_uri(buffer["uri"].get<std::string>(), ignored, old) && !old.empty())
+		type = old;
+	return "data:" + type + ";base64," + base64(data);
 }
 
 static std::string le32_text(std::initializer_list<size_t> values)
@@ -176,7 +175,7 @@ static bool same_folder(const std::string& a, const std::string& b)
 static std::string file_uri(const json& o)
 {
 	auto it = o.find("uri");
-	if (it == o.end() || !it->is_string() || is_data_uri(o))
+	if (it == o.end() || !it->is_string() || has_data_uri(o))
 		return "";
 	const std::string& uri = it->get_ref<const std::string&>();
 	const size_t colon = uri.find(':'), slash = uri.find('/');
@@ -223,51 +222,76 @@ static std::string image_type(const bytes& data)
 	return "";
 }
 
-/* A GLB holds its data in the BIN chunk: every buffer is appended to it
- * (each at a multiple of 4, so views keep their alignment) and every image
- * the GLB can hold goes into a bufferView with its mimeType. A document
- * using an extension that may refer to buffers (e.g. EXT_meshopt_compression)
- * keeps its buffers apart, the others as data URIs. */
-static void merge_for_glb(document& d, const std::string& unknown)
+/* The image media types a bufferView may hold in this document: PNG and
+ * JPEG, and those its extensions add. The validator rejects any other in a
+ * bufferView (where a URI only earns a warning), so such images stay as the
+ * input has them. */
+static std::set<std::string> embeddable_types(const json& j)
 {
-	json& jb = d.j["buffers"];
-	auto whole = [](const buffer& b) {
-		pieces p;
-		p.add(b, false);
-		return p.joined();
-	};
-	if (!unknown.empty()) {
-		for (size_t i = 0; i < d.buffers.size(); ++i) {
-			if (i == 0)
-				jb[i].erase("uri");
-			else
-				jb[i]["uri"] = data_uri(jb[i], whole(d.buffers[i]));
-		}
+	std::set<std::string> types = {"image/png", "image/jpeg"};
+	static const std::pair<const char*, const char*> by_extension[] = {{"KHR_texture_basisu", "image/ktx2"},
+	                                                                   {"EXT_texture_webp", "image/webp"},
+	                                                                   {"EXT_texture_avif", "image/avif"},
+	                                                                   {"MSFT_texture_dds", "image/vnd-ms.dds"}};
+	auto used = j.find("extensionsUsed");
+	if (used != j.end() && used->is_array())
+		for (const auto& e : by_extension)
+			if (std::find(used->begin(), used->end(), json(e.first)) != used->end())
+				types.insert(e.second);
+	return types;
+}
+
+/* The buffer indices that extensions known to hold them keep in bufferViews:
+ * EXT_meshopt_compression and KHR_meshopt_compression (the compressed
+ * data's buffer). f(ref, offset) for each, offset the json of its
+ * byteOffset (null when absent). */
+template <typename F> static void extension_buffers(json& view, F f)
+{
+	auto ext = view.find("extensions");
+	if (ext == view.end() || !ext->is_object())
 		return;
+	for (const char* name : {"EXT_meshopt_compression", "KHR_meshopt_compression"}) {
+		auto e = ext->find(name);
+		if (e != ext->end() && e->is_object() && e->contains("buffer") && (*e)["buffer"].is_number_unsigned())
+			f((*e)["buffer"], *e);
 	}
-	std::vector<size_t> start(d.buffers.size());
-	size_t size = 0;
-	for (size_t b = 0; b < d.buffers.size(); ++b) {
-		start[b] = (size + 3) / 4 * 4;
-		size = start[b] + d.buffers[b].total();
-	}
+}
+
+/* A GLB holds its data in the BIN chunk: every buffer with data is appended
+ * to it (each at a multiple of 4, so views keep their alignment), and every
+ * image a bufferView may hold goes into one with its mimeType. Merging
+ * changes only bufferView.buffer and byteOffset and the buffers array, so
+ * extensions that refer to accessors, bufferViews or images stay right;
+ * the buffer indices EXT/KHR_meshopt_compression hold are rewritten too.
+ * Buffers without data (fallbacks, placeholders) stay, as they were,
+ * after the BIN chunk's. */
+static void merge_for_glb(document& d)
+{
+	std::vector<size_t> start(d.buffers.size()), to(d.buffers.size());
+	size_t size = 0, present = 0;
+	for (size_t b = 0; b < d.buffers.size(); ++b)
+		if (!d.buffers[b].absent) {
+			start[b] = (size + 3) / 4 * 4;
+			size = start[b] + d.buffers[b].total();
+			to[b] = 0;
+			++present;
+		}
+	for (size_t b = 0, next = 1; b < d.buffers.size(); ++b)
+		if (d.buffers[b].absent)
+			to[b] = next++;
 	/* Images: read first, so the block is allocated once. */
+	const std::set<std::string> allowed = embeddable_types(d.j);
 	std::vector<std::pair<size_t, bytes>> images;
 	auto ji = d.j.find("images");
 	for (size_t i = 0; ji != d.j.end() && ji->is_array() && i < ji->size(); ++i) {
 		json& image = (*ji)[i];
-		if (!image.is_object() || !image.contains("uri"))
+		if (!image.is_object() || !image.contains("uri") || !image["uri"].is_string())
 			continue;
 		bytes data;
 		std::string type;
-		if (is_data_uri(image)) {
-			const std::string& text = image["uri"].get_ref<const std::string&>();
-			std::vector<unsigned char> decoded;
-			if (!tinygltf::DecodeDataURI(&decoded, type, text, 0, false))
-				fail(vn_io_error_parse, str("images[%zu]: cannot decode its data URI", i));
-			data.assign(decoded.begin(), decoded.end());
-			const size_t semicolon = text.find(';');
-			type = text.substr(5, semicolon == std::string::npos ? 0 : semicolon - 5);
+		if (has_data_uri(image)) {
+			if (!decode_data_uri(image["uri"].get<std::string>(), data, type))
+				continue; /* stays as the input has it */
 		} else {
 			const std::string name = file_uri(image);
 			if (name.empty())
@@ -276,15 +300,15 @@ static void merge_for_glb(document& d, const std::string& unknown)
 				fail_named(vn_io_error_open, str("%s: cannot read images[%zu] ('%s') to put it into the GLB",
 				                                 (d.folder + name).c_str(), i, name.c_str()));
 		}
-		if (type.empty() || type == "application/octet-stream")
-			type = image_type(data);
-		if (type.empty() && image.contains("mimeType") && image["mimeType"].is_string())
-			type = image["mimeType"].get<std::string>();
-		if (type.empty())
-			fail(vn_io_error_unsupported,
-			     str("images[%zu] is neither PNG, JPEG, WebP, KTX2, AVIF nor DDS and has no mimeType, which a GLB "
-			         "needs to hold it (write .gltf instead)", i));
-		image["mimeType"] = type;
+		/* What the bytes are, else what the file says they are. */
+		std::string sniffed = image_type(data);
+		if (sniffed.empty())
+			sniffed = type != "application/octet-stream" && !type.empty() ? type
+			          : image.contains("mimeType") && image["mimeType"].is_string() ? image["mimeType"].get<std::string>()
+			                                                                         : "";
+		if (!allowed.count(sniffed))
+			continue; /* kept by URI: copied beside the GLB when it is a file (save) */
+		image["mimeType"] = sniffed;
 		images.emplace_back(i, std::move(data));
 	}
 	std::vector<size_t> image_start;
@@ -292,9 +316,16 @@ static void merge_for_glb(document& d, const std::string& unknown)
 		image_start.push_back((size + 3) / 4 * 4);
 		size = image_start.back() + im.second.size();
 	}
-	if (d.buffers.size() <= 1 && images.empty()) {
+	if (!present && images.empty()) {
 		if (!d.buffers.empty())
-			jb[0].erase("uri");
+			fail(vn_io_error_unsupported,
+			     "buffers[0] has no data (no uri, and no extension that gives it), and buffer 0 without uri is a GLB's "
+			     "BIN chunk: write .gltf to keep the file as it is");
+		return; /* no buffers, no data: none are made */
+	}
+	auto jb = d.j.find("buffers");
+	if (present == 1 && images.empty() && !d.buffers[0].absent) {
+		(*jb)[0].erase("uri"); /* buffer 0 becomes the BIN chunk as it is */
 		return;
 	}
 	buffer merged;
@@ -304,24 +335,52 @@ static void merge_for_glb(document& d, const std::string& unknown)
 	memset(merged.base, 0, size);
 	for (size_t b = 0; b < d.buffers.size(); ++b) {
 		const buffer& from = d.buffers[b];
+		if (from.absent)
+			continue;
 		memcpy(merged.base + start[b], from.base, from.size);
 		if (!from.tail.empty())
 			memcpy(merged.base + start[b] + from.tail_start(), from.tail.data(), from.tail.size());
 	}
+	/* ref is holder's buffer index. It is written before byteOffset, whose
+	 * insertion into holder would move ref. */
+	auto relocate = [&](json& ref, json& holder, const std::string& what) {
+		const long long b = ref.get<long long>();
+		if (b < 0 || (size_t)b >= start.size())
+			return;
+		const size_t offset = start[(size_t)b] + (size_t)get_int(holder, "byteOffset", 0, what);
+		ref = to[(size_t)b];
+		if (!d.buffers[(size_t)b].absent)
+			holder["byteOffset"] = offset;
+	};
 	auto views = d.j.find("bufferViews");
 	for (size_t v = 0; views != d.j.end() && views->is_array() && v < views->size(); ++v) {
 		json& view = (*views)[v];
-		const long long b = get_int(view, "buffer", -1, str("bufferViews[%zu]", v));
-		if (b >= 0 && (size_t)b < start.size()) {
-			view["buffer"] = 0;
-			view["byteOffset"] = start[(size_t)b] + (size_t)get_int(view, "byteOffset", 0, "bufferView");
-		}
+		if (!view.is_object())
+			continue;
+		const std::string what = str("bufferViews[%zu]", v);
+		extension_buffers(view, [&](json& ref, json& ext) { relocate(ref, ext, what + ".extensions"); });
+		if (view.contains("buffer") && view["buffer"].is_number_unsigned())
+			relocate(view["buffer"], view, what);
 	}
-	json first = d.buffers.empty() ? json::object() : jb[0];
+	json kept = json::array();
+	std::vector<buffer> buffers;
+	json first = json::object();
+	for (size_t b = 0; jb != d.j.end() && b < d.buffers.size(); ++b)
+		if (!d.buffers[b].absent) {
+			first = (*jb)[b];
+			break;
+		}
 	first.erase("uri");
 	first["byteLength"] = size;
-	d.j["buffers"] = json::array({first});
-	d.buffers.assign(1, std::move(merged));
+	kept.push_back(first);
+	buffers.push_back(std::move(merged));
+	for (size_t b = 0; b < d.buffers.size(); ++b)
+		if (d.buffers[b].absent) {
+			kept.push_back((*jb)[b]);
+			buffers.push_back(std::move(d.buffers[b]));
+		}
+	d.j["buffers"] = std::move(kept);
+	d.buffers = std::move(buffers);
 	for (size_t k = 0; k < images.size(); ++k) {
 		memcpy(d.buffers[0].base + image_start[k], images[k].second.data(), images[k].second.size());
 		if (!d.j.contains("bufferViews"))
@@ -344,27 +403,71 @@ static void make_folders(const std::string& folder, const std::string& name)
 	}
 }
 
-/* Writes the document to path: a GLB with everything in its BIN chunk, or a
- * .gltf with its buffers in files beside it (the input's own names when
- * writing in place, else OUTSTEM.bin, OUTSTEM_1.bin, ...) and its external
- * images copied next to it when the folder differs, never outside path's
- * folder. unknown: an extension vn does not know, or "". */
-void save(document& d, const std::string& path, bool glb, bool in_place, const std::string& unknown)
+/* External images keep their URIs when they stay inside the output's
+ * folder (copied there when it is another folder, folders made as needed);
+ * one that would land outside it ("../tex/a.png") is copied into it under
+ * its own name. */
+static void copy_images(document& d, const std::string& folder, file_set& files)
+{
+	auto images = d.j.find("images");
+	if (images == d.j.end() || !images->is_array() || same_folder(d.folder, folder))
+		return;
+	std::map<std::string, bytes> placed; /* name in the output folder -> contents */
+	for (json& image : *images) {
+		const std::string name = image.is_object() ? file_uri(image) : "";
+		if (name.empty())
+			continue;
+		bytes data, existing;
+		if (!read_file(d.folder + name, data))
+			fail_named(vn_io_error_open, str("%s: cannot read the image '%s'", (d.folder + name).c_str(), name.c_str()));
+		std::string to = name;
+		if (!stays_inside(name)) {
+			const std::string base = name.substr(name.rfind('/') == std::string::npos ? 0 : name.rfind('/') + 1);
+			const size_t ext = base.rfind('.');
+			to = base;
+			for (size_t n = 1; placed.count(to) && placed[to] != data; ++n)
+				to = (ext == std::string::npos || ext == 0 ? base : base.substr(0, ext)) + str("_%zu", n) +
+				     (ext == std::string::npos || ext == 0 ? "" : base.substr(ext));
+			image["uri"] = uri_encode(to);
+		}
+		if (placed.count(to))
+			continue;
+		placed[to] = data;
+		if (read_file(folder + to, existing)) {
+			if (existing != data)
+				fail_named(vn_io_error_write, str("%s exists and differs from the input's image; not overwritten",
+				                                  (folder + to).c_str()));
+			continue;
+		}
+		make_folders(folder, to);
+		files.add(folder + to, std::string(data.begin(), data.end()));
+	}
+}
+
+/* Writes the document to path: a GLB with every buffer and the images it
+ * may hold in its BIN chunk, or a .gltf with its buffers in files beside it
+ * (the input's own names when writing in place, else OUTSTEM.bin,
+ * OUTSTEM_1.bin, ...); buffers without data stay without; images kept by
+ * URI are copied next to it when the folder differs, never outside path's
+ * folder. */
+void save(document& d, const std::string& path, bool glb, bool in_place)
 {
 	file_set files;
 	const std::string folder = folder_of(path);
 	if (glb) {
-		merge_for_glb(d, unknown);
-		files.add(path, glb_file(d.j, d.buffers.empty() ? nullptr : &d.buffers[0]));
+		merge_for_glb(d);
+		copy_images(d, folder, files);
+		const bool bin = !d.buffers.empty() && !d.buffers[0].absent;
+		files.add(path, glb_file(d.j, bin ? &d.buffers[0] : nullptr));
 		files.commit();
 		return;
 	}
-	json& jb = d.j["buffers"];
+	auto jb = d.j.find("buffers");
 	/* The input's files, which a new buffer file must not replace. */
 	std::vector<std::string> inputs;
 	for (size_t i = 0; i < d.buffers.size(); ++i)
-		if (!file_uri(jb[i]).empty())
-			inputs.push_back(d.folder + file_uri(jb[i]));
+		if (!file_uri((*jb)[i]).empty())
+			inputs.push_back(d.folder + file_uri((*jb)[i]));
 	auto is_input = [&](const std::string& p) {
 		return std::any_of(inputs.begin(), inputs.end(), [&](const std::string& q) { return vn_io_same_file(p.c_str(), q.c_str()); });
 	};
@@ -374,57 +477,25 @@ void save(document& d, const std::string& path, bool glb, bool in_place, const s
 		stem.resize(dot);
 	size_t k = 0;
 	for (size_t i = 0; i < d.buffers.size(); ++i) {
-		if (is_data_uri(jb[i])) {
+		json& b = (*jb)[i];
+		if (d.buffers[i].absent)
+			continue;
+		if (has_data_uri(b)) {
 			pieces p;
 			p.add(d.buffers[i], false);
-			jb[i]["uri"] = data_uri(jb[i], p.joined());
+			b["uri"] = data_uri(b, p.joined());
 			continue;
 		}
-		std::string name = in_place ? file_uri(jb[i]) : "";
+		std::string name = in_place ? file_uri(b) : "";
 		while (name.empty() || (!in_place && is_input(folder + name)))
 			name = stem + (k ? str("_%zu", k) : "") + ".bin", ++k;
 		if (!in_place)
-			jb[i]["uri"] = uri_encode(name);
+			b["uri"] = uri_encode(name);
 		pieces contents;
 		contents.add(d.buffers[i], false);
 		files.add(folder + name, contents);
 	}
-	/* External images keep their URIs when they stay inside the output's
-	 * folder (copied there, folders made as needed); one that would land
-	 * outside it ("../tex/a.png") is copied into it under its own name. */
-	auto images = d.j.find("images");
-	if (images != d.j.end() && images->is_array() && !same_folder(d.folder, folder)) {
-		std::map<std::string, bytes> placed; /* name in the output folder -> contents */
-		for (json& image : *images) {
-			const std::string name = image.is_object() ? file_uri(image) : "";
-			if (name.empty())
-				continue;
-			bytes data, existing;
-			if (!read_file(d.folder + name, data))
-				fail_named(vn_io_error_open, str("%s: cannot read the image '%s'", (d.folder + name).c_str(), name.c_str()));
-			std::string to = name;
-			if (!stays_inside(name)) {
-				const std::string base = name.substr(name.rfind('/') == std::string::npos ? 0 : name.rfind('/') + 1);
-				const size_t ext = base.rfind('.');
-				to = base;
-				for (size_t n = 1; placed.count(to) && placed[to] != data; ++n)
-					to = (ext == std::string::npos || ext == 0 ? base : base.substr(0, ext)) + str("_%zu", n) +
-					     (ext == std::string::npos || ext == 0 ? "" : base.substr(ext));
-				image["uri"] = uri_encode(to);
-			}
-			if (placed.count(to))
-				continue;
-			placed[to] = data;
-			if (read_file(folder + to, existing)) {
-				if (existing != data)
-					fail_named(vn_io_error_write, str("%s exists and differs from the input's image; not overwritten",
-					                                  (folder + to).c_str()));
-				continue;
-			}
-			make_folders(folder, to);
-			files.add(folder + to, std::string(data.begin(), data.end()));
-		}
-	}
+	copy_images(d, folder, files);
 	files.add(path, d.j.dump(2) + "\n");
 	files.commit();
 }

@@ -49,6 +49,7 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 	for (size_t i = 0; i < mesh->attribute_count; i++)
 		free(mesh->attributes[i].data);
 	free(mesh->attributes);
+	free(mesh->warnings);
 	memset(mesh, 0, sizeof *mesh);
 }
 

@@ -90,6 +90,11 @@ typedef struct vn_io_mesh {
 
 	size_t attribute_count;
 	vn_io_attribute* attributes; /* NULL or attribute_count entries, each owning its data */
+
+	/* NULL, or what the reader read anyway but the file should not have
+	 * (bytes after a GLB's declared length): one line each, "\n"-separated,
+	 * not naming the file. */
+	char* warnings;
 } vn_io_mesh;
 
 /* Frees every array and zeroes the struct; NULL or a zeroed mesh is fine. */

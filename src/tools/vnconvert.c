@@ -278,6 +278,16 @@ static args parse(int argc, char** argv)
 	return a;
 }
 
+/* The reader's warnings about IN ("\n"-separated lines), one line each. */
+static void input_warnings(const args* a, const char* text)
+{
+	while (text && *text && !a->quiet) {
+		const size_t n = strcspn(text, "\n");
+		fprintf(stderr, "%s: warning: %s: %.*s\n", prog, a->in, (int)n, text);
+		text += n + (text[n] == '\n');
+	}
+}
+
 static void progress(const args* a, const char* what, const char* path)
 {
 	if (!a->quiet && isatty(STDERR_FILENO))
@@ -299,6 +309,7 @@ static int convert_gltf(args* a)
 	    vn_io_success)
 		die(1, "%s", err.message);
 	const double t1 = tool_now();
+	input_warnings(a, st.warnings);
 	if (st.zero_normals && !a->quiet)
 		fprintf(stderr,
 		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); "
@@ -430,6 +441,7 @@ int main(int argc, char** argv)
 	vn_drc_default_options(&drc);
 	if (vn_io_read_file(a.in, a.in_format, &mesh, &err) != vn_io_success)
 		die(1, "%s", err.message);
+	input_warnings(&a, mesh.warnings);
 	const size_t nonfinite = vn_io_mesh_first_nonfinite(&mesh);
 	if (nonfinite < mesh.vertex_count) {
 		const double* p = mesh.positions + 3 * nonfinite;
