@@ -9,8 +9,8 @@
  * the output is written from it piece by piece. tinygltf 2.7's loader is not
  * used for this because it copies every buffer into its model (twice the
  * file in memory, half the time of a conversion: docs/PERFORMANCE.md);
- * vn checks everything it reads itself, and takes tinygltf's data-URI
- * decoding. One file per stage, each calling only those above it here:
+ * vn checks everything it reads itself, data URIs included (RFC 2397).
+ * One file per stage, each calling only those above it here:
  *
  *  - gltf_document.cpp: loading, accessors, appending (gltf_document.h);
  *  - gltf_draco.cpp: the KHR_draco_mesh_compression bridge, on draco.h;

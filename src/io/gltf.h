@@ -23,7 +23,7 @@
  *    leave unused is removed. See README.md, "glTF".
  *
  * Implemented in C++ (gltf*.cpp, one file per stage: see gltf.cpp; on
- * nlohmann json, with tinygltf's data-URI decoding) behind this C interface.
+ * nlohmann json) behind this C interface.
  */
 #ifndef VN_IO_GLTF_H
 #define VN_IO_GLTF_H
