@@ -316,7 +316,7 @@ static void test_registry_is_bounded(void** state)
 
 /* ------------------------------------------------------------------ fatal signals */
 
-enum death { raise_segv, real_fault, raise_abort, raise_term, ignored_hup };
+enum death { raise_segv, real_fault, raise_abort, raise_term, ignored_hup, killed };
 
 /* In a forked child: installs the handlers, starts writing folder/out.off
  * (over an existing one), then dies the way `how` says. Exit codes 90+ are
@@ -350,6 +350,7 @@ static void child(const char* folder, enum death how)
 	}
 	case raise_abort: abort();
 	case raise_term: raise(SIGTERM); break;
+	case killed: raise(SIGKILL); break; /* no handler runs: the temporary must have no name */
 	case ignored_hup:
 		raise(SIGHUP); /* stays ignored: the output is finished */
 		_exit(vn_io_output_commit(&output, &error) == vn_io_success ? 0 : 92);
@@ -406,6 +407,12 @@ static void test_sigterm_removes_temporaries(void** state)
 	expect_death("term", raise_term, SIGTERM);
 }
 
+static void test_sigkill_leaves_no_temporary(void** state)
+{
+	(void)state;
+	expect_death("kill", killed, SIGKILL);
+}
+
 static void test_ignored_signal_stays_ignored(void** state)
 {
 	(void)state;
@@ -428,6 +435,7 @@ int main(void)
 	    cmocka_unit_test(test_real_fault_removes_temporaries),
 	    cmocka_unit_test(test_abort_removes_temporaries),
 	    cmocka_unit_test(test_sigterm_removes_temporaries),
+	    cmocka_unit_test(test_sigkill_leaves_no_temporary),
 	    cmocka_unit_test(test_ignored_signal_stays_ignored),
 	};
 	snprintf(root, sizeof root, "/tmp/vn_test_output.XXXXXX");

@@ -2,17 +2,19 @@
  * Whole-file reading, atomic output files (with the registry of their
  * temporaries that a fatal signal removes) and format dispatch.
  */
-#define _POSIX_C_SOURCE 200809L /* mkstemp, fsync, fchmod, fchown, fdopen, readlink, lstat, sigaction */
+#define _GNU_SOURCE /* O_TMPFILE; and POSIX: mkstemp, fsync, fchmod, fchown, fdopen, readlink, lstat, sigaction, linkat */
 
 #include "vn_io.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <signal.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 vn_io_result vn_io_read_all(const char* path, char** data, size_t* size, vn_io_error* error)
@@ -273,6 +275,57 @@ static int take_attributes(int fd, const char* target)
 	return fchmod(fd, old.st_mode & 07777);
 }
 
+/* A file without a name in target's folder (its first `folder` bytes), or
+ * -1 where O_TMPFILE (Linux, file systems that have it) or /proc/self/fd,
+ * through which it is linked later, is missing. */
+static int open_anonymous(const char* target, size_t folder)
+{
+#ifdef O_TMPFILE
+	if (access("/proc/self/fd", X_OK) != 0)
+		return -1;
+	char* dir = folder ? copy_text(target, folder) : copy_text(".", 1);
+	if (!dir)
+		return -1;
+	const int fd = open(dir, O_TMPFILE | O_WRONLY | O_CLOEXEC, 0600);
+	free(dir);
+	return fd;
+#else
+	(void)target, (void)folder;
+	return -1;
+#endif
+}
+
+/* Gives the anonymous temporary the name `name`; fails with EEXIST when
+ * the name exists. */
+static int link_anonymous(const vn_io_output* output, const char* name)
+{
+	char self[64];
+	snprintf(self, sizeof self, "/proc/self/fd/%d", output->fd);
+	return linkat(AT_FDCWD, self, AT_FDCWD, name, AT_SYMLINK_FOLLOW);
+}
+
+/* Links the anonymous temporary under its template ".NAME.XXXXXX" with the
+ * X's made unique, as mkstemp would have named it. */
+static int name_anonymous(vn_io_output* output)
+{
+	static const char letters[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+	char* x = output->temporary + strlen(output->temporary) - 6;
+	struct timespec now;
+	clock_gettime(CLOCK_REALTIME, &now);
+	uint64_t state = (uint64_t)now.tv_nsec ^ ((uint64_t)getpid() << 32) ^ (uint64_t)(uintptr_t)output;
+	for (int attempt = 0; attempt < 100; attempt++) {
+		for (int i = 0; i < 6; i++) {
+			state ^= state << 13, state ^= state >> 7, state ^= state << 17; /* xorshift64 */
+			x[i] = letters[state % (sizeof letters - 1)];
+		}
+		if (link_anonymous(output, output->temporary) == 0)
+			return 0;
+		if (errno != EEXIST)
+			return -1;
+	}
+	return -1;
+}
+
 static void release(vn_io_output* output)
 {
 	if (output->slot >= 0)
@@ -315,7 +368,10 @@ vn_io_result vn_io_output_open(vn_io_output* output, const char* path, vn_io_err
 		return vn_io_fail(error, vn_io_error_write, "%s: more than %d output files are open at once", path,
 		                  REGISTRY_SIZE);
 	}
-	output->fd = mkstemp(output->temporary);
+	output->fd = open_anonymous(output->target, folder);
+	output->anonymous = output->fd >= 0;
+	if (!output->anonymous)
+		output->fd = mkstemp(output->temporary);
 	if (output->fd < 0) {
 		result = vn_io_fail(error, vn_io_error_write, "%s: cannot create a temporary file next to %s: %s", path,
 		                    output->target, strerror(errno));
@@ -337,6 +393,12 @@ vn_io_result vn_io_output_close(vn_io_output* output, vn_io_error* error)
 	/* A full disk often shows up only here. */
 	int failed = fsync(output->fd) != 0;
 	int why = errno;
+	/* Closing an anonymous file would delete it: it gets its name first. */
+	if (!failed && output->anonymous) {
+		failed = name_anonymous(output) != 0;
+		why = errno;
+		output->anonymous = failed;
+	}
 	if (close(output->fd) != 0 && !failed) {
 		failed = 1;
 		why = errno;
@@ -348,6 +410,14 @@ vn_io_result vn_io_output_close(vn_io_output* output, vn_io_error* error)
 
 vn_io_result vn_io_output_commit(vn_io_output* output, vn_io_error* error)
 {
+	/* An anonymous temporary takes the target's name itself when that is
+	 * new: it is never visible under another. */
+	if (output->anonymous && output->fd >= 0 && fsync(output->fd) == 0 && link_anonymous(output, output->target) == 0) {
+		close(output->fd);
+		output->fd = -1;
+		release(output);
+		return vn_io_success;
+	}
 	vn_io_result result = vn_io_output_close(output, error);
 	if (result == vn_io_success && rename(output->temporary, output->target) != 0)
 		result = vn_io_fail(error, vn_io_error_write, "%s: cannot replace the file: %s", output->path,
@@ -364,7 +434,7 @@ void vn_io_output_discard(vn_io_output* output)
 {
 	if (output->fd >= 0)
 		close(output->fd);
-	if (output->temporary)
+	if (output->temporary && !output->anonymous)
 		unlink(output->temporary);
 	release(output);
 }
@@ -383,13 +453,17 @@ vn_io_result vn_io_write_file(const char* path, const vn_io_format* format, cons
 	vn_io_result result = vn_io_output_open(&output, path, error);
 	if (result != vn_io_success)
 		return result;
-	FILE* out = fdopen(output.fd, "wb");
+	/* The stream has a copy of the descriptor: output.fd stays open, as an
+	 * anonymous temporary needs until commit. */
+	const int copy = dup(output.fd);
+	FILE* out = copy >= 0 ? fdopen(copy, "wb") : NULL;
 	if (!out) {
 		result = vn_io_fail(error, vn_io_error_write, "%s: cannot write: %s", path, strerror(errno));
+		if (copy >= 0)
+			close(copy);
 		vn_io_output_discard(&output);
 		return result;
 	}
-	output.fd = -1; /* the stream owns it now */
 	result = format->write(out, path, mesh, settings, error);
 	/* Buffered data reach the disk only here; a full disk often shows up in
 	 * fflush or fsync rather than in the writer's fprintf calls. */

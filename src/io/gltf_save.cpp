@@ -97,7 +97,7 @@ pieces glb_file(const json& j, const buffer* bin)
 namespace {
 
 /* Output files written as temporaries beside their final paths, then all
- * renamed; the temporaries of an unfinished set are removed. vn_io_output
+ * put in place; the temporaries of an unfinished set are removed. vn_io_output
  * does what every output file needs: links followed, devices refused, mode
  * and owner kept, temporaries removed on a fatal signal too. */
 struct file_set {
@@ -128,7 +128,9 @@ struct file_set {
 			}
 		if (!ok)
 			fail_named(vn_io_error_write, str("%s: cannot write: %s", path.c_str(), strerror(errno)));
-		if ((r = vn_io_output_close(&f, &e)) != vn_io_success)
+		/* Open until commit, a temporary keeps no name (vn_io_output): past
+		 * a few hundred files, descriptors are scarcer than that. */
+		if (files.size() > 256 && (r = vn_io_output_close(&f, &e)) != vn_io_success)
 			fail_named(r, e.message);
 	}
 	void add(const std::string& path, const std::string& text)

@@ -245,8 +245,15 @@ vn_io_result vn_io_write_file(const char* path, const vn_io_format* format, cons
 /* ------------------------------------------------------------------ output files
  *
  * Every output file (vn_io_write_file, and each file of a glTF) is written as
- * a temporary ".NAME.XXXXXX" in the folder of the file it replaces, synced,
- * then renamed over it, so that the file is either complete or as it was.
+ * a temporary in the folder of the file it replaces, synced, then put in its
+ * place, so that the file is either complete or as it was. On Linux the
+ * temporary is a file without a name (open(folder, O_TMPFILE)) until it is
+ * complete: nothing is left when the process is killed, even by SIGKILL.
+ * At the end it is linked under its final name when that is new (linkat),
+ * else under ".NAME.XXXXXX" and renamed over it: only a SIGKILL between
+ * those two calls can leave that complete file behind. Where O_TMPFILE or
+ * /proc is missing, the temporary is ".NAME.XXXXXX" from the start, which a
+ * fatal signal the process can catch removes (see below), SIGKILL not.
  * - A symbolic link is written through: its target (followed along a chain
  *   of links, relative ones from their own folder) is replaced and the link
  *   stays; a dangling link's target is created.
@@ -268,6 +275,7 @@ typedef struct vn_io_output {
 	char* temporary; /* registered for removal on a fatal signal until committed or discarded */
 	int fd;          /* the temporary, open for writing; -1 once closed */
 	int slot;        /* its entry in the temporary-file registry */
+	int anonymous;   /* the temporary has no name yet (O_TMPFILE) */
 } vn_io_output;
 
 /* Checks path as vn_io_output_check does and creates the temporary with the
@@ -276,11 +284,14 @@ typedef struct vn_io_output {
 vn_io_result vn_io_output_open(vn_io_output* output, const char* path, vn_io_error* error);
 
 /* Syncs the temporary to disk and closes it (fd becomes -1); commit does it
- * too. On failure the caller discards the output. */
+ * too. A temporary without a name gets its ".NAME.XXXXXX" name first (an
+ * output kept open until commit never has one). On failure the caller
+ * discards the output. */
 vn_io_result vn_io_output_close(vn_io_output* output, vn_io_error* error);
 
-/* Closes the temporary if open and renames it over the target, then frees
- * the output; on failure the temporary is removed instead. */
+/* Syncs and closes the temporary if open and puts it in place of the
+ * target, then frees the output; on failure the temporary is removed
+ * instead. */
 vn_io_result vn_io_output_commit(vn_io_output* output, vn_io_error* error);
 
 /* Removes the temporary and frees the output; nothing for an output already

@@ -69,9 +69,12 @@ static void usage(FILE* out)
 	}
 	fprintf(out,
 	        "\n"
-	        "OUT is written atomically: a temporary file beside it is renamed over it once complete\n"
-	        "(also when vnconvert is interrupted or crashes, no temporary file is left). A symbolic\n"
-	        "link is written through to its target; a replaced file keeps its mode, owner and group.\n"
+	        "OUT is written atomically: a temporary file beside it takes OUT's place once complete.\n"
+	        "On Linux it has no name until then, so nothing is left if vnconvert is killed (even by\n"
+	        "SIGKILL; only between the two final calls that put it in place of an existing OUT could\n"
+	        "a complete .OUT.XXXXXX remain); elsewhere it is .OUT.XXXXXX, which an interrupt or a\n"
+	        "crash removes. A symbolic link is written through to its target; a replaced file keeps\n"
+	        "its mode, owner and group.\n"
 	        "OUT must be a regular file (not a device, FIFO or folder). Positions must be finite.\n"
 	        "A vertex that no face contributes to (isolated, or only degenerate faces) gets the zero\n"
 	        "normal in OFF, and a warning.\n"
