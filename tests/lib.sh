@@ -8,6 +8,8 @@ bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
 # check WHAT CMD...: counts CMD's success; WHAT names it on failure.
 check() { local what=$1; shift; if "$@"; then ok; else bad "$what"; fi; }
 not() { ! "$@"; }
+# quietly CMD...: CMD without its standard output (its status stays).
+quietly() { "$@" >/dev/null; }
 # run CMD...: sets $rc, $out (stdout) and $err (stderr); both also stay in $T.
 run() { "$@" >"$T/stdout" 2>"$T/stderr"; rc=$?; out=$(cat "$T/stdout"); err=$(cat "$T/stderr"); }
 one_line_err() { [ "$(wc -l <"$T/stderr")" -eq 1 ] && grep -q "^vnconvert: error: " "$T/stderr"; }

@@ -37,8 +37,8 @@ convert() {
   done
   local allow=()
   for a in "$@"; do allow+=(--allow "$a"); done
-  check "$name -> .glb: no new validator code${*:+ but $*}" node "$HERE/gltf/validate.mjs" "${allow[@]}" "$MODULES" "$in" "$T/out/$name.glb" >/dev/null
-  check "$name -> .gltf: no new validator code" node "$HERE/gltf/validate.mjs" "$MODULES" "$in" "$T/out/$name.gltf" >/dev/null
+  check "$name -> .glb: no new validator code${*:+ but $*}" quietly node "$HERE/gltf/validate.mjs" "${allow[@]}" "$MODULES" "$in" "$T/out/$name.glb"
+  check "$name -> .gltf: no new validator code" quietly node "$HERE/gltf/validate.mjs" "$MODULES" "$in" "$T/out/$name.gltf"
 }
 
 # 1. No buffers array: none is made where nothing needs one ("buffers": null
