@@ -27,5 +27,14 @@ check_rejected() {
   run "$vnc" "$bad" "$keep"
   check "$name: existing output untouched" [ "$(cat "$keep")" = precious ]
 }
+# q FILE EXPR: EXPR (Python, over the document d) of a .gltf or .glb's JSON.
+q() {
+  python3 - "$1" "$2" <<'EOF'
+import json, struct, sys
+raw = open(sys.argv[1], "rb").read()
+d = json.loads(raw[20:20 + struct.unpack("<I", raw[12:16])[0]] if raw[:4] == b"glTF" else raw)
+print(eval(sys.argv[2]))
+EOF
+}
 # The last command of a script: "N passed, N failed" and the exit status.
 finish() { echo "$pass passed, $fail failed"; [ $fail -eq 0 ]; }

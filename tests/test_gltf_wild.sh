@@ -15,15 +15,6 @@ if [ ! -d "$MODULES/gltf-validator" ]; then
   exit 1
 fi
 
-# q FILE EXPR: EXPR (Python, over the document d) of a .gltf or .glb's JSON.
-q() {
-  python3 - "$1" "$2" <<'EOF'
-import json, struct, sys
-raw = open(sys.argv[1], "rb").read()
-d = json.loads(raw[20:20 + struct.unpack("<I", raw[12:16])[0]] if raw[:4] == b"glTF" else raw)
-print(eval(sys.argv[2]))
-EOF
-}
 # convert NAME [ALLOW...]: NAME to $T/out/NAME.glb and .gltf; both valid with no
 # new validator code but the ALLOWed ones, which the .glb may add.
 convert() {

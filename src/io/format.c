@@ -24,7 +24,9 @@
 	  "other vertex attributes (named)"}}
 #define GLTF_NEVER_READ "materials, nodes, skins, animations, points and lines (triangle primitives are merged)"
 #define GLTF_DOCUMENT_KEEPS "everything: the document is edited, not rebuilt (see glTF)"
-#define GLTF_DOCUMENT_LOSES "TANGENT with `--tangents drop`; Draco compression with `--draco off`"
+#define GLTF_DOCUMENT_LOSES                                                                                     \
+	"TANGENT with `--tangents drop`; Draco compression with `--draco off`; meshopt compression with "          \
+	"`--meshopt off`"
 
 static const vn_io_format formats[] = {
     {"off", "OFF", "OFF", ".off", "Geomview Object File Format (reads ASCII and binary, writes ASCII)",

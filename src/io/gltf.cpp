@@ -4,7 +4,8 @@
  * The original JSON is kept as an nlohmann::ordered_json so that key order,
  * extras and unknown extensions survive; only NORMAL data change (in place
  * where the accessor allows, else appended; Draco data are decoded and
- * encoded again with draco.h). Buffers are read once and written once, in
+ * encoded again with draco.h, meshopt-compressed bufferViews with
+ * meshoptimizer). Buffers are read once and written once, in
  * place: a GLB's BIN chunk stays in the memory the file was read into, and
  * the output is written from it piece by piece. tinygltf 2.7's loader is not
  * used for this because it copies every buffer into its model (twice the
@@ -13,6 +14,7 @@
  * One file per stage, each calling only those above it here:
  *
  *  - gltf_document.cpp: loading, accessors, appending (gltf_document.h);
+ *  - gltf_meshopt.cpp: EXT_/KHR_meshopt_compression, on meshoptimizer;
  *  - gltf_draco.cpp: the KHR_draco_mesh_compression bridge, on draco.h;
  *  - gltf_save.cpp: writing .gltf and .glb;
  *  - gltf_prune.cpp: removing what the edits leave unused;
@@ -28,6 +30,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -42,6 +45,7 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 		document d = load(in);
 		snprintf(st.warnings, sizeof st.warnings, "%s", warning_lines(d).c_str());
 		const usage before = used(d.j);
+		const std::set<std::string> meshopt = decode_meshopt(d, &st);
 		if (options->draco == vn_gltf_draco_off)
 			decompress_draco(d);
 		std::vector<primitive> prims = triangle_primitives(d, &st);
@@ -73,8 +77,10 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 								target.erase("TANGENT");
 				}
 		write_normals(d, prims, *options, st);
+		write_meshopt(d, options->meshopt, st);
 		std::string unknown;
 		prune(d, before, st, &unknown);
+		tidy_meshopt(d, meshopt);
 		snprintf(st.unpruned_extension, sizeof st.unpruned_extension, "%s", unknown.c_str());
 		/* OUT may be a link: the buffers and images go beside what it
 		 * points at, where the .gltf itself lands. */

@@ -19,8 +19,11 @@
  *    accessor appended at the end of the arrays. Draco-compressed
  *    primitives (KHR_draco_mesh_compression) are decoded with draco.h and
  *    encoded again, written uncompressed, or (with every other triangle
- *    primitive) compressed: vn_gltf_options.draco. What these changes
- *    leave unused is removed. See README.md, "glTF".
+ *    primitive) compressed: vn_gltf_options.draco. bufferViews compressed
+ *    with EXT_meshopt_compression or KHR_meshopt_compression are decoded
+ *    with meshoptimizer, and those the normals change encoded again, or
+ *    all written plain: vn_gltf_options.meshopt. What these changes leave
+ *    unused is removed. See README.md, "glTF".
  *
  * Implemented in C++ (gltf*.cpp, one file per stage: see gltf.cpp; on
  * nlohmann json) behind this C interface.
@@ -36,6 +39,7 @@ extern "C" {
 #endif
 
 typedef enum vn_gltf_draco { vn_gltf_draco_keep, vn_gltf_draco_off, vn_gltf_draco_on } vn_gltf_draco;
+typedef enum vn_gltf_meshopt { vn_gltf_meshopt_keep, vn_gltf_meshopt_off } vn_gltf_meshopt;
 
 typedef struct vn_gltf_options {
 	vn_method method;
@@ -62,6 +66,10 @@ typedef struct vn_gltf_options {
 	 * record it); on uses all, else vn_drc_default_options'. */
 	vn_drc_options draco_options;
 	int draco_normal_error; /* fill vn_gltf_stats.draco_normal_error (an extra encoding) */
+	/* EXT_/KHR_meshopt_compression bufferViews on output: keep (compressed
+	 * as they were; those whose data the normals change encoded again) or
+	 * off (every view written plain, the extensions removed). */
+	vn_gltf_meshopt meshopt;
 } vn_gltf_options;
 
 typedef struct vn_gltf_stats {
@@ -83,6 +91,8 @@ typedef struct vn_gltf_stats {
 	size_t draco_primitives;   /* primitives written Draco-compressed */
 	size_t draco_uncompressed; /* --draco on: primitives left uncompressed (morph
 	                              targets on more than 3 vertices per triangle) */
+	size_t meshopt_views;      /* meshopt-compressed bufferViews read */
+	size_t meshopt_encoded;    /* of those, encoded again with new normals (keep) */
 	/* Accessors and bufferViews the input used and vn's changes left unused
 	 * (old NORMAL data, re-encoded or newly compressed Draco primitives):
 	 * removed, with their bytes, and every reference renumbered; unless the

@@ -188,7 +188,8 @@ span view_span(const document& d, long long view, size_t offset, size_t needed, 
 	if (length < 0)
 		fail(vn_io_error_parse, vw + " has no byteLength");
 	const auto& b = d.buffers[(size_t)buffer];
-	if (b.absent)
+	const char* name;
+	if (b.absent && !(b.base && meshopt_extension(v, &name, vw)))
 		fail(vn_io_error_parse, str("%s is in buffers[%lld], which has no data: no uri, and no extension "
 		                            "(such as EXT_meshopt_compression) that gives it", vw.c_str(), buffer));
 	const size_t bound = (size_t)view < d.input_views ? b.size : b.total();
@@ -327,8 +328,9 @@ std::vector<double> read_accessor(const document& d, const accessor& a)
 
 /* Buffer i's bytes: the GLB's BIN chunk (bin: its first byte, null when the
  * file has none), a data URI or an external file; absent without uri
- * otherwise (a view of it fails when read, see view_span). */
-static buffer load_buffer(const document& d, size_t i, const std::shared_ptr<unsigned char>& file, const unsigned char* bin,
+ * otherwise (a view of it fails when read, see view_span). A file read
+ * joins d.buffer_files. */
+static buffer load_buffer(document& d, size_t i, const std::shared_ptr<unsigned char>& file, const unsigned char* bin,
                           size_t bin_length)
 {
 	const std::string what = str("buffers[%zu]", i);
@@ -365,6 +367,7 @@ static buffer load_buffer(const document& d, size_t i, const std::shared_ptr<uns
 		memcpy(out.owner.get(), data.data(), have);
 	} else {
 		const std::string path = d.folder + uri_decode(text);
+		d.buffer_files.push_back(path);
 		char* raw;
 		vn_io_error e;
 		if (vn_io_read_all(path.c_str(), &raw, &have, &e) != vn_io_success)
@@ -558,6 +561,16 @@ void set_bounds(json& j, const bytes& data, size_t stride, const accessor& a, si
 	set_bounds(j, lo, hi, a.component);
 }
 
+size_t append_bytes(document& d, size_t b, const bytes& data)
+{
+	buffer& to = d.buffers[b];
+	to.tail.resize((to.tail.size() + 3) / 4 * 4, 0);
+	const size_t offset = to.tail_start() + to.tail.size();
+	to.tail.insert(to.tail.end(), data.begin(), data.end());
+	d.j["buffers"][b]["byteLength"] = to.total();
+	return offset;
+}
+
 /* Appends data as a new bufferView at the end of the last buffer (in a
  * GLB, the BIN chunk) and returns its index. stride, target: 0 for none. */
 size_t append_view(document& d, const bytes& data, size_t stride, int target)
@@ -577,11 +590,7 @@ size_t append_view(document& d, const bytes& data, size_t stride, int target)
 	--b;
 	if (d.glb && !d.buffers[0].absent && !d.j["buffers"][0].contains("uri"))
 		b = 0;
-	buffer& to = d.buffers[b];
-	to.tail.resize((to.tail.size() + 3) / 4 * 4, 0);
-	const size_t offset = to.tail_start() + to.tail.size();
-	to.tail.insert(to.tail.end(), data.begin(), data.end());
-	d.j["buffers"][b]["byteLength"] = to.total();
+	const size_t offset = append_bytes(d, b, data);
 	if (!d.j.contains("bufferViews"))
 		d.j["bufferViews"] = json::array();
 	json view = {{"buffer", b}, {"byteOffset", offset}, {"byteLength", data.size()}};

@@ -1,10 +1,10 @@
 /*
  * The glTF document as the glTF stages edit it (C++ only, internal to
  * vn_io): the original JSON, the buffers in place, the failures thrown on
- * the way, reading and appending accessors (gltf_document.cpp), the removal
- * of what the edits left unused (gltf_prune.cpp) and writing the files
- * (gltf_save.cpp). The triangle primitives built on it are in
- * gltf_primitive.h.
+ * the way, reading and appending accessors (gltf_document.cpp), meshopt
+ * compression (gltf_meshopt.cpp), the removal of what the edits left
+ * unused (gltf_prune.cpp) and writing the files (gltf_save.cpp). The
+ * triangle primitives built on it are in gltf_primitive.h.
  */
 #ifndef VN_IO_GLTF_DOCUMENT_H
 #define VN_IO_GLTF_DOCUMENT_H
@@ -15,6 +15,7 @@
 #include <memory>
 #include <new>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -39,8 +40,10 @@ inline std::shared_ptr<unsigned char> block(size_t n)
  * block: for a GLB's BIN chunk, the whole file as read), then what vn
  * appends, from tail_start() on. No view straddles the two parts. A buffer
  * without data (no uri, and not a GLB's BIN chunk: a placeholder, or a
- * compression extension's fallback) is `absent`: size 0, and reading a view
- * of it is an error; it is written back as it was. */
+ * meshopt fallback) is `absent`: it is written back as it was, without
+ * data. Its meshopt views' decoded data fill it in memory (base and size;
+ * gltf_meshopt.cpp), where the stages read them; a view of it that no
+ * extension gives data is an error when read. */
 struct buffer {
 	std::shared_ptr<unsigned char> owner;
 	unsigned char* base = nullptr;
@@ -61,6 +64,10 @@ struct document {
 	json j;
 	std::vector<buffer> buffers;
 	size_t input_views = 0; /* the file's bufferViews (lie in the buffers' first parts) */
+	std::vector<std::string> buffer_files; /* the paths of the file's buffers read from files */
+	/* Buffers in which vn's edits left bytes that nothing refers to (meshopt
+	 * data encoded again or no longer written): prune packs them. */
+	std::set<size_t> repack;
 	std::vector<std::string> warnings; /* about the input, read anyway ("the GLB has 4 bytes after ...") */
 };
 
@@ -74,6 +81,26 @@ inline const json* draco_extension(const json& prim)
 		return nullptr;
 	auto k = e->find(draco_name);
 	return k == e->end() ? nullptr : &*k;
+}
+
+/* The meshopt compression extensions: on a bufferView, where its
+ * compressed data lie (buffer, byteOffset, byteLength) and how to decode
+ * them; on a buffer, the fallback marker. */
+inline constexpr const char* meshopt_names[] = {"EXT_meshopt_compression", "KHR_meshopt_compression"};
+
+/* The buffer indices that extensions known to hold them keep in bufferViews:
+ * the meshopt extensions' compressed data. f(ref, ext) for each, ref the
+ * json of ext's buffer index. */
+template <typename F> void extension_buffers(json& view, F f)
+{
+	auto ext = view.find("extensions");
+	if (ext == view.end() || !ext->is_object())
+		return;
+	for (const char* name : meshopt_names) {
+		auto e = ext->find(name);
+		if (e != ext->end() && e->is_object() && e->contains("buffer") && (*e)["buffer"].is_number_unsigned())
+			f((*e)["buffer"], *e);
+	}
 }
 
 /* Which accessors and bufferViews the document uses (directly, or through
@@ -191,9 +218,49 @@ std::string warning_lines(const document& d);
 void set_bounds(json& a, const std::vector<double>& lo, const std::vector<double>& hi, long long component);
 void set_bounds(json& j, const bytes& data, size_t stride, const accessor& a, size_t count);
 
+/* data appended to buffer b (at a multiple of 4): its offset. */
+size_t append_bytes(document& d, size_t b, const bytes& data);
 /* A new bufferView holding data, a new accessor: their indices. */
 size_t append_view(document& d, const bytes& data, size_t stride, int target);
 long long append_accessor(document& d, json a);
+
+/* ------------------------------------------------------------------ meshopt (gltf_meshopt.cpp) */
+
+/* bufferView `view`'s EXT_ or KHR_meshopt_compression object, or null;
+ * *name is its extension's. A view with both is malformed. */
+inline const json* meshopt_extension(const json& view, const char** name, const std::string& what)
+{
+	auto ext = view.find("extensions");
+	if (ext == view.end() || !ext->is_object())
+		return nullptr;
+	const json* found = nullptr;
+	for (const char* n : meshopt_names) {
+		auto e = ext->find(n);
+		if (e == ext->end())
+			continue;
+		if (found)
+			fail(vn_io_error_parse, what + " has both EXT_meshopt_compression and KHR_meshopt_compression");
+		found = &*e;
+		*name = n;
+	}
+	return found;
+}
+
+/* Every meshopt-compressed bufferView of the input decoded into its own
+ * range of its (fallback) buffer, so that the stages read plain data; see
+ * gltf_meshopt.cpp. st (may be null) counts them. Returns the names of the
+ * extensions they use. */
+std::set<std::string> decode_meshopt(document& d, vn_gltf_stats* st);
+
+/* After the normals: --meshopt keep encodes again the views whose decoded
+ * data changed (the others keep their compressed bytes), off leaves every
+ * view plain; see gltf_meshopt.cpp. */
+void write_meshopt(document& d, vn_gltf_meshopt mode, vn_gltf_stats& st);
+
+/* After prune: each of `names` (the input's meshopt extensions) that no
+ * bufferView uses any more (none, with --meshopt off) leaves
+ * extensionsUsed, extensionsRequired and the buffers' fallback markers. */
+void tidy_meshopt(document& d, const std::set<std::string>& names);
 
 /* ------------------------------------------------------------------ writing (gltf_save.cpp) */
 

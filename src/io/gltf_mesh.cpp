@@ -292,7 +292,8 @@ extern "C" vn_io_result vn_io_gltf_read(const char* path, vn_io_mesh* mesh, vn_i
 {
 	memset(mesh, 0, sizeof *mesh);
 	vn_io_result r = guarded(path, error, [&] {
-		const document d = load(path);
+		document d = load(path);
+		decode_meshopt(d, nullptr);
 		mesh_from_document(d, mesh);
 		const std::string warnings = warning_lines(d);
 		if (!warnings.empty() && !(mesh->warnings = strdup(warnings.c_str())))

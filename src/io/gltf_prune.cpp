@@ -120,7 +120,8 @@ usage used(json& j)
 namespace {
 
 /* Extensions whose data hold no accessor, bufferView or buffer index beyond
- * those visit_references knows (prefix match for KHR_materials_):
+ * those visit_references and extension_buffers know (prefix match for
+ * KHR_materials_):
  * EXT_mesh_features names feature-ID attributes by set number and
  * textures by index, CESIUM_RTC holds a centre, KHR_animation_pointer JSON
  * pointers to nodes and materials. */
@@ -131,7 +132,7 @@ bool prunable_with(const std::string& name)
 	                                    "EXT_texture_avif", "EXT_mesh_gpu_instancing", "KHR_xmp_json_ld",
 	                                    "KHR_xmp", "EXT_mesh_features", "CESIUM_RTC", "KHR_animation_pointer",
 	                                    "KHR_node_visibility", "EXT_lights_image_based", "MSFT_lod",
-	                                    "MSFT_texture_dds"};
+	                                    "MSFT_texture_dds", "EXT_meshopt_compression", "KHR_meshopt_compression"};
 	return name.rfind("KHR_materials_", 0) == 0 ||
 	       std::find_if(std::begin(known), std::end(known), [&](const char* k) { return name == k; }) != std::end(known);
 }
@@ -159,10 +160,27 @@ long long index_or_none(const json& o, const char* key)
 	return it != o.end() && it->is_number_unsigned() ? it->get<long long>() : -1;
 }
 
-/* Packs buffer b to the bytes its bufferViews cover: overlapping views stay
- * together, each view keeps its offset modulo 4 (what accessor alignment
- * needs), gaps go. A buffer with a malformed view is left as it is. Returns
- * false when no view is left in b (it can go). */
+/* Calls f(holder) for every byte range of buffer b, holder the json of its
+ * byteOffset and byteLength: the bufferViews in b, and the meshopt data in
+ * b that bufferViews' extensions refer to. */
+template <typename F> void ranges_in(json& views, size_t b, F f)
+{
+	for (json& v : views) {
+		if (!v.is_object())
+			continue;
+		if (index_or_none(v, "buffer") == (long long)b)
+			f(v);
+		extension_buffers(v, [&](json& ref, json& ext) {
+			if (ref == b)
+				f(ext);
+		});
+	}
+}
+
+/* Packs buffer b to the bytes its bufferViews and the extensions' data
+ * cover: overlapping ranges stay together, each keeps its offset modulo 4
+ * (what accessor alignment needs), gaps go. A buffer with a malformed range
+ * is left as it is. Returns false when nothing is left in b (it can go). */
 bool pack_buffer(document& d, size_t b)
 {
 	json& views = d.j["bufferViews"];
@@ -170,18 +188,20 @@ bool pack_buffer(document& d, size_t b)
 		size_t begin, end, to;
 	};
 	std::vector<range> ranges;
-	for (size_t i = 0; i < views.size(); ++i) {
-		if (!views[i].is_object() || index_or_none(views[i], "buffer") != (long long)b)
-			continue;
-		const long long begin = views[i].contains("byteOffset") ? index_or_none(views[i], "byteOffset") : 0;
-		const long long length = index_or_none(views[i], "byteLength");
+	bool malformed = false;
+	ranges_in(views, b, [&](json& holder) {
+		const long long begin = holder.contains("byteOffset") ? index_or_none(holder, "byteOffset") : 0;
+		const long long length = index_or_none(holder, "byteLength");
 		/* Within the file's part or within vn's appended part (never across). */
 		const buffer& from = d.buffers[b];
 		const unsigned long long end = (unsigned long long)begin + (unsigned long long)length;
 		if (begin < 0 || length < 0 || !(end <= from.size || ((size_t)begin >= from.tail_start() && end <= from.total())))
-			return true;
-		ranges.push_back({(size_t)begin, (size_t)(begin + length), 0});
-	}
+			malformed = true;
+		else
+			ranges.push_back({(size_t)begin, (size_t)(begin + length), 0});
+	});
+	if (malformed)
+		return true;
 	if (ranges.empty())
 		return false;
 	std::sort(ranges.begin(), ranges.end(), [](const range& x, const range& y) { return x.begin < y.begin; });
@@ -200,25 +220,25 @@ bool pack_buffer(document& d, size_t b)
 	packed.owner = block(size);
 	packed.base = packed.owner.get();
 	packed.size = size;
+	packed.absent = d.buffers[b].absent; /* a meshopt fallback's decoded data stay unwritten */
 	memset(packed.base, 0, size);
 	for (const range& m : merged)
 		memcpy(packed.base + m.to, d.buffers[b].at(m.begin), m.end - m.begin);
-	for (json& v : views) {
-		if (!v.is_object() || index_or_none(v, "buffer") != (long long)b)
-			continue;
-		const size_t begin = v.contains("byteOffset") ? (size_t)index_or_none(v, "byteOffset") : 0;
-		/* The last range starting at or before the view (sorted, disjoint). */
+	ranges_in(views, b, [&](json& holder) {
+		const size_t begin = holder.contains("byteOffset") ? (size_t)index_or_none(holder, "byteOffset") : 0;
+		/* The last range starting at or before it (sorted, disjoint). */
 		const range& m = *(std::upper_bound(merged.begin(), merged.end(), begin,
 		                                    [](size_t x, const range& r) { return x < r.begin; }) - 1);
-		v["byteOffset"] = m.to + (begin - m.begin);
-	}
+		holder["byteOffset"] = m.to + (begin - m.begin);
+	});
 	d.buffers[b] = std::move(packed);
 	d.j["buffers"][b]["byteLength"] = size;
 	return true;
 }
 
-/* Removes the buffers flagged in gone (no bufferView refers to them) and
- * renumbers the bufferViews' references to the others. */
+/* Removes the buffers flagged in gone (nothing refers to them) and
+ * renumbers the bufferViews' (and their extensions') references to the
+ * others. */
 void remove_buffers(document& d, const std::vector<bool>& gone)
 {
 	if (none(gone))
@@ -238,11 +258,16 @@ void remove_buffers(document& d, const std::vector<bool>& gone)
 		d.j.erase("buffers");
 	else
 		d.j["buffers"] = std::move(kept_json);
-	for (json& v : d.j["bufferViews"]) {
-		const long long b = v.is_object() ? index_or_none(v, "buffer") : -1;
-		if (b >= 0 && (size_t)b < to.size())
-			v["buffer"] = to[(size_t)b];
-	}
+	auto renumber = [&](json& ref) {
+		if (ref.is_number_unsigned() && ref.get<size_t>() < to.size())
+			ref = to[ref.get<size_t>()];
+	};
+	for (json& v : d.j["bufferViews"])
+		if (v.is_object()) {
+			if (v.contains("buffer"))
+				renumber(v["buffer"]);
+			extension_buffers(v, [&](json& ref, json&) { renumber(ref); });
+		}
 }
 
 } // namespace
@@ -266,7 +291,7 @@ void prune(document& d, const usage& before, vn_gltf_stats& st, std::string* unk
 		return out;
 	};
 	std::vector<bool> gone_accessors = orphaned(before.accessors, after.accessors);
-	if (none(gone_accessors) && none(orphaned(before.views, after.views)))
+	if (none(gone_accessors) && none(orphaned(before.views, after.views)) && d.repack.empty())
 		return;
 	if (!(*unknown = unknown_extension(d.j)).empty())
 		return;
@@ -303,16 +328,21 @@ void prune(document& d, const usage& before, vn_gltf_stats& st, std::string* unk
 	std::vector<bool> gone_views = orphaned(before.views, after.views);
 	for (size_t i = 0; i < gone_views.size(); ++i)
 		gone_views[i] = gone_views[i] && !pointed[i];
-	if (none(gone_views))
-		return;
+	/* The buffers that lose bytes: those of the views that go (with their
+	 * meshopt data), and those the meshopt stage left bytes unused in. */
 	std::vector<bool> packed(d.buffers.size(), false);
+	auto mark = marker(packed);
+	for (size_t b : d.repack)
+		if (b < packed.size())
+			packed[b] = true;
 	for (size_t i = 0; i < gone_views.size(); ++i)
 		if (gone_views[i]) {
-			const long long b = index_or_none(d.j["bufferViews"][i], "buffer");
-			if (b >= 0 && (size_t)b < packed.size())
-				packed[(size_t)b] = true;
+			json& view = d.j["bufferViews"][i];
+			if (index_or_none(view, "buffer") >= 0)
+				mark(view["buffer"]);
+			extension_buffers(view, [&](json& ref, json&) { mark(ref); });
 		}
-	{
+	if (!none(gone_views)) {
 		const auto to = renumber(d.j["bufferViews"], gone_views);
 		visit_references(d.j, nothing, to);
 		if (d.j.contains("accessors"))

@@ -243,22 +243,6 @@ static std::set<std::string> embeddable_types(const json& j)
 	return types;
 }
 
-/* The buffer indices that extensions known to hold them keep in bufferViews:
- * EXT_meshopt_compression and KHR_meshopt_compression (the compressed
- * data's buffer). f(ref, offset) for each, offset the json of its
- * byteOffset (null when absent). */
-template <typename F> static void extension_buffers(json& view, F f)
-{
-	auto ext = view.find("extensions");
-	if (ext == view.end() || !ext->is_object())
-		return;
-	for (const char* name : {"EXT_meshopt_compression", "KHR_meshopt_compression"}) {
-		auto e = ext->find(name);
-		if (e != ext->end() && e->is_object() && e->contains("buffer") && (*e)["buffer"].is_number_unsigned())
-			f((*e)["buffer"], *e);
-	}
-}
-
 /* A GLB holds its data in the BIN chunk: every buffer with data is appended
  * to it (each at a multiple of 4, so views keep their alignment), and every
  * image a bufferView may hold goes into one with its mimeType. Merging
@@ -465,13 +449,11 @@ void save(document& d, const std::string& path, bool glb, bool in_place)
 		return;
 	}
 	auto jb = d.j.find("buffers");
-	/* The input's files, which a new buffer file must not replace. */
-	std::vector<std::string> inputs;
-	for (size_t i = 0; i < d.buffers.size(); ++i)
-		if (!file_uri((*jb)[i]).empty())
-			inputs.push_back(d.folder + file_uri((*jb)[i]));
+	/* A new buffer file must not replace one of the input's (also one the
+	 * edits left unused). */
 	auto is_input = [&](const std::string& p) {
-		return std::any_of(inputs.begin(), inputs.end(), [&](const std::string& q) { return vn_io_same_file(p.c_str(), q.c_str()); });
+		return std::any_of(d.buffer_files.begin(), d.buffer_files.end(),
+		                   [&](const std::string& q) { return vn_io_same_file(p.c_str(), q.c_str()); });
 	};
 	std::string stem = path.substr(folder.size());
 	size_t dot = stem.rfind('.');
@@ -488,10 +470,13 @@ void save(document& d, const std::string& path, bool glb, bool in_place)
 			b["uri"] = data_uri(b, p.joined());
 			continue;
 		}
+		/* In place, a buffer keeps its file; one that had none (a meshopt
+		 * fallback --meshopt off fills) gets a new name, as others do. */
 		std::string name = in_place ? file_uri(b) : "";
-		while (name.empty() || (!in_place && is_input(folder + name)))
+		const bool kept = !name.empty();
+		while (!kept && (name.empty() || is_input(folder + name)))
 			name = stem + (k ? str("_%zu", k) : "") + ".bin", ++k;
-		if (!in_place)
+		if (!kept)
 			b["uri"] = uri_encode(name);
 		pieces contents;
 		contents.add(d.buffers[i], false);

@@ -48,6 +48,9 @@ static void usage(FILE* out)
 	        "                         are re-encoded with their own attributes and bits), off\n"
 	        "                         (written uncompressed) or on (every triangle primitive\n"
 	        "                         compressed, with the bits below)\n"
+	        "      --meshopt M        EXT/KHR_meshopt_compression: keep (default: what was compressed\n"
+	        "                         stays so; views with new normals are encoded again) or off\n"
+	        "                         (every bufferView written plain, the extensions removed)\n"
 	        "\n"
 	        "Draco output (.drc, and glTF primitives; a primitive that was compressed keeps its\n"
 	        "own bits but those given); default: a .drc input's bits, else the value in brackets:\n"
@@ -228,6 +231,12 @@ static args parse(int argc, char** argv)
 				die(2, "--draco is keep, off or on, not '%s'", v);
 			a.gltf.draco = !strcmp(v, "off") ? vn_gltf_draco_off : !strcmp(v, "on") ? vn_gltf_draco_on : vn_gltf_draco_keep;
 			gltf_only = gltf_only ? gltf_only : s;
+		} else if (!strcmp(s, "--meshopt")) {
+			const char* v = need_value(argc, argv, &i);
+			if (strcmp(v, "keep") && strcmp(v, "off"))
+				die(2, "--meshopt is keep or off, not '%s'", v);
+			a.gltf.meshopt = !strcmp(v, "off") ? vn_gltf_meshopt_off : vn_gltf_meshopt_keep;
+			gltf_only = gltf_only ? gltf_only : s;
 		} else if (!strcmp(s, "--draco-qp") || !strcmp(s, "--draco-qn") || !strcmp(s, "--draco-qt") ||
 		           !strcmp(s, "--draco-qc") || !strcmp(s, "--draco-cl")) {
 			const int level = !strcmp(s, "--draco-cl"), normal = !strcmp(s, "--draco-qn");
@@ -357,6 +366,7 @@ static int convert_gltf(args* a)
 		       noun(st.pruned_accessors, "accessor", "accessors"), st.pruned_views,
 		       noun(st.pruned_views, "bufferView", "bufferViews"));
 		printf("draco primitives:   %zu (%zu left uncompressed)\n", st.draco_primitives, st.draco_uncompressed);
+		printf("meshopt views:      %zu (%zu encoded again)\n", st.meshopt_views, st.meshopt_encoded);
 		for (int bits = 0; bits <= VN_DRC_MAX_BITS; ++bits)
 			if (st.draco_normal_error[bits].compared)
 				printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu %s)\n",
