@@ -23,7 +23,9 @@
 	                          "WEIGHTS_n, TANGENT, `_NAME`)",                                                  \
 	  "other vertex attributes (named)"}}
 #define GLTF_NEVER_READ "materials, nodes, skins, animations, points and lines (triangle primitives are merged)"
-#define GLTF_DOCUMENT_KEEPS "everything: the document is edited, not rebuilt (see glTF)"
+#define GLTF_DOCUMENT_KEEPS                                                                                      \
+	"everything: the document is edited, not rebuilt (see glTF); every extension, known to vn or not; Draco and "  \
+	"meshopt compression as the input has it (only the data with new normals encoded again)"
 #define GLTF_DOCUMENT_LOSES                                                                                     \
 	"TANGENT with `--tangents drop`; Draco compression with `--draco off`; meshopt compression with "          \
 	"`--meshopt off`"
