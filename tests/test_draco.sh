@@ -432,4 +432,181 @@ for bad in draco-flipped.glb draco-truncated.glb draco-missing.glb; do
 done
 check "no temporary files left (glTF)" [ "$(ls -A "$T/gerrors")" = keep.glb ]
 
+# Draco data as public files have it (tests/data/draco/gltf; the README
+# beside the .drc files says how each was made). Every mode, with and without
+# --crease-angle, gives a file in which the validator finds nothing new.
+# Correctness is checked without welding, so that each primitive's normals
+# are vnconvert's on an OFF of its own positions and triangles.
+DG=$HERE/data/draco/gltf
+VALIDATE="node $HERE/gltf/validate.mjs $NODE_MODULES"
+# converts IN NAME MODE [OPTIONS...]: IN to $T/NAME-MODE.glb with --draco
+# MODE exits 0, and the validator finds nothing IN does not have.
+converts() {
+  local in=$1 name=$2 mode=$3
+  shift 3
+  run "$VNC" "$in" "$T/$name-$mode.glb" --draco "$mode" -q "$@"
+  [ $rc -eq 0 ] && $VALIDATE "$in" "$T/$name-$mode.glb" >/dev/null
+}
+# streams FILE STEM: Debian's decoder reads each of FILE's Draco streams,
+# which draco3d decodes into STEM_k.json (decode.mjs) and STEM_k.attr.json
+# (attributes.mjs).
+streams() {
+  local k=0
+  $GLTFCHECK drc "$1" "$2" >/dev/null || return 1
+  while [ -f "$2_$k.drc" ]; do
+    draco_decoder -i "$2_$k.drc" -o "$2_$k.obj" >/dev/null &&
+      node "$HERE/draco/decode.mjs" "$NODE_MODULES" "$2_$k.drc" >"$2_$k.json" &&
+      $ATTRS "$2_$k.drc" >"$2_$k.attr.json" || return 1
+    k=$((k + 1))
+  done
+}
+
+# Accessors shared by Draco primitives (valid: with Draco an accessor only
+# carries count and type): three primitives over one POSITION, NORMAL and
+# indices accessor; two of them over one stream (a sphere), the third over
+# another (an ellipsoid). Before, --draco off refused it and --draco-qp gave
+# the shared POSITION the bounds of the last primitive written.
+SA=$DG/shared-accessors.gltf
+check "shared accessors: input streams" streams "$SA" "$T/sa-in"
+for mode in keep off on; do
+  for opts in "" "--crease-angle 30" "--weld-scope mesh" "--draco-qp 10"; do
+    check "shared accessors --draco $mode $opts: valid" converts "$SA" "sa${opts//[ -]/}" "$mode" $opts
+  done
+  check "shared accessors --draco $mode --no-weld: valid" converts "$SA" sa-exact "$mode" --no-weld -m mwa
+  if [ $mode = off ]; then
+    check "shared accessors --draco off: no Draco left" $GLTFCHECK nodraco "$T/sa-exact-off.glb"
+    check "shared accessors --draco off: each primitive's own normals" \
+      $GLTFCHECK ownnormals "$T/sa-exact-off.glb" "$VNC" mwa 0.001
+    $GLTFCHECK prims "$T/sa-exact-off.glb" "$T/sa-off"
+    for k in 0 1 2; do
+      check "shared accessors --draco off: primitive $k, its stream's points and triangles" \
+        $COMPARE "$T/sa-in_$k.json" "$T/sa-off_$k.off" 30
+    done
+  else
+    check "shared accessors --draco $mode: streams" streams "$T/sa-exact-$mode.glb" "$T/sa-$mode"
+    for k in 0 1 2; do
+      check "shared accessors --draco $mode: stream $k, its input's points and triangles" \
+        $COMPARE "$T/sa-in_$k.json" "$T/sa-${mode}_$k.json" 30
+      check "shared accessors --draco $mode: stream $k, its own normals" \
+        $GLTFCHECK drcnormals "$T/sa-${mode}_$k.json" "$VNC" mwa 1
+    done
+  fi
+done
+check "shared accessors --draco off: the ellipsoid's data under accessors of its own" \
+  python3 - "$HERE/gltf" "$T/sa-exact-off.glb" <<'EOF'
+import sys
+sys.path.insert(0, sys.argv[1])
+import gltfcheck
+_, doc, _ = gltfcheck.load(sys.argv[2])
+p = [q["attributes"] for q in doc["meshes"][0]["primitives"]]
+sys.exit(not (p[0] == p[2] and p[1]["POSITION"] != p[0]["POSITION"] and p[1]["NORMAL"] != p[0]["NORMAL"]))
+EOF
+check "shared accessors --draco-qp 10: streams" streams "$T/sadracoqp10-keep.glb" "$T/sa-qp"
+check "shared accessors --draco-qp 10: the shared POSITION bounds every stream's positions" \
+  python3 - "$HERE/gltf" "$T/sadracoqp10-keep.glb" "$T"/sa-qp_[0-9].json <<'EOF'
+import json, struct, sys
+sys.path.insert(0, sys.argv[1])
+import gltfcheck
+_, doc, _ = gltfcheck.load(sys.argv[2])
+a = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
+p = [v for f in sys.argv[3:] for v in json.load(open(f))["positions"]]
+f32 = lambda v: struct.unpack("<f", struct.pack("<f", v))[0]
+want = [[f32(min(p[k::3])) for k in range(3)], [f32(max(p[k::3])) for k in range(3)]]
+sys.exit(0 if [a["min"], a["max"]] == want else "%s != %s" % ([a["min"], a["max"]], want))
+EOF
+
+# KHR_mesh_quantization inside Draco data (glTF-Transform's quantize, then
+# draco): int16 or int8 POSITION (normalized, or not with a node scale),
+# int16 or int8 NORMAL, uint16 or uint8 TEXCOORD_0. Before, every mode
+# refused it ("the Draco POSITION is not 3 floats"). Kept compressed, every
+# attribute but NORMAL decodes to the input's values exactly at every
+# triangle corner and NORMAL keeps its type; --draco off writes the values in
+# their accessors' types. Normals within int8 (1 degree) or int16 steps.
+for q in 16:0.1 8:1 raw:1; do
+  name=${q%:*}
+  tolerance=${q#*:}
+  in=$DG/quantized-$name.glb
+  check "quantized-$name: input stream" streams "$in" "$T/q$name-in"
+  for mode in keep off on; do
+    for opts in "" "--crease-angle 30"; do
+      check "quantized-$name --draco $mode $opts: valid" converts "$in" "q$name${opts//[ -]/}" "$mode" $opts
+    done
+    check "quantized-$name --draco $mode --no-weld: valid" converts "$in" "q$name-exact" "$mode" --no-weld -m mwa
+  done
+  for mode in keep on; do
+    check "quantized-$name --draco $mode: stream" streams "$T/q$name-exact-$mode.glb" "$T/q$name-$mode"
+    check "quantized-$name --draco $mode: every value but NORMAL as the input's" \
+      $SAME "$T/q$name-in_0.attr.json" "$T/q$name-${mode}_0.attr.json"
+    check "quantized-$name --draco $mode: NORMAL keeps its integer type" python3 -c "import json, sys
+t = [[a['data_type'] for a in json.load(open(f))['attributes'] if a['type'] == 1] for f in sys.argv[1:]]
+sys.exit(t[0] != t[1] or t[0][0] == 9)" "$T/q$name-in_0.attr.json" "$T/q$name-${mode}_0.attr.json"
+    check "quantized-$name --draco $mode: the normals of its points" \
+      $GLTFCHECK drcnormals "$T/q$name-${mode}_0.json" "$VNC" mwa "$tolerance"
+  done
+  check "quantized-$name --draco off: accessor types kept" \
+    python3 - "$HERE/gltf" "$in" "$T/q$name-exact-off.glb" <<'EOF'
+import sys
+sys.path.insert(0, sys.argv[1])
+import gltfcheck
+def types(path):
+    _, doc, _ = gltfcheck.load(path)
+    a = doc["meshes"][0]["primitives"][0]["attributes"]
+    return {k: (doc["accessors"][v]["componentType"], doc["accessors"][v].get("normalized", False)) for k, v in a.items()}
+sys.exit(types(sys.argv[2]) != types(sys.argv[3]))
+EOF
+  $GLTFCHECK prims "$T/q$name-exact-off.glb" "$T/q$name-off"
+  check "quantized-$name --draco off: the stored positions and triangles" \
+    $COMPARE "$T/q$name-in_0.json" "$T/q$name-off_0.off" 30
+  check "quantized-$name --draco off: the normals" \
+    $GLTFCHECK ownnormals "$T/q$name-exact-off.glb" "$VNC" mwa "$tolerance"
+done
+# --draco on over KHR_mesh_quantization's int8 normals: Draco 1.5.5 predicted
+# them from the positions at levels 7 to 9, and (0, 0, 127) came back as (4, 4, 5).
+run "$VNC" "$HERE/data/gltf/quantized.glb" "$T/quantized-on.glb" --draco on --no-weld -m mwa -q
+check "quantized.glb --draco on: stream" streams "$T/quantized-on.glb" "$T/quantized-on"
+check "quantized.glb --draco on: its normals" $GLTFCHECK drcnormals "$T/quantized-on_0.json" "$VNC" mwa 1
+
+# Accessor counts that are not the decoded ones (valid: loaders use the
+# decoded data; Cesium's DracoCompressed/CesiumMilkTruck.gltf says 1856
+# points, its stream has 1886): decoded-count.gltf's accessors say 80, its
+# sphere stream has 86 points. Before, every mode refused it. The output's
+# accessors say what the output holds (with --draco off, the validator
+# checks them against their bufferViews).
+DC=$DG/decoded-count.gltf
+check "decoded count: input stream" streams "$DC" "$T/dc-in"
+for mode in keep off on; do
+  for opts in "" "--crease-angle 30"; do
+    check "decoded count --draco $mode $opts: valid" converts "$DC" "dc${opts//[ -]/}" "$mode" $opts
+  done
+  check "decoded count --draco $mode --no-weld: valid" converts "$DC" dc-exact "$mode" --no-weld -m mwa
+done
+$GLTFCHECK prims "$T/dc-exact-off.glb" "$T/dc-off"
+check "decoded count --draco off: the stream's points and triangles" $COMPARE "$T/dc-in_0.json" "$T/dc-off_0.off" 30
+check "decoded count --draco off: the normals" $GLTFCHECK ownnormals "$T/dc-exact-off.glb" "$VNC" mwa 0.001
+# counts FILE STREAM_JSON: FILE's first primitive's accessors count the
+# points and corners STREAM_JSON (decode.mjs) has.
+counts() {
+  python3 - "$HERE/gltf" "$@" <<'PY'
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import gltfcheck
+_, doc, _ = gltfcheck.load(sys.argv[2])
+stream = json.load(open(sys.argv[3]))
+prim = doc["meshes"][0]["primitives"][0]
+got = sorted({doc["accessors"][v]["count"] for v in prim["attributes"].values()}), doc["accessors"][prim["indices"]]["count"]
+want = [stream["points"]], 3 * stream["triangles"]
+sys.exit(0 if got == want else "%s != %s" % (got, want))
+PY
+}
+for mode in keep on; do
+  check "decoded count --draco $mode: stream" streams "$T/dc-exact-$mode.glb" "$T/dc-$mode"
+  check "decoded count --draco $mode: the input's points and triangles" $COMPARE "$T/dc-in_0.json" "$T/dc-${mode}_0.json" 30
+  check "decoded count --draco $mode: the normals of its points" $GLTFCHECK drcnormals "$T/dc-${mode}_0.json" "$VNC" mwa 1
+  check "decoded count --draco $mode: accessor counts are the stream's" counts "$T/dc-exact-$mode.glb" "$T/dc-${mode}_0.json"
+  check "decoded count --draco $mode --crease-angle 30: stream" streams "$T/dccreaseangle30-$mode.glb" "$T/dcc-$mode"
+  check "decoded count --draco $mode --crease-angle 30: accessor counts are the stream's" \
+    counts "$T/dccreaseangle30-$mode.glb" "$T/dcc-${mode}_0.json"
+done
+check "decoded count --draco off: accessor counts are the stream's" counts "$T/dc-exact-off.glb" "$T/dc-in_0.json"
+
 finish

@@ -30,6 +30,25 @@
 #include <string>
 #include <vector>
 
+/* A geometry copied into Draco's mesh, with how to quantize each float
+ * attribute: what vn_drc_encoder_new makes and vn_drc_encoder_encode encodes. */
+struct vn_drc_encoder {
+	draco::Mesh mesh;
+	/* Draco attribute id, the attribute (its data not kept), whether it is
+	 * quantized on its own grid. */
+	struct quantized {
+		int id;
+		vn_drc_attribute a;
+		bool on_grid;
+	};
+	std::vector<quantized> quantize;
+	/* Integer NORMAL attributes: Draco 1.5.5 predicts a NORMAL from the
+	 * positions below speed 4 in a way only its octahedral float normals
+	 * survive (an int8 normal (0, 0, 127) decodes as (4, 4, 5)); they get
+	 * difference prediction, lossless. */
+	std::vector<int> integer_normals;
+};
+
 namespace vn_drc {
 
 static_assert(int(vn_drc_position) == int(draco::GeometryAttribute::POSITION) &&
@@ -223,13 +242,15 @@ static vn_io_result decode(const void* data, size_t size, const char* name, vn_d
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: a Draco point cloud, not a mesh", name);
 	if (kind.value() != draco::TRIANGULAR_MESH)
 		return vn_io_fail(error, vn_io_error_parse, "%s: not a Draco mesh", name);
+	/* Read first: Draco's decoder needs several times the decoded mesh,
+	 * which is then not in memory yet. */
+	const auto found = quantizations(data, size);
 	draco::Decoder decoder;
 	auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
 	if (!decoded.ok())
 		return vn_io_fail(error, vn_io_error_parse, "%s: corrupt Draco stream (%s)", name,
 		                  decoded.status().error_msg());
 	const draco::Mesh& mesh = *decoded.value();
-	const auto found = quantizations(data, size);
 
 	g->point_count = mesh.num_points();
 	g->triangle_count = mesh.num_faces();
@@ -357,11 +378,9 @@ static std::string unquantizable(const vn_drc_attribute& a, size_t points)
 	return "";
 }
 
-vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const char* name, std::vector<char>* bytes,
-                    vn_io_error* error)
+/* Checks g and copies it into e->mesh. */
+static vn_io_result prepare(const vn_drc_geometry* g, const char* name, vn_drc_encoder* e, vn_io_error* error)
 {
-	if (level < 0 || level > 10)
-		return vn_io_fail(error, vn_io_error_unsupported, "%s: compression level %d is not 0 to 10", name, level);
 	if (g->point_count > UINT32_MAX / 2)
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: too many points for Draco", name);
 	/* Draco 1.5.5's decoders refuse such a stream (sequential connectivity):
@@ -370,8 +389,9 @@ vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const 
 		return vn_io_fail(error, vn_io_error_unsupported,
 		                  "%s: %zu points and %zu triangles: Draco cannot store more points than 3 per triangle "
 		                  "(remove the unused vertices)", name, g->point_count, g->triangle_count);
-	draco::Mesh mesh;
+	draco::Mesh& mesh = e->mesh;
 	mesh.set_num_points(static_cast<uint32_t>(g->point_count));
+	mesh.SetNumFaces(g->triangle_count);
 	for (size_t t = 0; t < g->triangle_count; ++t) {
 		draco::Mesh::Face face;
 		for (int k = 0; k < 3; ++k) {
@@ -381,9 +401,8 @@ vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const 
 				                  v, g->point_count);
 			face[k] = draco::PointIndex(v);
 		}
-		mesh.AddFace(face);
+		mesh.SetFace(draco::FaceIndex(uint32_t(t)), face);
 	}
-	std::vector<std::pair<int, const vn_drc_attribute*>> quantize; // Draco attribute id, attribute
 	for (size_t i = 0; i < g->attribute_count; ++i) {
 		const vn_drc_attribute& a = g->attributes[i];
 		const draco::DataType type = draco_type(a.component_type);
@@ -415,10 +434,17 @@ vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const 
 		const int id = mesh.AddAttribute(ga, true, static_cast<uint32_t>(g->point_count));
 		draco::PointAttribute* pa = mesh.attribute(id);
 		pa->set_unique_id(a.unique_id); // AddAttribute numbers them 0, 1, ...
-		for (size_t p = 0; p < g->point_count; ++p)
-			pa->SetAttributeValue(draco::AttributeValueIndex(uint32_t(p)), static_cast<const char*>(a.data) + n * p);
-		if (type == draco::DT_FLOAT32 && a.quantization_bits > 0)
-			quantize.emplace_back(id, &a);
+		if (g->point_count)
+			pa->buffer()->Write(0, a.data, n * g->point_count);
+		if (a.semantic == vn_drc_normal && type != draco::DT_FLOAT32)
+			e->integer_normals.push_back(id);
+		/* A float attribute decoded from a grid is quantized on it again
+		 * (same integers, same decoded values) when its bits did not change. */
+		if (type == draco::DT_FLOAT32 && a.quantization_bits > 0) {
+			vn_drc_encoder::quantized q{id, a, on_grid(a, g->point_count)};
+			q.a.data = nullptr;
+			e->quantize.push_back(q);
+		}
 	}
 	/* The metadata, with the attribute metadata of the unique ids kept
 	 * (AddAttributeMetadata files it under the attribute's unique id). */
@@ -430,23 +456,27 @@ vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const 
 			        int32_t(mesh.attribute(id)->unique_id())))
 				mesh.AddAttributeMetadata(id, std::unique_ptr<draco::AttributeMetadata>(new draco::AttributeMetadata(*m)));
 	}
-	/* A float attribute decoded from a grid is quantized on it again (same
-	 * integers, same decoded values) when its bits did not change. */
-	std::vector<bool> explicit_grid;
-	for (const auto& q : quantize)
-		explicit_grid.push_back(on_grid(*q.second, g->point_count));
+	return vn_io_success;
+}
+
+/* Encodes e->mesh into *bytes. */
+static vn_io_result run(const vn_drc_encoder& e, int level, bool keep_order, const char* name, std::vector<char>* bytes,
+                        vn_io_error* error)
+{
+	if (level < 0 || level > 10)
+		return vn_io_fail(error, vn_io_error_unsupported, "%s: compression level %d is not 0 to 10", name, level);
 	/* Levels below 10 pick edgebreaker, which splits non-manifold vertices
 	 * and drops degenerate triangles; the sequential method keeps every point
 	 * and triangle, so it is the fallback when edgebreaker changed a count. */
 	for (const bool sequential : {level == 10 || keep_order, true}) {
-		draco::ExpertEncoder encoder(mesh);
-		for (size_t i = 0; i < quantize.size(); ++i) {
-			const vn_drc_attribute& a = *quantize[i].second;
-			if (explicit_grid[i])
-				set_grid(&encoder, quantize[i].first, a);
+		draco::ExpertEncoder encoder(e.mesh);
+		for (const vn_drc_encoder::quantized& q : e.quantize)
+			if (q.on_grid)
+				set_grid(&encoder, q.id, q.a);
 			else
-				encoder.SetAttributeQuantization(quantize[i].first, a.quantization_bits);
-		}
+				encoder.SetAttributeQuantization(q.id, q.a.quantization_bits);
+		for (const int id : e.integer_normals)
+			encoder.SetAttributePredictionScheme(id, draco::PREDICTION_DIFFERENCE);
 		encoder.SetSpeedOptions(10 - level, 10 - level);
 		if (sequential)
 			encoder.SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);
@@ -461,11 +491,19 @@ vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const 
 		draco::DecoderBuffer check;
 		check.Init(bytes->data(), bytes->size());
 		auto decoded = draco::Decoder().DecodeMeshFromBuffer(&check);
-		if (decoded.ok() && decoded.value()->num_points() == g->point_count &&
-		    decoded.value()->num_faces() == g->triangle_count)
+		if (decoded.ok() && decoded.value()->num_points() == e.mesh.num_points() &&
+		    decoded.value()->num_faces() == e.mesh.num_faces())
 			break;
 	}
 	return vn_io_success;
+}
+
+vn_io_result encode(const vn_drc_geometry* g, int level, bool keep_order, const char* name, std::vector<char>* bytes,
+                    vn_io_error* error)
+{
+	vn_drc_encoder e;
+	const vn_io_result r = prepare(g, name, &e, error);
+	return r != vn_io_success ? r : run(e, level, keep_order, name, bytes, error);
 }
 
 } // namespace vn_drc
@@ -505,9 +543,37 @@ vn_io_result vn_drc_encode(const vn_drc_geometry* g, int compression_level, int 
 {
 	*data = nullptr;
 	*size = 0;
+	vn_drc_encoder* e;
+	vn_io_result r = vn_drc_encoder_new(g, name, &e, error);
+	if (r == vn_io_success)
+		r = vn_drc_encoder_encode(e, compression_level, keep_order, name, data, size, error);
+	vn_drc_encoder_free(e);
+	return r;
+}
+
+vn_io_result vn_drc_encoder_new(const vn_drc_geometry* g, const char* name, vn_drc_encoder** out, vn_io_error* error)
+{
+	*out = nullptr;
+	try {
+		std::unique_ptr<vn_drc_encoder> e(new vn_drc_encoder);
+		const vn_io_result r = prepare(g, name, e.get(), error);
+		if (r == vn_io_success)
+			*out = e.release();
+		return r;
+	} catch (const std::bad_alloc&) {
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+	}
+}
+
+vn_io_result vn_drc_encoder_encode(const vn_drc_encoder* e, int compression_level, int keep_order, const char* name,
+                                   void** data, size_t* size, vn_io_error* error)
+{
+	*data = nullptr;
+	*size = 0;
 	try {
 		std::vector<char> bytes;
-		const vn_io_result r = encode(g, compression_level, keep_order != 0, name, &bytes, error);
+		const vn_io_result r =
+		    run(*e, compression_level, keep_order != 0, name, &bytes, error);
 		if (r != vn_io_success)
 			return r;
 		if (!(*data = std::malloc(bytes.size() + 1)))
@@ -518,6 +584,11 @@ vn_io_result vn_drc_encode(const vn_drc_geometry* g, int compression_level, int 
 	} catch (const std::bad_alloc&) {
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	}
+}
+
+void vn_drc_encoder_free(vn_drc_encoder* e)
+{
+	delete e;
 }
 
 void vn_drc_default_options(vn_drc_options* o)

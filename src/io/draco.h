@@ -130,6 +130,17 @@ vn_io_result vn_drc_decode(const void* data, size_t size, const char* name, vn_d
 vn_io_result vn_drc_encode(const vn_drc_geometry* g, int compression_level, int keep_order, const char* name,
                            void** data, size_t* size, vn_io_error* error);
 
+/* vn_drc_encode in two steps, so that the caller can free g's data before
+ * Draco's encoder allocates its tables (several times the geometry's size):
+ * vn_drc_encoder_new checks g (as vn_drc_encode) and copies it; g is not
+ * used after it returns. vn_drc_encoder_encode encodes that copy as
+ * vn_drc_encode does. vn_drc_encoder_free frees it; NULL is fine. */
+typedef struct vn_drc_encoder vn_drc_encoder;
+vn_io_result vn_drc_encoder_new(const vn_drc_geometry* g, const char* name, vn_drc_encoder** encoder, vn_io_error* error);
+vn_io_result vn_drc_encoder_encode(const vn_drc_encoder* encoder, int compression_level, int keep_order, const char* name,
+                                   void** data, size_t* size, vn_io_error* error);
+void vn_drc_encoder_free(vn_drc_encoder* encoder);
+
 /* The face and point counts a Draco stream's connectivity header declares,
  * read as Draco 1.5.5's mesh decoders read them for each bitstream version
  * they accept (1.0 to 2.2; edgebreaker and sequential): *faces and

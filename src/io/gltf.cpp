@@ -49,20 +49,6 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 		if (options->draco == vn_gltf_draco_off)
 			decompress_draco(d);
 		std::vector<primitive> prims = triangle_primitives(d, &st);
-		if (options->weld_mesh && !options->no_weld) {
-			for (size_t i = 0; i < prims.size();) {
-				std::vector<primitive*> group;
-				size_t m = prims[i].mesh;
-				for (; i < prims.size() && prims[i].mesh == m; ++i)
-					group.push_back(&prims[i]);
-				compute_group(group, *options, st);
-			}
-		} else {
-			for (primitive& p : prims) {
-				std::vector<primitive*> group = {&p};
-				compute_group(group, *options, st);
-			}
-		}
 		if (options->drop_tangents)
 			for (const primitive& p : prims)
 				if (p.tangent) {
@@ -76,7 +62,21 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 							if (target.is_object())
 								target.erase("TANGENT");
 				}
-		write_normals(d, prims, *options, st);
+		/* Each group written as soon as computed: what it held is then freed. */
+		normals_writer writer(d, *options, st);
+		for (size_t i = 0; i < prims.size();) {
+			std::vector<primitive*> group;
+			const size_t m = prims[i].mesh;
+			do
+				group.push_back(&prims[i++]);
+			while (options->weld_mesh && !options->no_weld && i < prims.size() && prims[i].mesh == m);
+			compute_group(group, *options, st);
+			for (primitive* p : group)
+				writer.write(*p);
+		}
+		writer.finish();
+		/* What reading and computing held is not needed to write the file. */
+		std::vector<primitive>().swap(prims);
 		write_meshopt(d, options->meshopt, st);
 		std::string unknown;
 		prune(d, before, st, &unknown);

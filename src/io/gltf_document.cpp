@@ -561,19 +561,18 @@ void set_bounds(json& j, const bytes& data, size_t stride, const accessor& a, si
 	set_bounds(j, lo, hi, a.component);
 }
 
-size_t append_bytes(document& d, size_t b, const bytes& data)
+size_t append_bytes(document& d, size_t b, bytes data)
 {
 	buffer& to = d.buffers[b];
-	to.tail.resize((to.tail.size() + 3) / 4 * 4, 0);
-	const size_t offset = to.tail_start() + to.tail.size();
-	to.tail.insert(to.tail.end(), data.begin(), data.end());
+	const size_t offset = (to.tail_size() + 3) / 4 * 4;
+	to.tail.emplace_back(offset, std::move(data));
 	d.j["buffers"][b]["byteLength"] = to.total();
-	return offset;
+	return to.tail_start() + offset;
 }
 
 /* Appends data as a new bufferView at the end of the last buffer (in a
  * GLB, the BIN chunk) and returns its index. stride, target: 0 for none. */
-size_t append_view(document& d, const bytes& data, size_t stride, int target)
+size_t append_view(document& d, bytes data, size_t stride, int target)
 {
 	/* The last buffer with data, but in a GLB the BIN chunk's (buffer 0
 	 * without uri); a new one when there is none. */
@@ -590,10 +589,10 @@ size_t append_view(document& d, const bytes& data, size_t stride, int target)
 	--b;
 	if (d.glb && !d.buffers[0].absent && !d.j["buffers"][0].contains("uri"))
 		b = 0;
-	const size_t offset = append_bytes(d, b, data);
+	const size_t length = data.size(), offset = append_bytes(d, b, std::move(data));
 	if (!d.j.contains("bufferViews"))
 		d.j["bufferViews"] = json::array();
-	json view = {{"buffer", b}, {"byteOffset", offset}, {"byteLength", data.size()}};
+	json view = {{"buffer", b}, {"byteOffset", offset}, {"byteLength", length}};
 	if (stride)
 		view["byteStride"] = stride;
 	if (target)

@@ -9,6 +9,7 @@
 #ifndef VN_IO_GLTF_DOCUMENT_H
 #define VN_IO_GLTF_DOCUMENT_H
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -38,7 +39,9 @@ inline std::shared_ptr<unsigned char> block(size_t n)
 
 /* A buffer's bytes: `size` bytes at `base`, inside `owner` (a malloc'ed
  * block: for a GLB's BIN chunk, the whole file as read), then what vn
- * appends, from tail_start() on. No view straddles the two parts. A buffer
+ * appends, from tail_start() on: a block per appended view, at its offset
+ * from tail_start() (one growing block would be copied as it grows, and
+ * hold up to twice its size). No view straddles two parts. A buffer
  * without data (no uri, and not a GLB's BIN chunk: a placeholder, or a
  * meshopt fallback) is `absent`: it is written back as it was, without
  * data. Its meshopt views' decoded data fill it in memory (base and size;
@@ -49,12 +52,18 @@ struct buffer {
 	unsigned char* base = nullptr;
 	size_t size = 0;
 	bool absent = false;
-	bytes tail;
+	std::vector<std::pair<size_t, bytes>> tail;
 	size_t tail_start() const { return (size + 3) / 4 * 4; }
-	size_t total() const { return tail.empty() ? size : tail_start() + tail.size(); }
+	size_t tail_size() const { return tail.empty() ? 0 : tail.back().first + tail.back().second.size(); }
+	size_t total() const { return tail.empty() ? size : tail_start() + tail_size(); }
 	unsigned char* at(size_t offset) const
 	{
-		return offset < size ? base + offset : const_cast<unsigned char*>(tail.data()) + (offset - tail_start());
+		if (offset < size)
+			return base + offset;
+		offset -= tail_start();
+		auto block = std::upper_bound(tail.begin(), tail.end(), offset,
+		                              [](size_t o, const std::pair<size_t, bytes>& b) { return o < b.first; }) - 1;
+		return const_cast<unsigned char*>(block->second.data()) + (offset - block->first);
 	}
 };
 
@@ -219,9 +228,9 @@ void set_bounds(json& a, const std::vector<double>& lo, const std::vector<double
 void set_bounds(json& j, const bytes& data, size_t stride, const accessor& a, size_t count);
 
 /* data appended to buffer b (at a multiple of 4): its offset. */
-size_t append_bytes(document& d, size_t b, const bytes& data);
+size_t append_bytes(document& d, size_t b, bytes data);
 /* A new bufferView holding data, a new accessor: their indices. */
-size_t append_view(document& d, const bytes& data, size_t stride, int target);
+size_t append_view(document& d, bytes data, size_t stride, int target);
 long long append_accessor(document& d, json a);
 
 /* ------------------------------------------------------------------ meshopt (gltf_meshopt.cpp) */
@@ -283,9 +292,11 @@ struct pieces {
 	void add(const buffer& b, bool pad)
 	{
 		add(b.base, b.size);
-		if (!b.tail.empty()) {
-			add(std::string(b.tail_start() - b.size, '\0'));
-			add(b.tail.data(), b.tail.size());
+		size_t at = b.size;
+		for (const auto& block : b.tail) {
+			add(std::string(b.tail_start() + block.first - at, '\0'));
+			add(block.second.data(), block.second.size());
+			at = b.tail_start() + block.first + block.second.size();
 		}
 		if (pad)
 			add(std::string((4 - b.total() % 4) % 4, '\0'));

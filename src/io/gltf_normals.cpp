@@ -26,6 +26,22 @@ static vec3s read_vec3(const document& d, const accessor& a)
 	return vec3s(read_accessor(d, a));
 }
 
+/* A Draco attribute's n 3-vectors as its accessor a reads them: a view of
+ * float32 data, else the integers dequantized through a's component type
+ * and normalized flag (KHR_mesh_quantization), as read_vec3 reads them. */
+static vec3s draco_vec3(const vn_drc_attribute& v, const accessor& a, size_t n)
+{
+	if (v.component_type == vn_drc_float32)
+		return vec3s(v.data, n, 0, vn_scalar_float32);
+	std::vector<double> values(3 * n);
+	const size_t size = vn_io_component_size(v.component_type);
+	for (size_t i = 0; i < values.size(); ++i) {
+		const double stored = read_component((const unsigned char*)v.data + i * size, v.component_type, false);
+		values[i] = a.normalized ? normalized_value(stored, a.component) : stored;
+	}
+	return vec3s(std::move(values));
+}
+
 /* The vertex order of indices accessor ia (each checked < n). */
 static corners read_indices(const document& d, const accessor& ia, size_t n, bool whole_triangles, const std::string& what)
 {
@@ -79,6 +95,7 @@ static void check_finite(const vec3s& positions, const std::string& what)
 std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 {
 	std::vector<primitive> out;
+	draco_cache decoded;
 	auto meshes = d.j.find("meshes");
 	if (meshes == d.j.end())
 		return out;
@@ -113,9 +130,9 @@ std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 			r.position = get_int(attributes, "POSITION", 0, what + ".attributes");
 			r.tangent = attributes.contains("TANGENT");
 			if (const json* ext = draco_extension(prim)) {
-				r.draco = decode_draco(d, prim, *ext, what);
+				r.draco = decode_draco(d, prim, *ext, what, &decoded);
 				const vn_drc_geometry& g = r.draco->g;
-				r.positions = vec3s(r.draco->by_name.at("POSITION")->data, g.point_count, 0, vn_scalar_float32);
+				r.positions = draco_vec3(*r.draco->by_name.at("POSITION"), get_accessor(d, r.position), g.point_count);
 				r.triangles = corners(g.indices, 3 * g.triangle_count);
 			} else {
 				accessor pa = get_accessor(d, r.position);
@@ -131,7 +148,7 @@ std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 				if (r.draco && r.draco->by_name.count("NORMAL"))
 					compressed = r.draco->by_name.at("NORMAL");
 				if (compressed) {
-					r.input_normals = vec3s(compressed->data, n, 0, vn_scalar_float32);
+					r.input_normals = draco_vec3(*compressed, get_accessor(d, r.normal), n);
 				} else {
 					accessor na = get_accessor(d, r.normal);
 					if (na.components != 3 || (size_t)na.count != n)
@@ -246,8 +263,10 @@ struct group_plan {
 /* The plan's normals for input positions q: one unit vector per output
  * vertex (input vertices, then split ones), 3 floats each. A vertex no face
  * contributes to gets its input normal when that is a unit vector, else +Z;
- * *zeros counts them. */
-static std::vector<float> plan_normals(const group_plan& g, const vn_positions& q, size_t* zeros)
+ * *zeros counts them. computed: q's corner normals when the caller has
+ * them (splitting needed them first), else null. */
+static std::vector<float> plan_normals(const group_plan& g, const vn_positions& q, size_t* zeros,
+                                       const std::vector<float>* computed)
 {
 	const size_t n = g.n, outputs = n + g.extra_source.size();
 	std::vector<float> out(3 * outputs, 0.0f);
@@ -264,10 +283,14 @@ static std::vector<float> plan_normals(const group_plan& g, const vn_positions& 
 	if (!g.corner_normals) {
 		vertex_normals(out.data());
 	} else {
-		std::vector<float> c(3 * g.corners);
-		const vn_vectors cv = {c.data(), 0, vn_scalar_float32};
-		check(vn_corner_normals(&cv, &q, g.triangles, g.corners, g.method, g.crease,
-		                        g.sharp.empty() ? nullptr : g.sharp.data(), &g.options, nullptr));
+		std::vector<float> own;
+		if (!computed) {
+			own.resize(3 * g.corners);
+			const vn_vectors cv = {own.data(), 0, vn_scalar_float32};
+			check(vn_corner_normals(&cv, &q, g.triangles, g.corners, g.method, g.crease,
+			                        g.sharp.empty() ? nullptr : g.sharp.data(), &g.options, nullptr));
+		}
+		const std::vector<float>& c = computed ? *computed : own;
 		if (!g.corner_output.empty()) {
 			for (size_t k = 0; k < g.corners; ++k)
 				std::copy_n(&c[3 * k], 3, &out[3 * g.corner_output[k]]);
@@ -457,9 +480,10 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 		g.sharp.clear();
 	st.hard_edges += hard;
 	g.corner_normals = o.crease || !g.sharp.empty();
+	std::vector<float> c; /* with a crease angle, the corner normals the split follows */
 	if (o.crease) {
 		g.crease = o.crease_angle;
-		std::vector<float> c(3 * g.corners);
+		c.resize(3 * g.corners);
 		const vn_vectors cv = {c.data(), 0, vn_scalar_float32};
 		check(vn_corner_normals(&cv, &pos, g.triangles, g.corners, g.method, g.crease,
 		                        g.sharp.empty() ? nullptr : g.sharp.data(), &g.options, nullptr));
@@ -467,7 +491,8 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 		st.split_vertices += g.extra_source.size();
 	}
 	size_t zeros = 0;
-	std::vector<float> base = plan_normals(g, pos, &zeros);
+	std::vector<float> base = plan_normals(g, pos, &zeros, o.crease ? &c : nullptr);
+	std::vector<float>().swap(c);
 	st.zero_normals += zeros;
 
 	/* Each primitive's output vertices: its input ones, then its split ones
@@ -485,6 +510,8 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 		primitive& pr = *prims[p];
 		const size_t end = g.extra_source.empty() ? 0 : p + 1 < prims.size() ? g.extra_first[p + 1] : g.extra_source.size();
 		if (end > (g.extra_source.empty() ? 0 : g.extra_first[p])) {
+			pr.split_source.reserve(end - g.extra_first[p]);
+			pr.split_triangles.reserve(pr.triangles.size());
 			for (size_t e = g.extra_first[p]; e < end; ++e)
 				pr.split_source.push_back((uint32_t)(g.extra_source[e] - g.first[p]));
 			for (size_t k = 0; k < pr.triangles.size(); ++k) {
@@ -513,7 +540,7 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 		}
 		size_t ignored = 0;
 		const vn_positions q = {morphed.data(), g.n, 0, vn_scalar_float64};
-		const std::vector<float> normals = plan_normals(g, q, &ignored);
+		const std::vector<float> normals = plan_normals(g, q, &ignored, nullptr);
 		for (size_t p = 0; p < prims.size(); ++p) {
 			primitive& pr = *prims[p];
 			if (t >= pr.target_positions.size())

@@ -13,28 +13,28 @@
 
 namespace vn_gltf {
 
+double write_unit(unsigned char* p, long long type, double v)
+{
+	if (type == 5126) {
+		const float f = (float)v;
+		memcpy(p, &f, 4);
+		return f;
+	}
+	const double stored = (double)std::lround(std::max(-1.0, std::min(1.0, v)) * (type == 5120 ? 127 : 32767));
+	write_component(p, type, stored);
+	return stored;
+}
+
 /* Writes values (3 per element) over accessor a (float32, or normalized
  * byte/short), and its min/max when it has them. */
 static void overwrite_vec3(document& d, long long index, const accessor& a, const std::vector<float>& values)
 {
 	std::vector<double> lo(3, INFINITY), hi(3, -INFINITY);
+	const size_t size = component_size(a.component);
 	for (size_t i = 0; i < values.size() / 3; ++i) {
 		unsigned char* e = element_at(d, a.data, i);
 		for (size_t c = 0; c < 3; ++c) {
-			double v = values[3 * i + c], stored;
-			if (a.component == 5126) {
-				float f = values[3 * i + c];
-				memcpy(e + 4 * c, &f, 4);
-				stored = f;
-			} else if (a.component == 5120) {
-				int8_t q = (int8_t)std::lround(std::max(-1.0, std::min(1.0, v)) * 127);
-				memcpy(e + c, &q, 1);
-				stored = q;
-			} else {
-				int16_t q = (int16_t)std::lround(std::max(-1.0, std::min(1.0, v)) * 32767);
-				memcpy(e + 2 * c, &q, 2);
-				stored = q;
-			}
+			const double stored = write_unit(e + size * c, a.component, values[3 * i + c]);
 			lo[c] = std::min(lo[c], stored);
 			hi[c] = std::max(hi[c], stored);
 		}
@@ -72,7 +72,7 @@ static long long put_vec3(document& d, long long index, const std::vector<float>
 	bytes data(values.size() * sizeof(float));
 	memcpy(data.data(), values.data(), data.size());
 	++st.appended_accessors;
-	return append_accessor(d, json{{"bufferView", append_view(d, data, 0, 34962)},
+	return append_accessor(d, json{{"bufferView", append_view(d, std::move(data), 0, 34962)},
 	                               {"componentType", 5126},
 	                               {"count", values.size() / 3},
 	                               {"type", "VEC3"}});
@@ -101,7 +101,7 @@ static long long split_accessor(document& d, long long index, const primitive& p
 	set_bounds(j, data, stride, a, p.output_vertices());
 	j.erase("sparse");
 	j.erase("byteOffset");
-	j["bufferView"] = append_view(d, data, stride == a.element ? 0 : stride, 34962);
+	j["bufferView"] = append_view(d, std::move(data), stride == a.element ? 0 : stride, 34962);
 	j["count"] = p.output_vertices();
 	return append_accessor(d, j);
 }
@@ -133,7 +133,7 @@ static void write_split(document& d, const primitive& p)
 		return;
 	bytes data(p.split_triangles.size() * 4);
 	memcpy(data.data(), p.split_triangles.data(), data.size());
-	prim["indices"] = append_accessor(d, json{{"bufferView", append_view(d, data, 0, 34963)},
+	prim["indices"] = append_accessor(d, json{{"bufferView", append_view(d, std::move(data), 0, 34963)},
 	                                          {"componentType", 5125},
 	                                          {"count", p.split_triangles.size()},
 	                                          {"type", "SCALAR"}});
@@ -141,33 +141,36 @@ static void write_split(document& d, const primitive& p)
 		prim["mode"] = 4; /* strips and fans become triangle lists */
 }
 
-/* Writes every primitive's normals and morph targets' NORMAL displacements
- * (and, for split primitives, copies of all their vertex data). */
-void write_normals(document& d, std::vector<primitive>& prims, const vn_gltf_options& o, vn_gltf_stats& st)
+/* Writes p's normals and morph targets' NORMAL displacements (and, when
+ * split, copies of all its vertex data). */
+void normals_writer::write(primitive& p)
 {
-	std::map<long long, const std::vector<float>*> written;
-	std::map<int, quantized_normals> quantized;
-	for (primitive& p : prims) {
-		const bool split = !p.split_source.empty();
-		if (split)
-			write_split(d, p);
-		if (p.draco) {
-			write_draco(d, p, o, st, quantized);
-		} else {
-			const long long normal = put_vec3(d, split ? -1 : p.normal, p.normals, written, st);
-			mesh_primitive(d, p)["attributes"]["NORMAL"] = normal;
-		}
-		/* Morph targets are never Draco-compressed. */
-		for (size_t t = 0; t < p.target_normals.size(); ++t)
-			if (!p.target_normals[t].empty()) {
-				const long long normal = put_vec3(d, split ? -1 : p.target_normal[t], p.target_normals[t], written, st);
-				mesh_primitive(d, p)["targets"][t]["NORMAL"] = normal;
-			}
-		if (!p.draco && o.draco == vn_gltf_draco_on)
-			compress_draco(d, p, o, st, quantized);
+	const bool split = !p.split_source.empty(), compressed = p.draco != nullptr; /* write_draco releases p */
+	if (split)
+		write_split(d, p);
+	if (compressed) {
+		write_draco(d, p, o, st, draco);
+	} else {
+		const long long normal = put_vec3(d, split ? -1 : p.normal, p.normals, written, st);
+		mesh_primitive(d, p)["attributes"]["NORMAL"] = normal;
 	}
+	/* Morph targets are never Draco-compressed. */
+	for (size_t t = 0; t < p.target_normals.size(); ++t)
+		if (!p.target_normals[t].empty()) {
+			const long long normal = put_vec3(d, split ? -1 : p.target_normal[t], p.target_normals[t], written, st);
+			mesh_primitive(d, p)["targets"][t]["NORMAL"] = normal;
+		}
+	if (!compressed && o.draco == vn_gltf_draco_on)
+		compress_draco(d, p, o, st, draco);
+	if (split) /* its normals went into an accessor of its own: nothing compares them */
+		std::vector<float>().swap(p.normals);
+	p.release();
+}
+
+void normals_writer::finish()
+{
 	if (o.draco_normal_error)
-		normal_errors(quantized, o, st);
+		normal_errors(draco.quantized, o, st);
 }
 
 } // namespace vn_gltf

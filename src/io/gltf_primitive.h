@@ -14,6 +14,7 @@
 #include <cstring>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -114,6 +115,20 @@ struct primitive {
 	 * above are views into it. */
 	std::shared_ptr<const draco_mesh> draco;
 	size_t vertices() const { return positions.size(); }
+	/* Frees what only computing and writing the normals need (the
+	 * geometry, the Draco data unless another primitive shares them,
+	 * input normals, split and morphed positions) once p is written: the
+	 * normals stay, for primitives sharing a NORMAL accessor to compare. */
+	void release()
+	{
+		positions = vec3s();
+		triangles = corners();
+		input_normals = vec3s();
+		std::vector<std::vector<double>>().swap(target_positions);
+		std::vector<uint32_t>().swap(split_source);
+		std::vector<uint32_t>().swap(split_triangles);
+		draco.reset();
+	}
 	size_t output_vertices() const { return vertices() + split_source.size(); }
 	/* The triangles on the output vertices. */
 	corners output_triangles() const
@@ -135,21 +150,33 @@ struct quantized_normals {
 	std::vector<uint32_t> indices;
 };
 
+/* What writing Draco primitives gathers: the --stats data per normal bits
+ * (with --stats only), and the POSITION accessors given the bounds of
+ * positions decoded anew (primitives may share one, each with its own data). */
+struct draco_written {
+	std::map<int, quantized_normals> quantized;
+	std::set<long long> bounded;
+};
+
+/* Decoded Draco data by extension object (its JSON text). */
+using draco_cache = std::map<std::string, std::shared_ptr<const draco_mesh>>;
+
 /* ------------------------------------------------------------------ Draco (gltf_draco.cpp) */
 
-/* Primitive prim's Draco data decoded and checked; see gltf_draco.cpp. */
-std::shared_ptr<draco_mesh> decode_draco(const document& d, const json& prim, const json& ext, const std::string& what);
+/* Primitive prim's Draco data decoded (through cache, when not null) and
+ * checked; see gltf_draco.cpp. */
+std::shared_ptr<const draco_mesh> decode_draco(const document& d, const json& prim, const json& ext, const std::string& what,
+                                               draco_cache* cache);
 
 /* --draco off: every Draco-compressed primitive written uncompressed. */
 void decompress_draco(document& d);
 
-/* Draco primitive p encoded again with its new normals. */
-void write_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_gltf_stats& st,
-                 std::map<int, quantized_normals>& quantized);
+/* Draco primitive p encoded again with its new normals; p is released,
+ * its normals too. */
+void write_draco(document& d, primitive& p, const vn_gltf_options& o, vn_gltf_stats& st, draco_written& w);
 
 /* --draco on: p Draco-compressed. */
-void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_gltf_stats& st,
-                    std::map<int, quantized_normals>& quantized);
+void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, vn_gltf_stats& st, draco_written& w);
 
 /* --stats: the angle normal quantization adds, per normal bits. */
 void normal_errors(const std::map<int, quantized_normals>& quantized, const vn_gltf_options& o, vn_gltf_stats& st);
@@ -164,8 +191,23 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 
 /* ------------------------------------------------------------------ into the document (gltf_normals_write.cpp) */
 
-/* Writes every primitive's normals and morph targets' NORMAL displacements. */
-void write_normals(document& d, std::vector<primitive>& prims, const vn_gltf_options& o, vn_gltf_stats& st);
+/* v (a unit vector's component) stored at p as a float32, or as a
+ * normalized int8 or int16 (type); returns the stored value. */
+double write_unit(unsigned char* p, long long type, double v);
+
+/* Writes primitives' normals and morph targets' NORMAL displacements, in
+ * the primitives' order, each released once written; finish() after the
+ * last. */
+struct normals_writer {
+	document& d;
+	const vn_gltf_options& o;
+	vn_gltf_stats& st;
+	std::map<long long, const std::vector<float>*> written; /* NORMAL accessors written over, with what */
+	draco_written draco;
+	normals_writer(document& doc, const vn_gltf_options& options, vn_gltf_stats& stats) : d(doc), o(options), st(stats) {}
+	void write(primitive& p);
+	void finish();
+};
 
 } // namespace vn_gltf
 

@@ -179,8 +179,9 @@ template <typename F> void ranges_in(json& views, size_t b, F f)
 
 /* Packs buffer b to the bytes its bufferViews and the extensions' data
  * cover: overlapping ranges stay together, each keeps its offset modulo 4
- * (what accessor alignment needs), gaps go. A buffer with a malformed range
- * is left as it is. Returns false when nothing is left in b (it can go). */
+ * (what accessor alignment needs), gaps go. The file's part is copied; the
+ * blocks vn appended (a view each) are moved, not copied. A buffer with a
+ * malformed range is left as it is. Returns false when nothing is left in b (it can go). */
 bool pack_buffer(document& d, size_t b)
 {
 	json& views = d.j["bufferViews"];
@@ -211,19 +212,35 @@ bool pack_buffer(document& d, size_t b)
 			merged.back().end = std::max(merged.back().end, r.end);
 		else
 			merged.push_back(r);
-	size_t size = 0;
+	buffer& from = d.buffers[b];
+	size_t size = 0, file_size = 0;
 	for (range& m : merged) {
 		m.to = (size + 3) / 4 * 4 + m.begin % 4;
 		size = m.to + (m.end - m.begin);
+		if (m.end <= from.size)
+			file_size = size;
 	}
 	buffer packed;
-	packed.owner = block(size);
+	packed.owner = block(file_size);
 	packed.base = packed.owner.get();
-	packed.size = size;
-	packed.absent = d.buffers[b].absent; /* a meshopt fallback's decoded data stay unwritten */
-	memset(packed.base, 0, size);
-	for (const range& m : merged)
-		memcpy(packed.base + m.to, d.buffers[b].at(m.begin), m.end - m.begin);
+	packed.size = file_size;
+	packed.absent = from.absent; /* a meshopt fallback's decoded data stay unwritten */
+	memset(packed.base, 0, file_size);
+	for (const range& m : merged) {
+		if (m.end <= from.size) {
+			memcpy(packed.base + m.to, from.at(m.begin), m.end - m.begin);
+			continue;
+		}
+		const size_t offset = m.begin - from.tail_start(), length = m.end - m.begin;
+		auto appended = std::lower_bound(from.tail.begin(), from.tail.end(), offset,
+		                                 [](const std::pair<size_t, bytes>& a, size_t o) { return a.first < o; });
+		bytes data;
+		if (appended != from.tail.end() && appended->first == offset && appended->second.size() == length)
+			data = std::move(appended->second);
+		else
+			data.assign(from.at(m.begin), from.at(m.begin) + length);
+		packed.tail.emplace_back(m.to - packed.tail_start(), std::move(data));
+	}
 	ranges_in(views, b, [&](json& holder) {
 		const size_t begin = holder.contains("byteOffset") ? (size_t)index_or_none(holder, "byteOffset") : 0;
 		/* The last range starting at or before it (sorted, disjoint). */

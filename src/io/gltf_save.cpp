@@ -324,8 +324,8 @@ static void merge_for_glb(document& d)
 		if (from.absent)
 			continue;
 		memcpy(merged.base + start[b], from.base, from.size);
-		if (!from.tail.empty())
-			memcpy(merged.base + start[b] + from.tail_start(), from.tail.data(), from.tail.size());
+		for (const auto& block : from.tail)
+			memcpy(merged.base + start[b] + from.tail_start() + block.first, block.second.data(), block.second.size());
 	}
 	/* ref is holder's buffer index. It is written before byteOffset, whose
 	 * insertion into holder would move ref. */

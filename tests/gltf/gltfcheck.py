@@ -40,6 +40,16 @@
       bufferView (but padding).
   gltfcheck.py bounds FILE
       Every accessor's min/max are its values' exact bounds.
+  gltfcheck.py prims FILE STEM
+      Writes each uncompressed TRIANGLES primitive k as STEM_k.off: its
+      POSITION values as stored (not dequantized) and its triangles.
+  gltfcheck.py ownnormals FILE VNCONVERT METHOD DEGREES
+      Every uncompressed TRIANGLES primitive's NORMAL is within DEGREES of
+      the normal VNCONVERT computes on an OFF of that primitive's own
+      positions and triangles (so no primitive got another's data).
+  gltfcheck.py drcnormals JSON VNCONVERT METHOD DEGREES
+      The same for a Draco mesh decoded by tests/draco/decode.mjs (its
+      normals' directions: integer normals are not scaled by decoders).
 Exit status 0 when the check holds, 1 with one line per problem otherwise.
 """
 import base64
@@ -780,6 +790,61 @@ def cmd_bounds(path):
     return 1 if bad else 0
 
 
+def stored_triangles(path):
+    """(positions as stored, corners, normals as they stand for) of each
+    uncompressed TRIANGLES primitive of the file."""
+    _, doc, buf = load(path)
+    for _, _, prim in primitives(doc):
+        if prim.get("mode", 4) != 4 or "KHR_draco_mesh_compression" in prim.get("extensions", {}):
+            continue
+        a = prim["attributes"]
+        raw = copy.deepcopy(doc)
+        raw["accessors"][a["POSITION"]].pop("normalized", None)
+        normals = accessor_values(doc, buf, a["NORMAL"]) if "NORMAL" in a else None
+        yield accessor_values(raw, buf, a["POSITION"]), triangles(doc, buf, prim), normals
+
+
+def cmd_prims(path, stem):
+    k = 0
+    for positions, corners, _ in stored_triangles(path):
+        with open("%s_%d.off" % (stem, k), "w") as f:
+            f.write("OFF\n%d %d 0\n" % (len(positions), len(corners) // 3))
+            f.writelines("%.17g %.17g %.17g\n" % tuple(p) for p in positions)
+            f.writelines("3 %d %d %d\n" % tuple(corners[i:i + 3]) for i in range(0, len(corners), 3))
+        k += 1
+    return 0 if k else 1
+
+
+def off_normals_agree(what, positions, corners, normals, vnconvert, method, degrees):
+    """Prints and counts the vertices whose normal is more than `degrees`
+    from vnconvert's on the OFF of positions and corners (but those no
+    face contributes to, which get a fallback)."""
+    bad = 0
+    for i, (n, r) in enumerate(zip(normals, vnconvert_normals(vnconvert, method, positions, corners))):
+        if not any(r):
+            continue
+        cosine = sum(x * y for x, y in zip(unit(n), unit(r)))
+        if cosine < math.cos(math.radians(degrees)):
+            print("%s: vertex %d has normal %s, vnconvert computes %s" % (what, i, n, r))
+            bad += 1
+    return bad
+
+
+def cmd_ownnormals(path, vnconvert, method, degrees):
+    bad = 0
+    for k, (positions, corners, normals) in enumerate(stored_triangles(path)):
+        bad += off_normals_agree("%s primitive %d" % (path, k), positions, corners, normals, vnconvert, method, degrees)
+    return 1 if bad else 0
+
+
+def cmd_drcnormals(path, vnconvert, method, degrees):
+    with open(path) as f:
+        d = json.load(f)
+    p, n = d["positions"], d["normals"]
+    return 1 if off_normals_agree(path, [p[i:i + 3] for i in range(0, len(p), 3)], d["indices"],
+                                  [n[i:i + 3] for i in range(0, len(n), 3)], vnconvert, method, degrees) else 0
+
+
 def main(argv):
     if len(argv) == 4 and argv[1] == "drc":
         return cmd_drc(argv[2], argv[3])
@@ -799,6 +864,10 @@ def main(argv):
         return {"flat": cmd_flat, "morphsphere": cmd_morphsphere, "cylinder": cmd_cylinder}[argv[1]](argv[2])
     if len(argv) == 3 and argv[1] in ("scattered", "packed", "bounds"):
         return {"scattered": cmd_scattered, "packed": cmd_packed, "bounds": cmd_bounds}[argv[1]](argv[2])
+    if len(argv) == 4 and argv[1] == "prims":
+        return cmd_prims(argv[2], argv[3])
+    if len(argv) == 6 and argv[1] in ("ownnormals", "drcnormals"):
+        return {"ownnormals": cmd_ownnormals, "drcnormals": cmd_drcnormals}[argv[1]](argv[2], argv[3], argv[4], float(argv[5]))
     if len(argv) == 3 and argv[1] in ("sphere", "shapes"):
         return cmd_sphere(argv[2], shapes=argv[1] == "shapes")
     print(__doc__, file=sys.stderr)
