@@ -132,6 +132,10 @@ check "a point cloud is unsupported" grep -q "point cloud" "$T/stderr"
 # allocate 4.6 GB before noticing) is refused before decoding.
 check_rejected "$VNC" "$HERE/data/draco/hostile-counts.drc" "$T/errors/none.drc" "$T/errors/keep.off"
 check "hostile counts: says why" grep -q "declares 387389207 faces .* in 163 bytes" "$T/stderr"
+# 300 bytes on which libdraco spends seconds before failing (found by
+# fuzzing): refused with libdraco's reason (and decoded once, not twice).
+check_rejected "$VNC" "$HERE/data/draco/slow-attributes.drc" "$T/errors/none.drc" "$T/errors/keep.off"
+check "slow attributes: says why" grep -q "corrupt Draco stream (Failed to decode point attributes.)" "$T/stderr"
 check "no temporary files left" [ "$(ls -A "$T/errors")" = keep.off ]
 # A tetrahedron whose NORMAL is typed POSITION (found by fuzzing): Draco
 # 1.5.5's encoder crashes on two POSITIONs, so .drc output refuses it; glTF
