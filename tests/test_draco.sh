@@ -134,7 +134,7 @@ check_rejected "$VNC" "$HERE/data/draco/hostile-counts.drc" "$T/errors/none.drc"
 check "hostile counts: says why" grep -q "declares 387389207 faces .* in 163 bytes" "$T/stderr"
 # 300 bytes on which libdraco spends seconds before failing (found by
 # fuzzing): refused with libdraco's reason (and decoded once, not twice).
-check_rejected "$VNC" "$HERE/data/draco/slow-attributes.drc" "$T/errors/none.drc" "$T/errors/keep.off"
+check_rejected "$VNC" "$HERE/data/draco/fuzz/slow-attributes.drc" "$T/errors/none.drc" "$T/errors/keep.off"
 check "slow attributes: says why" grep -q "corrupt Draco stream (Failed to decode point attributes.)" "$T/stderr"
 check "no temporary files left" [ "$(ls -A "$T/errors")" = keep.off ]
 # A tetrahedron whose NORMAL is typed POSITION (found by fuzzing): Draco
