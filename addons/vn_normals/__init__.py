@@ -25,9 +25,31 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 
 from . import binding, mesh_io
 
-# The schemes the library offers: (name, description, reference), read at registration.
-_methods = []
-_load_error = ""
+# vn's schemes, in vn_method order: (identifier, label, the library's
+# vn_method_description, vn_method_reference). Kept here so that menus and the
+# Method list never depend on loading the library; the tests check them
+# against the library's own list.
+METHODS = (
+    ("MWE", "Equal weights (MWE)", "mean weighted equally: sum of unit face normals",
+     "Gouraud 1971; Jin et al. 2005 eq. 1"),
+    ("MWA", "Angle weighted (MWA)", "mean weighted by angle: face normals times the corner angle",
+     "Thurmer & Wuthrich 1998; Jin et al. 2005 eq. 2"),
+    ("MWSELR", "Sine and edge length reciprocals (MWSELR)",
+     "mean weighted by sine and edge length reciprocals: sin(a) / (|E||E'|)", "Max 1999; Jin et al. 2005 eq. 4"),
+    ("MWAAT", "Area weighted (MWAAT)", "mean weighted by areas of adjacent triangles: |E x E'|",
+     "Max 1999; Jin et al. 2005 eq. 5"),
+    ("MWELR", "Edge length reciprocals (MWELR)", "mean weighted by edge length reciprocals: 1 / (|E||E'|)",
+     "Max 1999; Jin et al. 2005 eq. 6"),
+    ("MWRELR", "Square root of edge length reciprocals (MWRELR)",
+     "mean weighted by square root of edge length reciprocals: 1 / sqrt(|E||E'|)", "Max 1999; Jin et al. 2005 eq. 7"),
+    ("MEWCSA", "Cotangent weights (MEWCSA)",
+     "mean edge weighted by cotangents of subtended angles (area gradient; sign not corrected)",
+     "Desbrun et al. 1999; Jin et al. 2005 eq. 9"),
+)
+# MEWCSA turns 28.5% of Suzanne's corners by more than 90 degrees.
+_NOT_FOR_SHADING = {"MEWCSA": " Not for shading: it points inward where the surface is concave or saddle-shaped."}
+# Edge attribute listing the edges this add-on marked sharp (and will clear).
+OWN_SHARP = "vn_marked_sharp"
 
 
 def _preferences(context=None):
@@ -38,7 +60,7 @@ def _preferences(context=None):
 
 def _library(context=None):
     prefs = _preferences(context)
-    return binding.load_configured(prefs.library_path if prefs else "")
+    return binding.load_configured(bpy.path.abspath(prefs.library_path) if prefs else "")
 
 
 class VN_AddonPreferences(bpy.types.AddonPreferences):
@@ -55,26 +77,47 @@ class VN_AddonPreferences(bpy.types.AddonPreferences):
         layout = self.layout
         layout.prop(self, "library_path")
         try:
-            lib = binding.load_configured(self.library_path)
+            lib = binding.load_configured(bpy.path.abspath(self.library_path))
             layout.label(text="Using vn %s: %s" % (lib.version, lib.path), icon="CHECKMARK")
         except binding.VnError as e:
             layout.label(text=str(e), icon="ERROR")
 
 
-def _selected_meshes(context):
+def _candidates(context):
     if context.mode == "EDIT_MESH":
         return [o for o in context.objects_in_mode_unique_data if o.type == "MESH"]
     return [o for o in context.selected_objects if o.type == "MESH"]
+
+
+def _not_editable(obj):
+    """Why the object's mesh cannot keep new normals, or "" when it can."""
+    mesh = obj.data
+    if mesh.library is not None:
+        return "its mesh %r is linked from %s (make it local or override it)" % (
+            mesh.name, bpy.path.basename(mesh.library.filepath))
+    return ""
+
+
+def _subsurf_warnings(obj):
+    """Live Subdivision Surface modifiers that throw custom normals away."""
+    return ["%s: modifier %r discards custom normals; tick its Advanced > Use Custom Normals "
+            "(use_custom_normals)" % (obj.name, m.name)
+            for m in obj.modifiers
+            if m.type == "SUBSURF" and m.show_viewport and not m.use_custom_normals]
+
+
+def _method_items():
+    return [(i, label, "%s (%s).%s" % (d, r, _NOT_FOR_SHADING.get(i, ""))) for i, label, d, r in METHODS]
 
 
 class MESH_OT_vn_recompute_normals(bpy.types.Operator):
     """Recompute custom split normals with one of vn's weighting schemes"""
 
     bl_idname = "mesh.vn_recompute_normals"
-    bl_label = "Recompute Normals (vn)"
+    bl_label = "Recompute Normals"
     bl_options = {"REGISTER", "UNDO"}
 
-    # method: an EnumProperty built from the library's schemes in register().
+    method: EnumProperty(name="Method", items=_method_items(), default="MWA", description="Weighting scheme")
     keep_sharp: BoolProperty(
         name="Keep Sharp Edges", default=True,
         description="Marked sharp edges and flat-shaded faces split the normals, as Blender's own normals do")
@@ -89,13 +132,23 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
     weld_distance: FloatProperty(
         name="Weld Distance", subtype="DISTANCE", default=1e-5, min=0.0, precision=6,
         description="Vertices this close in every coordinate count as one")
+    weld_keep_hard: BoolProperty(
+        name="Keep Hard Edges", default=True,
+        description="Weld: vertices whose current normals differ by more than the crease angle stay apart "
+                    "(the hard edges of imported files)")
     selected_only: BoolProperty(
         name="Selected Only", default=False,
         description="Edit mode: change only the corners of selected faces; the others keep their normals")
 
     @classmethod
     def poll(cls, context):
-        return bool(_selected_meshes(context))
+        objects = _candidates(context)
+        why = ("no mesh object selected" if not objects else
+               "" if any(not _not_editable(o) for o in objects) else
+               "linked data: " + _not_editable(objects[0]))
+        if why and hasattr(cls, "poll_message_set"):  # Blender 3.4 has no poll messages
+            cls.poll_message_set(why[0].upper() + why[1:])
+        return not why
 
     def draw(self, context):
         layout = self.layout
@@ -112,16 +165,31 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
         sub = row.row()
         sub.active = self.weld
         sub.prop(self, "weld_distance", text="")
+        sub = layout.row()
+        sub.active = self.weld
+        sub.prop(self, "weld_keep_hard")
         if context.mode == "EDIT_MESH":
             layout.prop(self, "selected_only")
 
     def execute(self, context):
+        objects, skipped = [], []
+        for o in _candidates(context):
+            why = _not_editable(o)
+            if why:
+                skipped.append("%s: %s" % (o.name, why))
+            else:
+                objects.append(o)
+        if skipped:
+            self.report({"WARNING"}, "vn: skipped " + "; ".join(skipped))
+        if not objects:
+            return {"CANCELLED"}
         try:
             lib = _library(context)
         except binding.VnError as e:
             self.report({"ERROR"}, "vn: %s" % e)
             return {"CANCELLED"}
-        objects = _selected_meshes(context)
+        # objects sharing a mesh: computed once
+        meshes = list({o.data.name_full: o.data for o in objects}.values())
         edit = context.mode == "EDIT_MESH"
         selected_only = self.selected_only and edit
         t0 = time.perf_counter()
@@ -130,8 +198,8 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
         if edit:
             bpy.ops.object.mode_set(mode="OBJECT")
         try:
-            for obj in objects:
-                c, m = self._object(lib, obj.data, selected_only)
+            for mesh in meshes:
+                c, m = self._mesh(lib, mesh, selected_only)
                 corners += c
                 marked += m
         except binding.VnError as e:
@@ -141,24 +209,47 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
             if edit:
                 bpy.ops.object.mode_set(mode="EDIT")
         ms = (time.perf_counter() - t0) * 1e3
-        msg = "vn %s: %d object%s, %d corners, %.1f ms" % (
-            self.method, len(objects), "" if len(objects) == 1 else "s", corners, ms)
+        msg = "vn %s: %d mesh%s, %d corners, %.1f ms" % (
+            self.method, len(meshes), "" if len(meshes) == 1 else "es", corners, ms)
         if marked:
             msg += " (%d edges marked sharp)" % marked
         self.report({"INFO"}, msg)
+        for o in objects:
+            for w in _subsurf_warnings(o):
+                self.report({"WARNING"}, "vn: " + w)
         return {"FINISHED"}
 
-    def _object(self, lib, mesh, selected_only):
+    def _weld(self, lib, a, mesh):
+        """remap[v]: the vertex v counts as; with weld_keep_hard, vertices at one
+        place whose current normals differ by more than the crease angle stay apart."""
+        remap = lib.weld_positions(a.co, self.weld_distance)
+        if not self.weld_keep_hard:
+            return remap
+        n = np.zeros((len(a.co), 3))
+        np.add.at(n, a.corner_vert, a.from_loops(mesh_io.corner_normals(mesh)))
+        n /= np.maximum(np.linalg.norm(n, axis=1), 1e-30)[:, None]
+        cos_limit = math.cos(self.crease_angle)
+        bad = np.flatnonzero((n * n[remap]).sum(axis=1) < cos_limit)
+        groups = {}  # representative -> the vertices kept apart from it
+        for v in bad:
+            kept = groups.setdefault(remap[v], [])
+            remap[v] = next((k for k in kept if n[k] @ n[v] >= cos_limit), v)
+            if remap[v] == v:
+                kept.append(v)
+        return remap
+
+    def _mesh(self, lib, mesh, selected_only):
         if not mesh.loops:
             return 0, 0
         a = mesh_io.MeshArrays(mesh)
         if selected_only and not a.face_select.any():
             return 0, 0
+        a.edge_sharp &= ~_clear_own_sharp(mesh)
         corner_vert = a.corner_vert
         if self.weld:
-            remap = lib.weld_positions(a.co, self.weld_distance)
-            corner_vert = remap[corner_vert]
-        crease = self.crease_angle if self.use_crease else math.pi
+            corner_vert = self._weld(lib, a, mesh)[corner_vert]
+        # Blender 3.4-4.0's Auto Smooth splits at its angle whatever the normals are
+        crease = min(self.crease_angle if self.use_crease else math.pi, mesh_io.auto_smooth_angle(mesh))
         normals = lib.polygon_corner_normals(a.co, corner_vert, a.face_offsets, self.method.lower(),
                                              crease, a.sharp_corner_flags(self.keep_sharp))
         changed = None
@@ -166,53 +257,61 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
             changed = a.face_select[a.face_of_corner]
             current = a.from_loops(mesh_io.corner_normals(mesh)).astype(np.float64)
             normals = np.where(changed[:, None], normals, current)
-        marked = 0
+        split = np.zeros(len(mesh.edges), dtype=bool)
         if selected_only or self.use_crease:
             # Blender averages custom normals over each of its fans: split its
             # fans wherever the new normals differ across an edge.
             split = a.edges_where_normals_differ(normals) & ~a.edge_sharp
-            marked = int(split.sum())
             mesh_io.mark_sharp(mesh, split)
+        _set_own_sharp(mesh, split)
         mesh_io.set_custom_normals(mesh, a.to_loops(normals))
-        return int(changed.sum()) if changed is not None else len(normals), marked
+        return int(changed.sum()) if changed is not None else len(normals), int(split.sum())
 
 
-def _menu_entries(self, context):
-    layout = self.layout
-    layout.separator()
-    for name, _description, _reference in _methods:
-        op = layout.operator(MESH_OT_vn_recompute_normals.bl_idname, text="Recompute Normals (%s)" % name.upper())
-        op.method = name.upper()
+def _clear_own_sharp(mesh):
+    """Unmarks the edges this add-on marked sharp in an earlier run (so that
+    only the user's marks remain); returns them."""
+    attr = mesh.attributes.get(OWN_SHARP)
+    own = np.zeros(len(mesh.edges), dtype=bool)
+    if attr is None:
+        return own
+    attr.data.foreach_get("value", own)
+    sharp = np.empty(len(mesh.edges), dtype=bool)
+    mesh.edges.foreach_get("use_edge_sharp", sharp)
+    mesh.edges.foreach_set("use_edge_sharp", sharp & ~own)
+    return own
+
+
+def _set_own_sharp(mesh, own):
+    attr = mesh.attributes.get(OWN_SHARP)
+    if not own.any():
+        if attr is not None:
+            mesh.attributes.remove(attr)
+        return
+    if attr is None:
+        attr = mesh.attributes.new(OWN_SHARP, "BOOLEAN", "EDGE")
+    attr.data.foreach_set("value", own)
+
+
+def _menu_entry(self, context):
+    self.layout.separator()
+    self.layout.operator(MESH_OT_vn_recompute_normals.bl_idname, text="Recompute Normals")
 
 
 _classes = (VN_AddonPreferences, MESH_OT_vn_recompute_normals)
+# Blender's menus take add-on entries only at their top or bottom.
 _menus = ("VIEW3D_MT_object", "VIEW3D_MT_edit_mesh_normals")
 
 
 def register():
-    global _methods, _load_error
-    bpy.utils.register_class(VN_AddonPreferences)
-    try:
-        _methods = list(_library().methods)
-        _load_error = ""
-    except binding.VnError as e:
-        # Still register, so that the preference can be fixed; the operator
-        # reports the error when run.
-        _methods, _load_error = [], str(e)
-        print("vn:", e)
-    items = [(n.upper(), n.upper(), "%s (%s)" % (d, r) if r else d) for n, d, r in _methods]
-    if not items:
-        items = [("MWA", "MWA", "vn library not loaded: " + _load_error)]
-    default = "MWA" if any(i[0] == "MWA" for i in items) else items[0][0]
-    MESH_OT_vn_recompute_normals.__annotations__["method"] = EnumProperty(
-        name="Method", items=items, default=default, description="Weighting scheme")
-    bpy.utils.register_class(MESH_OT_vn_recompute_normals)
+    for c in _classes:
+        bpy.utils.register_class(c)
     for m in _menus:
-        getattr(bpy.types, m).append(_menu_entries)
+        getattr(bpy.types, m).append(_menu_entry)
 
 
 def unregister():
     for m in _menus:
-        getattr(bpy.types, m).remove(_menu_entries)
+        getattr(bpy.types, m).remove(_menu_entry)
     for c in reversed(_classes):
         bpy.utils.unregister_class(c)

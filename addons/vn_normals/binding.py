@@ -71,9 +71,32 @@ def _declare(lib):
         try:
             f = getattr(lib, name)
         except AttributeError:
-            raise VnError("the vn library lacks %s (too old a build?)" % name) from None
+            raise VnError("the vn library lacks %s (an older vn build)" % name) from None
         f.restype = restype
         f.argtypes = argtypes
+
+
+def _exports(path, symbol):
+    """Whether the ELF shared library at path defines symbol in its dynamic
+    symbol table (read from the file: 64-bit little-endian, as on x86-64)."""
+    import struct
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:4] != b"\x7fELF" or data[4] != 2 or data[5] != 1:
+        return False
+    shoff, = struct.unpack_from("<Q", data, 0x28)
+    shentsize, shnum = struct.unpack_from("<HH", data, 0x3A)
+    sections = [struct.unpack_from("<IIQQQQIIQQ", data, shoff + i * shentsize) for i in range(shnum)]
+    for _name, kind, _flags, _addr, offset, size, link, _info, _align, entsize in sections:
+        if kind != 11 or not entsize:  # SHT_DYNSYM
+            continue
+        strtab = sections[link][4]
+        for k in range(offset, offset + size, entsize):
+            st_name, _st_info, _st_other, st_shndx = struct.unpack_from("<IBBH", data, k)
+            end = data.index(b"\0", strtab + st_name)
+            if st_shndx != 0 and data[strtab + st_name:end] == symbol:
+                return True
+    return False
 
 
 class Library:
@@ -81,8 +104,14 @@ class Library:
 
     def __init__(self, path):
         self.path = path
+        if os.path.isdir(path):
+            raise VnError("cannot load the vn library: %s is a directory, not libvn.so" % path)
         if not os.path.isfile(path):
             raise VnError("cannot load the vn library: %s does not exist" % path)
+        # Checked before dlopen, which would run any other library's
+        # constructors and load its dependencies (Qt for MeshLab's plugin).
+        if not _exports(path, b"vn_version"):
+            raise VnError("%s is not a vn library: it does not export vn_version" % path)
         try:
             self._lib = ctypes.CDLL(path)
         except OSError as e:

@@ -106,6 +106,12 @@ def corner_normals(mesh):
     return a.reshape(-1, 3)
 
 
+def auto_smooth_angle(mesh):
+    """The angle above which Blender 3.4-4.0's Auto Smooth splits the normals
+    (pi when it is off, and in 4.1+ where sharp edges carry it)."""
+    return mesh.auto_smooth_angle if not HAS_CORNER_NORMALS and mesh.use_auto_smooth else math.pi
+
+
 def mark_sharp(mesh, edge_mask):
     """Marks the edges in edge_mask sharp (keeping those already marked)."""
     if not edge_mask.any():
