@@ -6,7 +6,7 @@ bl_info = {
     "author": "vn",
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
-    "location": "View3D > Object > Recompute Normals (…); Edit Mode > Mesh > Normals",
+    "location": "View3D > Object > Recompute Normals; Edit Mode > Mesh > Normals > Recompute Normals",
     "description": "Recompute custom split normals with the weighting schemes of Jin, Lewis & West 2005",
     "category": "Mesh",
 }
@@ -93,7 +93,7 @@ def _not_editable(obj):
     """Why the object's mesh cannot keep new normals, or "" when it can."""
     mesh = obj.data
     if mesh.library is not None:
-        return "its mesh %r is linked from %s (make it local or override it)" % (
+        return "its mesh %r is linked from %s (make it local: Object > Relations > Make Local)" % (
             mesh.name, bpy.path.basename(mesh.library.filepath))
     return ""
 
