@@ -251,11 +251,12 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
         # Blender 3.4-4.0's Auto Smooth splits at its angle whatever the normals are
         crease = min(self.crease_angle if self.use_crease else math.pi, mesh_io.auto_smooth_angle(mesh))
         normals = lib.polygon_corner_normals(a.co, corner_vert, a.face_offsets, self.method.lower(),
-                                             crease, a.sharp_corner_flags(self.keep_sharp))
+                                             crease, a.sharp_corner_flags(self.keep_sharp), dtype=np.float32)
+        has_zero_rows = lib.last_stats["zero_normals"] > 0
         changed = None
         if selected_only:
             changed = a.face_select[a.face_of_corner]
-            current = a.from_loops(mesh_io.corner_normals(mesh)).astype(np.float64)
+            current = a.from_loops(mesh_io.corner_normals(mesh))
             normals = np.where(changed[:, None], normals, current)
         split = np.zeros(len(mesh.edges), dtype=bool)
         if selected_only or self.use_crease:
@@ -264,7 +265,7 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
             split = a.edges_where_normals_differ(normals) & ~a.edge_sharp
             mesh_io.mark_sharp(mesh, split)
         _set_own_sharp(mesh, split)
-        mesh_io.set_custom_normals(mesh, a.to_loops(normals))
+        mesh_io.set_custom_normals(mesh, a, normals, has_zero_rows)
         return int(changed.sum()) if changed is not None else len(normals), int(split.sum())
 
 

@@ -165,10 +165,13 @@ class Library:
         return remap
 
     def polygon_corner_normals(self, co, corner_vert, face_offsets, method, crease_angle=np.pi,
-                               sharp_edges=None, threads=None):
-        """Per-corner unit normals (float64, one row per corner) of a polygon
-        mesh: vn_polygon_corner_normals. method: a name or vn_method index;
-        sharp_edges: one flag per corner (its edge to the next corner) or None."""
+                               sharp_edges=None, threads=None, dtype=np.float64):
+        """Per-corner unit normals (dtype float64 or float32, one row per
+        corner) of a polygon mesh: vn_polygon_corner_normals. method: a name
+        or vn_method index; sharp_edges: one flag (bool or uint8) per corner
+        (its edge to the next corner) or None. Arrays already of the types
+        the library takes (float32/float64 (n, 3) positions, uint32 indices
+        and offsets, contiguous) are passed as they are, not copied."""
         if isinstance(method, str):
             method = self.method_index(method)
         co, pos = self._positions(co)
@@ -178,11 +181,14 @@ class Library:
             raise VnError("face offsets must end at the number of corners")
         sharp = None
         if sharp_edges is not None:
-            sharp = np.ascontiguousarray(sharp_edges, dtype=np.uint8)
+            sharp = np.ascontiguousarray(sharp_edges)
+            sharp = sharp.view(np.uint8) if sharp.dtype == np.bool_ else sharp.astype(np.uint8, copy=False)
             if sharp.size != idx.size:
                 raise VnError("one sharp-edge flag per corner is needed")
-        out = np.empty((idx.size, 3), dtype=np.float64)
-        vec = _Vectors(out.ctypes.data, 0, _FLOAT64)
+        if np.dtype(dtype) not in (np.float32, np.float64):
+            raise VnError("normals are float32 or float64, not %s" % np.dtype(dtype))
+        out = np.empty((idx.size, 3), dtype=dtype)
+        vec = _Vectors(out.ctypes.data, 0, _FLOAT32 if out.dtype == np.float32 else _FLOAT64)
         opt = self._options(threads)
         stats = _Stats()
         self._check(self._lib.vn_polygon_corner_normals(

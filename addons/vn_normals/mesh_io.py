@@ -2,11 +2,15 @@
 
 Every difference between Blender versions is here: 3.4-4.0 store custom
 normals only with use_auto_smooth and give corner normals through
-calc_normals_split() and loop.normal; 4.1+ have mesh.corner_normals and the
-sharp_edge / sharp_face attributes (still reachable as use_edge_sharp /
-use_smooth, which this module uses in every version).
+calc_normals_split() and loop.normal; 4.1+ have mesh.corner_normals and
+store positions, corners and sharp flags as attributes, whose foreach_get
+is a plain copy (the MeshVertex/MeshLoop properties call a getter per item).
+Before 4.1 (and in Edit Mode) the collections are read, unsigned properties
+into uint32 arrays (into int32, Blender converts item by item: 10x slower).
+Arrays are read in the dtypes the library takes, so nothing is converted.
 """
 
+import functools
 import math
 
 import bpy
@@ -22,37 +26,79 @@ def _get(seq, attr, n, dtype, width=1):
     return a.reshape(-1, width) if width > 1 else a
 
 
+def _attribute(mesh, name, prop, n, dtype, width=1):
+    """An attribute's values, or None when the mesh has no such attribute."""
+    attr = mesh.attributes.get(name)
+    return None if attr is None else _get(attr.data, prop, n, dtype, width)
+
+
 class MeshArrays:
-    """The arrays vn needs, read from a Mesh (object mode data)."""
+    """The arrays vn needs, read from a Mesh (object mode data). Those only
+    some options need (corner_edge, face_of_corner, prev_corner) are read or
+    computed on first use."""
 
     def __init__(self, mesh):
-        nv, nl, ne, nf = len(mesh.vertices), len(mesh.loops), len(mesh.edges), len(mesh.polygons)
-        self.co = _get(mesh.vertices, "co", nv, np.float32, 3)
-        self.corner_vert = _get(mesh.loops, "vertex_index", nl, np.int32).astype(np.uint32)
-        self.corner_edge = _get(mesh.loops, "edge_index", nl, np.int32)
-        start = _get(mesh.polygons, "loop_start", nf, np.int32).astype(np.int64)
-        total = _get(mesh.polygons, "loop_total", nf, np.int32).astype(np.int64)
-        self.face_smooth = _get(mesh.polygons, "use_smooth", nf, bool)
-        self.face_select = _get(mesh.polygons, "select", nf, bool)
-        self.edge_sharp = _get(mesh.edges, "use_edge_sharp", ne, bool)
-        self.edge_count = ne
-        offsets = np.zeros(nf + 1, dtype=np.int64)
-        np.cumsum(total, out=offsets[1:])
-        # order[k]: the loop that is corner k of vn's face-ordered corner list
-        # (the identity when faces store their loops in order, as usual).
-        if nf == 0 or (np.array_equal(start, offsets[:-1]) and offsets[-1] == nl):
-            self.order = None
+        self.mesh = mesh
+        nv, nl, nf = len(mesh.vertices), len(mesh.loops), len(mesh.polygons)
+        self.edge_count = len(mesh.edges)
+        offsets = np.empty(nf + 1, dtype=np.uint32)
+        if nf:
+            mesh.polygons.foreach_get("loop_start", offsets[:-1])
+        offsets[-1] = nl
+        self.order = None
+        # In Edit Mode mesh.attributes are the BMesh's: read the Mesh's
+        # collections then.
+        self.use_attributes = HAS_CORNER_NORMALS and not mesh.is_editmode
+        if self.use_attributes:
+            # faces are offsets into the corner arrays: in order, no gaps
+            self.co = _attribute(mesh, "position", "vector", nv, np.float32, 3)
+            self.corner_vert = _attribute(mesh, ".corner_vert", "value", nl, np.int32).view(np.uint32)
+            self.face_size = np.diff(offsets)
+            sharp_face = _attribute(mesh, "sharp_face", "value", nf, bool)
+            self.face_smooth = np.ones(nf, dtype=bool) if sharp_face is None else ~sharp_face
+            edge_sharp = _attribute(mesh, "sharp_edge", "value", self.edge_count, bool)
+            self.edge_sharp = np.zeros(self.edge_count, dtype=bool) if edge_sharp is None else edge_sharp
         else:
-            self.order = np.repeat(start - offsets[:-1], total) + np.arange(offsets[-1])
-            self.corner_vert = self.corner_vert[self.order]
-            self.corner_edge = self.corner_edge[self.order]
-        self.face_offsets = offsets.astype(np.uint32)
-        self.face_of_corner = np.repeat(np.arange(nf), total)
-        # prev_corner[k]: the corner before k in its face
-        prev = np.arange(offsets[-1]) - 1
-        nonempty = total > 0
+            self.co = _get(mesh.vertices, "co", nv, np.float32, 3)
+            self.corner_vert = _get(mesh.loops, "vertex_index", nl, np.uint32)
+            start = offsets[:-1].copy()
+            self.face_size = _get(mesh.polygons, "loop_total", nf, np.uint32)
+            np.cumsum(self.face_size, out=offsets[1:])
+            offsets[0] = 0
+            # order[k]: the loop that is corner k of vn's face-ordered corner
+            # list (None: the identity, faces storing their loops in order)
+            if nf and not (np.array_equal(start, offsets[:-1]) and offsets[-1] == nl):
+                self.order = (np.repeat(start.astype(np.int64) - offsets[:-1], self.face_size)
+                              + np.arange(offsets[-1]))
+                self.corner_vert = self.corner_vert[self.order]
+            self.face_smooth = _get(mesh.polygons, "use_smooth", nf, bool)
+            self.edge_sharp = _get(mesh.edges, "use_edge_sharp", self.edge_count, bool)
+        self.face_offsets = offsets
+
+    @functools.cached_property
+    def corner_edge(self):
+        nl = self.corner_vert.size
+        if self.use_attributes:
+            return _attribute(self.mesh, ".corner_edge", "value", nl, np.int32)
+        corner_edge = _get(self.mesh.loops, "edge_index", nl, np.uint32)
+        return corner_edge if self.order is None else corner_edge[self.order]
+
+    @functools.cached_property
+    def face_select(self):
+        return _get(self.mesh.polygons, "select", len(self.face_size), bool)
+
+    @functools.cached_property
+    def face_of_corner(self):
+        return np.repeat(np.arange(self.face_size.size, dtype=np.uint32), self.face_size)
+
+    @functools.cached_property
+    def prev_corner(self):
+        """prev_corner[k]: the corner before k in its face."""
+        offsets = self.face_offsets.astype(np.int64)
+        prev = np.arange(-1, offsets[-1] - 1)
+        nonempty = self.face_size > 0
         prev[offsets[:-1][nonempty]] = offsets[1:][nonempty] - 1
-        self.prev_corner = prev
+        return prev
 
     def to_loops(self, per_corner):
         """Per-corner rows in Blender's loop order."""
@@ -71,8 +117,23 @@ class MeshArrays:
         if not keep_sharp:
             return None
         flat_face = ~self.face_smooth
-        flags = self.edge_sharp[self.corner_edge] | flat_face[self.face_of_corner]
-        return flags.astype(np.uint8) if flags.any() else None
+        if not flat_face.any() and not self.edge_sharp.any():
+            return None  # corner_edge is not even read
+        flags = np.repeat(flat_face, self.face_size)
+        if self.edge_sharp.any():
+            flags |= self.edge_sharp[self.corner_edge]
+        return flags
+
+    def vertex_normals(self, normals):
+        """One row per vertex when every corner of each vertex has exactly the
+        same normal (then Blender can store them per vertex), else None."""
+        rows = np.ascontiguousarray(normals, dtype=np.float32)
+        row = np.dtype((np.void, 12))  # a float32 triple moved as one item
+        per_vertex = np.zeros(self.co.shape[0], dtype=row)
+        per_vertex[self.corner_vert] = rows.view(row).ravel()
+        if not np.array_equal(per_vertex[self.corner_vert].view(np.float32).reshape(-1, 3), rows):
+            return None
+        return per_vertex.view(np.float32).reshape(-1, 3)
 
     def edges_where_normals_differ(self, normals, tolerance=1e-6):
         """Boolean per edge: the two corners meeting at one of its ends from
@@ -120,14 +181,27 @@ def mark_sharp(mesh, edge_mask):
     mesh.edges.foreach_set("use_edge_sharp", cur | edge_mask)
 
 
-def set_custom_normals(mesh, loop_normals):
-    """Stores per-loop custom split normals (rows in loop order; a zero row
-    keeps Blender's automatic normal there)."""
+def set_custom_normals(mesh, arrays, normals, has_zero_rows):
+    """Stores per-corner custom split normals (rows in vn's corner order; a
+    zero row keeps Blender's automatic normal there). Returns "vertex" when
+    they were stored per vertex, "corner" otherwise.
+
+    Per vertex is Blender's cheaper path (no second pass to split fans), and
+    exact when no vertex has two different corner normals: it gives every
+    fan of a vertex that one normal, as per corner would. A zero row means
+    the loop's automatic normal per corner but the vertex's per vertex, so
+    those go per corner."""
     if not HAS_CORNER_NORMALS:
         # 3.4-4.0: custom normals need auto smooth; its angle would split the
         # fans further, which a fan of equal normals does not mind.
         if not mesh.use_auto_smooth:
             mesh.use_auto_smooth = True
             mesh.auto_smooth_angle = math.pi
-    mesh.normals_split_custom_set(np.ascontiguousarray(loop_normals, dtype=np.float32))
+    per_vertex = None if has_zero_rows else arrays.vertex_normals(normals)
+    if per_vertex is not None:
+        mesh.normals_split_custom_set_from_vertices(per_vertex)
+    else:
+        mesh.normals_split_custom_set(np.ascontiguousarray(arrays.to_loops(normals), dtype=np.float32))
     mesh.update()
+    return "corner" if per_vertex is None else "vertex"
+

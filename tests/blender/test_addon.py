@@ -6,7 +6,9 @@
 Installs the zip as a user does (a legacy add-on before 4.2, an extension
 from 4.2), enables it, then checks that Blender's corner normals after the
 operator equal the C library's per-corner normals (called through the
-add-on's own ctypes binding on the same mesh data), that sharp edges stay
+add-on's own ctypes binding on the same mesh data), stored per vertex when
+no vertex is split and per corner otherwise, the same in Edit Mode as in
+Object Mode, that sharp edges stay
 sharp, that "selected only" leaves the other corners alone, that undo
 restores the previous normals, and that a wrong library path is a clear
 error report rather than a traceback. Any failure raises (exit status 1).
@@ -240,6 +242,87 @@ for label, make in MESHES:
               % np.round(diffs, 1).tolist())
     bpy.data.objects.remove(obj)
 print("schemes x meshes in %.2f s" % (time.perf_counter() - t0))
+
+# ------------------------------------------------------------------ write path: per vertex when nothing is split
+paths = []
+_set_custom_normals = mesh_io.set_custom_normals
+
+
+def recording_set_custom_normals(*a, **k):
+    paths.append(_set_custom_normals(*a, **k))
+    return paths[-1]
+
+
+mesh_io.set_custom_normals = recording_set_custom_normals  # the operator calls it through the module
+# A lone sharp edge splits no fan (each end's fan goes round it the other way).
+for label, split in (("smooth ico sphere", None), ("ico sphere, one sharp edge", None),
+                     ("ico sphere, one flat face", "flat"), ("ico sphere, one face's edges sharp", "sharp")):
+    obj = new_scene_object(ico_sphere)
+    me = obj.data
+    shade_smooth(me)
+    if "one sharp edge" in label:
+        me.edges[7].use_edge_sharp = True
+    if split == "flat":
+        me.polygons[5].use_smooth = False
+    elif split == "sharp":
+        for k in me.polygons[5].loop_indices:
+            me.edges[me.loops[k].edge_index].use_edge_sharp = True
+    if V < (4, 1, 0):
+        me.use_auto_smooth = True
+        me.auto_smooth_angle = math.pi
+    paths.clear()
+    r = bpy.ops.mesh.vn_recompute_normals(method="MWAAT")
+    want = "corner" if split else "vertex"
+    check(r == {"FINISHED"} and paths == [want], "%s: stored per %s (%s)" % (label, want, paths))
+    got, ref = blender_normals(me), reference(me, "MWAAT")
+    compare("%s, %s path" % (label, want), got, ref)
+    if not split:
+        # every corner of a vertex the library's (float32) normal, to storage precision
+        d = angles_deg(got, ref)
+        check(d.max() < 0.02, "%s: corner normals = library's, max %.5f deg" % (label, d.max()))
+    else:
+        a = mesh_io.MeshArrays(me)
+        v = a.corner_vert[np.flatnonzero(~a.face_smooth[a.face_of_corner] | a.edge_sharp[a.corner_edge])[0]]
+        at_v = got[a.to_loops(a.corner_vert == v)]
+        check(angles_deg(at_v, np.repeat(at_v[:1], len(at_v), 0)).max() > 1.0,
+              "%s: the split vertex keeps different corner normals" % label)
+    bpy.data.objects.remove(obj)
+mesh_io.set_custom_normals = _set_custom_normals
+
+# ------------------------------------------------------------------ edit mode = object mode; undo in edit mode
+obj = new_scene_object(jittered_uv_sphere)
+shade_smooth(obj.data)
+me_name = obj.data.name
+twin = obj.copy()
+twin.data = obj.data.copy()
+bpy.context.collection.objects.link(twin)
+bpy.ops.mesh.vn_recompute_normals(method="MWRELR")  # object mode, on obj only
+object_mode = blender_normals(obj.data)
+bpy.ops.object.select_all(action="DESELECT")
+twin.select_set(True)
+bpy.context.view_layer.objects.active = twin
+bpy.ops.object.mode_set(mode="EDIT")
+r = bpy.ops.mesh.vn_recompute_normals(method="MWRELR")
+check(r == {"FINISHED"} and twin.mode == "EDIT", "edit mode: operator finished, still in Edit Mode")
+bpy.ops.object.mode_set(mode="OBJECT")
+d = angles_deg(blender_normals(twin.data), object_mode)
+check(d.max() < 1e-4, "edit mode result = object mode result (max %.6f deg)" % d.max())
+bpy.ops.object.mode_set(mode="EDIT")
+bpy.ops.ed.undo_push(message="edit mode, before vn")
+bpy.ops.mesh.vn_recompute_normals("EXEC_DEFAULT", True, method="MWE")
+bpy.ops.object.mode_set(mode="OBJECT")
+first = blender_normals(twin.data)
+bpy.ops.object.mode_set(mode="EDIT")
+bpy.ops.ed.undo_push(message="edit mode, between")
+bpy.ops.mesh.vn_recompute_normals("EXEC_DEFAULT", True, method="MWELR")
+bpy.ops.ed.undo()
+bpy.ops.object.mode_set(mode="OBJECT")
+restored = blender_normals(twin.data)
+d = angles_deg(restored, first)
+check(angles_deg(object_mode, first).max() > 0.1 and d.max() < 1e-3,
+      "edit mode: undo restores the previous normals (max %.5f deg)" % d.max())
+bpy.data.objects.remove(twin)
+bpy.data.objects.remove(obj)
 
 # ------------------------------------------------------------------ crease angle, weld by position
 obj = new_scene_object(cylinder_ngon)
