@@ -12,6 +12,7 @@ bl_info = {
 }
 
 import math
+import sys
 import time
 
 if "bpy" in locals():
@@ -19,6 +20,7 @@ if "bpy" in locals():
     importlib.reload(binding)  # noqa: F821
     importlib.reload(mesh_io)  # noqa: F821
 
+import bmesh
 import bpy
 import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
@@ -92,9 +94,13 @@ def _candidates(context):
 def _not_editable(obj):
     """Why the object's mesh cannot keep new normals, or "" when it can."""
     mesh = obj.data
+    fix = "make it local: Object > Relations > Make Local > Selected Objects and Data"
     if mesh.library is not None:
-        return "its mesh %r is linked from %s (make it local: Object > Relations > Make Local)" % (
-            mesh.name, bpy.path.basename(mesh.library.filepath))
+        return "its mesh %r is linked from %s (%s)" % (mesh.name, bpy.path.basename(mesh.library.filepath), fix)
+    if mesh.override_library is not None:
+        # Blender saves an override's property changes, not its geometry: the
+        # mesh is read again from its library when the file opens.
+        return "its mesh %r is a library override, whose normals Blender does not save (%s)" % (mesh.name, fix)
     return ""
 
 
@@ -143,11 +149,11 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         objects = _candidates(context)
-        why = ("no mesh object selected" if not objects else
+        why = ("No mesh object selected" if not objects else
                "" if any(not _not_editable(o) for o in objects) else
-               "linked data: " + _not_editable(objects[0]))
-        if why and hasattr(cls, "poll_message_set"):  # Blender 3.4 has no poll messages
-            cls.poll_message_set(why[0].upper() + why[1:])
+               "%s: %s" % (objects[0].name, _not_editable(objects[0])))
+        if why:
+            cls.poll_message_set(why)
         return not why
 
     def draw(self, context):
@@ -189,28 +195,38 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
             self.report({"ERROR"}, "vn: %s" % e)
             return {"CANCELLED"}
         # objects sharing a mesh: computed once
-        meshes = list({o.data.name_full: o.data for o in objects}.values())
+        owners = {o.data.name_full: o for o in objects}
         edit = context.mode == "EDIT_MESH"
         selected_only = self.selected_only and edit
+        # Edit Mode: the work is done on a Mesh. A copy of each edit mesh, read
+        # back into it, costs a third of leaving and re-entering Edit Mode.
+        copies = edit and all(_reloadable(o.data) for o in owners.values())
         t0 = time.perf_counter()
         corners = 0
         marked = 0
-        if edit:
+        if edit and not copies:
             bpy.ops.object.mode_set(mode="OBJECT")
         try:
-            for mesh in meshes:
-                c, m = self._mesh(lib, mesh, selected_only)
+            for obj in owners.values():
+                work = _edit_copy(obj) if copies else obj.data
+                try:
+                    c, m = self._mesh(lib, work, selected_only)
+                    if copies:
+                        _load_edit_mesh(obj.data, work)
+                finally:
+                    if copies:
+                        obj.to_mesh_clear()
                 corners += c
                 marked += m
         except binding.VnError as e:
             self.report({"ERROR"}, "vn: %s" % e)
             return {"CANCELLED"}
         finally:
-            if edit:
+            if edit and not copies:
                 bpy.ops.object.mode_set(mode="EDIT")
         ms = (time.perf_counter() - t0) * 1e3
         msg = "vn %s: %d mesh%s, %d corners, %.1f ms" % (
-            self.method, len(meshes), "" if len(meshes) == 1 else "es", corners, ms)
+            self.method, len(owners), "" if len(owners) == 1 else "es", corners, ms)
         if marked:
             msg += " (%d edges marked sharp)" % marked
         self.report({"INFO"}, msg)
@@ -269,6 +285,40 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
         return int(changed.sum()) if changed is not None else len(normals), int(split.sum())
 
 
+def _reloadable(mesh):
+    """Whether mesh's edit BMesh may be emptied and read again in place
+    (_load_edit_mesh). Not while a script holds a Python reference to it:
+    BMesh.clear() unlinks the BMesh from that reference, which Blender then
+    no longer invalidates when it frees the BMesh (a crash at exit). Not with
+    shape keys either: only entering Edit Mode creates the key index layer
+    that leaving it needs to carry edits into the keys."""
+    if mesh.shape_keys is not None:
+        return False
+    bm = bmesh.from_edit_mesh(mesh)
+    return sys.getrefcount(bm) <= 2  # bm and getrefcount's argument
+
+
+def _edit_copy(obj):
+    """A copy of obj's edit mesh as it is now (selection, hidden faces,
+    attributes and all) as a Mesh outside bpy.data, freed by
+    obj.to_mesh_clear(). Outside: a mesh added to bpy.data in Edit Mode would
+    make the next undo reload the whole file."""
+    obj.update_from_editmode()
+    return obj.to_mesh()
+
+
+def _load_edit_mesh(mesh, work):
+    """Replaces mesh's edit BMesh with the Mesh work, as entering Edit Mode would."""
+    bm = bmesh.from_edit_mesh(mesh)
+    select_mode = bm.select_mode  # not a Mesh property: clear() resets it
+    bm.clear()
+    bm.from_mesh(work)
+    bm.select_mode = select_mode
+    if not mesh_io.HAS_CORNER_NORMALS:  # Mesh settings, not in the BMesh
+        mesh.use_auto_smooth, mesh.auto_smooth_angle = work.use_auto_smooth, work.auto_smooth_angle
+    bmesh.update_edit_mesh(mesh, loop_triangles=True, destructive=True)
+
+
 def _clear_own_sharp(mesh):
     """Unmarks the edges this add-on marked sharp in an earlier run (so that
     only the user's marks remain); returns them."""
@@ -294,25 +344,85 @@ def _set_own_sharp(mesh, own):
     attr.data.foreach_set("value", own)
 
 
-def _menu_entry(self, context):
+def _draw_entry(layout, context):
+    # Blender keeps the operator's last settings: the entry names the method it will use
+    last = context.window_manager.operator_properties_last(MESH_OT_vn_recompute_normals.bl_idname)
+    layout.operator(MESH_OT_vn_recompute_normals.bl_idname,
+                    text="Recompute Normals (%s)" % (last.method if last else "MWA"))
+
+
+class _AfterShadeFlat:
+    """The Object menu's layout while Blender's own draw runs, adding the entry
+    right after Shade Flat (menus take add-on entries only at their top or
+    bottom)."""
+
+    def __init__(self, layout, context):
+        object.__setattr__(self, "_layout", layout)
+        object.__setattr__(self, "_context", context)
+        object.__setattr__(self, "placed", False)
+
+    def operator(self, idname, *args, **kw):
+        props = self._layout.operator(idname, *args, **kw)
+        if idname == "object.shade_flat" and not self.placed:
+            object.__setattr__(self, "placed", True)
+            _draw_entry(self._layout, self._context)
+        return props
+
+    def __getattr__(self, name):
+        return getattr(self._layout, name)
+
+    def __setattr__(self, name, value):  # layout.operator_context = ...
+        setattr(self._layout, name, value)
+
+
+class _MenuWithLayout:
+    def __init__(self, menu, layout):
+        self._menu, self.layout = menu, layout
+
+    def __getattr__(self, name):
+        return getattr(self._menu, name)
+
+
+def _object_menu(draw):
+    """Blender's Object menu draw, with the entry after Shade Flat (or at the
+    bottom, should a Blender version have no Shade Flat there)."""
+    def draw_object_menu(self, context):
+        layout = _AfterShadeFlat(self.layout, context)
+        draw(_MenuWithLayout(self, layout), context)
+        if not layout.placed:
+            self.layout.separator()
+            _draw_entry(self.layout, context)
+    draw_object_menu.vn_wrapped = draw
+    return draw_object_menu
+
+
+def _normals_menu_entry(self, context):
     self.layout.separator()
-    self.layout.operator(MESH_OT_vn_recompute_normals.bl_idname, text="Recompute Normals")
+    _draw_entry(self.layout, context)
+
+
+def _menu_draws():
+    # Blender's own list of a menu's draw functions (the class's draw first,
+    # then those appended): the Object menu's own draw is wrapped in place.
+    return bpy.types.VIEW3D_MT_object._dyn_ui_initialize()
 
 
 _classes = (VN_AddonPreferences, MESH_OT_vn_recompute_normals)
-# Blender's menus take add-on entries only at their top or bottom.
-_menus = ("VIEW3D_MT_object", "VIEW3D_MT_edit_mesh_normals")
 
 
 def register():
     for c in _classes:
         bpy.utils.register_class(c)
-    for m in _menus:
-        getattr(bpy.types, m).append(_menu_entry)
+    draws = _menu_draws()
+    draws[0] = _object_menu(draws[0])
+    bpy.types.VIEW3D_MT_edit_mesh_normals.append(_normals_menu_entry)
 
 
 def unregister():
-    for m in _menus:
-        getattr(bpy.types, m).remove(_menu_entry)
+    bpy.types.VIEW3D_MT_edit_mesh_normals.remove(_normals_menu_entry)
+    draws = _menu_draws()
+    for i, f in enumerate(draws):
+        if hasattr(f, "vn_wrapped"):
+            draws[i] = f.vn_wrapped
     for c in reversed(_classes):
         bpy.utils.unregister_class(c)

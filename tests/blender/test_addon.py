@@ -99,19 +99,23 @@ class Recorder:
 
 
 def menu_entries(menu):
-    """(idname, text) of the operators this add-on draws into menu."""
-    out = []
+    """(idname, text) of every operator the menu draws, in order, with this
+    add-on's entries marked by a "vn:" prefix on the idname."""
+    rec = Recorder()
     for f in getattr(bpy.types, menu)._dyn_ui_initialize():
-        if getattr(f, "__module__", "").endswith("vn_normals"):
-            rec = Recorder()
-            f(type("Menu", (), {"layout": rec})(), bpy.context)
-            out += rec.ops
-    return out
+        f(type("Menu", (), {"layout": rec})(), bpy.context)
+    return [("vn:" + i if i == "mesh.vn_recompute_normals" else i, t) for i, t in rec.ops]
 
 
-for menu in ("VIEW3D_MT_object", "VIEW3D_MT_edit_mesh_normals"):
-    e = menu_entries(menu)
-    check(e == [("mesh.vn_recompute_normals", "Recompute Normals")], "one menu entry in %s: %s" % (menu, e))
+e = menu_entries("VIEW3D_MT_object")
+ours = [k for k, (i, _) in enumerate(e) if i.startswith("vn:")]
+check(len(ours) == 1 and e[ours[0] - 1][0] == "object.shade_flat"
+      and e[ours[0]][1] == "Recompute Normals (MWA)",
+      "Object menu: one entry, \"Recompute Normals (MWA)\", right after Shade Flat: %s" % e[max(0, ours[0] - 3):ours[0] + 2]
+      if ours else "Object menu: no entry")
+e = menu_entries("VIEW3D_MT_edit_mesh_normals")
+check([x for x in e if x[0].startswith("vn:")] == [("vn:mesh.vn_recompute_normals", "Recompute Normals (MWA)")],
+      "Edit Mode's Mesh > Normals: one entry: %s" % e[-2:])
 
 
 # ------------------------------------------------------------------ helpers
@@ -323,6 +327,68 @@ check(angles_deg(object_mode, first).max() > 0.1 and d.max() < 1e-3,
       "edit mode: undo restores the previous normals (max %.5f deg)" % d.max())
 bpy.data.objects.remove(twin)
 bpy.data.objects.remove(obj)
+
+# Edit Mode without leaving it: the edit BMesh is read back from a Mesh copy
+# (_load_edit_mesh), keeping selection, select mode, hidden faces and the
+# active face; not when a script holds the BMesh or the mesh has shape keys
+# (then the operator leaves Edit Mode and re-enters it).
+reloads = []
+_load_edit_mesh = addon._load_edit_mesh
+addon._load_edit_mesh = lambda *a: (reloads.append(a[0].name), _load_edit_mesh(*a))
+obj = new_scene_object(jittered_uv_sphere)
+shade_smooth(obj.data)
+ref = reference(obj.data, "MWSELR")
+bpy.ops.object.mode_set(mode="EDIT")
+bpy.ops.mesh.select_mode(type="EDGE")
+bm = bmesh.from_edit_mesh(obj.data)
+bm.faces.ensure_lookup_table()
+for f in bm.faces[:10]:
+    f.hide_set(True)
+for f in bm.faces[20:40]:
+    f.select_set(True)
+bm.faces.active = bm.faces[30]
+bm.select_history.add(bm.faces[25])
+bmesh.update_edit_mesh(obj.data)
+del bm, f
+# the state as Blender's own trip out of Edit Mode and back leaves it (it
+# selects the edges between selected vertices)
+bpy.ops.object.mode_set(mode="OBJECT")
+bpy.ops.object.mode_set(mode="EDIT")
+state = lambda b: ([f.hide for f in b.faces], [e.select for e in b.edges], b.faces.active.index,
+                   [b.select_history[i].index for i in range(len(b.select_history))], b.select_mode)
+before = state(bmesh.from_edit_mesh(obj.data))
+r = bpy.ops.mesh.vn_recompute_normals(method="MWSELR")
+bm = bmesh.from_edit_mesh(obj.data)
+bm.faces.ensure_lookup_table()
+check(r_ok(r) and reloads == [obj.data.name] and obj.mode == "EDIT",
+      "edit mode: read back into the edit mesh, never left (%s)" % reloads)
+check(state(bm) == before and tuple(bpy.context.tool_settings.mesh_select_mode) == (False, True, False),
+      "edit mode: hidden faces, selection, select mode, active face and select history kept")
+held = bm  # a script holding the edit BMesh: Edit Mode is left and re-entered
+del reloads[:]
+r = bpy.ops.mesh.vn_recompute_normals(method="MWE")
+check(r_ok(r) and not reloads and not held.is_valid and obj.mode == "EDIT",
+      "edit mode, a script holding the BMesh: left and re-entered (its reference now invalid)")
+del bm, held
+bpy.ops.object.mode_set(mode="OBJECT")
+compare("edit mode, twice, the second after leaving", blender_normals(obj.data), reference(obj.data, "MWE"))
+obj.shape_key_add(name="Basis")
+key = obj.shape_key_add(name="Key")
+co = np.empty(len(obj.data.vertices) * 3, dtype=np.float32)
+key.data.foreach_get("co", co)
+key.data.foreach_set("co", co * 1.5)
+obj.active_shape_key_index = 1
+bpy.ops.object.mode_set(mode="EDIT")
+r = bpy.ops.mesh.vn_recompute_normals(method="MWSELR")
+bpy.ops.object.mode_set(mode="OBJECT")
+after = np.empty_like(co)
+key.data.foreach_get("co", after)
+check(r_ok(r) and not reloads and np.array_equal(after, co * 1.5),
+      "edit mode with shape keys: left and re-entered, the active key's shape kept")
+addon._load_edit_mesh = _load_edit_mesh
+me = obj.data
+bpy.data.objects.remove(obj)
+bpy.data.meshes.remove(me)
 
 # ------------------------------------------------------------------ crease angle, weld by position
 obj = new_scene_object(cylinder_ngon)
@@ -594,10 +660,10 @@ mod.use_custom_normals = True
 check(addon._subsurf_warnings(a_obj) == [] if w else False, "no warning once Use Custom Normals is on")
 bpy.data.objects.remove(a_obj)
 
-# Nothing selected: greyed out, saying why (4.x shows poll messages)
+# Nothing selected: greyed out, saying why (the poll message)
 bpy.ops.object.select_all(action="DESELECT")
 m = run_message()
-check(m.startswith("RuntimeError") and (V < (4, 0, 0) or "no mesh object selected" in m.lower()),
+check(m.startswith("RuntimeError") and "No mesh object selected" in m,
       "nothing selected: not run (%s)" % m.strip())
 
 # Library path errors say what is wrong
@@ -629,7 +695,8 @@ bpy.ops.preferences.addon_disable(module=MODULE)
 bpy.ops.preferences.addon_enable(module=MODULE)
 items = [i.identifier for i in bpy.ops.mesh.vn_recompute_normals.get_rna_type().properties["method"].enum_items]
 check(items == names, "library not loadable at enable: all schemes offered (%s)" % items)
-check(len(menu_entries("VIEW3D_MT_object")) == 1, "library not loadable at enable: menu entry there")
+check(sum(i.startswith("vn:") for i, _ in menu_entries("VIEW3D_MT_object")) == 1,
+      "library not loadable at enable: menu entry there")
 m = run_message(method="MWE")
 check(m.startswith("RuntimeError") and "does not exist" in m, "...and running it reports: %s" % m.strip())
 del os.environ[binding.ENV_VAR]
@@ -668,6 +735,35 @@ bpy.ops.object.select_all(action="DESELECT")
 made.select_set(True)
 check(r_ok(bpy.ops.mesh.vn_recompute_normals(method="MWE")), "local copy of linked data: operator finished")
 made_normals = blender_normals(made.data)
+# Library overrides: Blender saves an override's changed properties, not its
+# geometry, so neither a linked mesh under an overridden object nor an
+# overridden mesh can keep normals; Make Local (objects and data) can.
+coll = bpy.data.collections.new("LibColl")
+src = sphere_smooth()
+src.name = src.data.name = "OvrSphere"
+bpy.context.collection.objects.unlink(src)
+coll.objects.link(src)
+bpy.data.libraries.write(os.path.join(tmp, "library_coll.blend"), {coll}, fake_user=True)
+bpy.data.objects.remove(src)
+bpy.data.collections.remove(coll)
+with bpy.data.libraries.load(os.path.join(tmp, "library_coll.blend"), link=True) as (data_from, data_to):
+    data_to.collections = ["LibColl"]
+data_to.collections[0].override_hierarchy_create(bpy.context.scene, bpy.context.view_layer, do_fully_editable=True)
+ovr = next(o for o in bpy.data.objects if o.override_library is not None and o.name.startswith("OvrSphere"))
+bpy.ops.object.select_all(action="DESELECT")
+ovr.select_set(True)
+bpy.context.view_layer.objects.active = ovr
+check(ovr.data.library is not None, "library override object: its mesh is linked")
+m = run_message()
+check(m != "{'FINISHED'}" and "is linked from library_coll.blend" in m, "override object, linked mesh: not run (%s)" % m.strip())
+ovr_mesh = ovr.data.override_create(remap_local_usages=True)
+check(ovr.data == ovr_mesh and ovr_mesh.override_library is not None, "overridden mesh")
+m = run_message()
+check(m != "{'FINISHED'}" and "is a library override" in m, "overridden mesh: not run (%s)" % m.strip())
+check(r_ok(bpy.ops.object.make_local(type="SELECT_OBDATA")) and ovr.data.override_library is None
+      and ovr.data.library is None, "Make Local > Selected Objects and Data")
+check(r_ok(bpy.ops.mesh.vn_recompute_normals(method="MWE")), "made local: operator finished")
+ovr_name, ovr_normals = ovr.name, blender_normals(ovr.data)
 scene = os.path.join(tmp, "linked.blend")
 bpy.ops.wm.save_as_mainfile(filepath=scene)
 bpy.ops.wm.open_mainfile(filepath=scene)
@@ -679,6 +775,8 @@ check(o["LocalSphere"].data.has_custom_normals and angles_deg(blender_normals(o[
 check(o["MadeLocal"].data.has_custom_normals and angles_deg(blender_normals(o["MadeLocal"].data),
                                                             made_normals).max() < 1e-3,
       "after reopening: the local copy keeps its normals")
+check(o[ovr_name].data.has_custom_normals and angles_deg(blender_normals(o[ovr_name].data), ovr_normals).max() < 1e-3,
+      "after reopening: the override made local keeps its normals")
 print("storage precision: worst corner %.3f deg from the library's normals" % max(PRECISION))
 
 if failures:
