@@ -636,6 +636,91 @@ d = face_normal_angles(me)
 check(m == "{'FINISHED'}" and abs(d.max() - 54.7356) < 0.5, "weld without Keep Hard Edges joins them (%.2f deg)" % d.max())
 bpy.data.objects.remove(obj)
 
+# Weld by Position on an imported glTF (the Khronos Duck): the file stores
+# its hard edges as vertices split at one place with different normals, and
+# its UV seams as split vertices with one normal. Read here as Blender's
+# importer does it (the split vertices kept, the file's normals as custom
+# normals), without the importer: 3.4's fails with Debian's numpy.
+def read_glb(path):
+    """POSITION, NORMAL and the indices of a GLB's first primitive (float32, uint16/32)."""
+    import json
+    import struct
+    data = open(path, "rb").read()
+    n = struct.unpack_from("<I", data, 12)[0]
+    doc = json.loads(data[20:20 + n])
+    binary = data[20 + n + 8:]
+
+    def accessor(i):
+        a = doc["accessors"][i]
+        view = doc["bufferViews"][a["bufferView"]]
+        dtype = {5126: np.float32, 5123: np.uint16, 5125: np.uint32}[a["componentType"]]
+        width = {"SCALAR": 1, "VEC3": 3}[a["type"]]
+        start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+        stride = view.get("byteStride", np.dtype(dtype).itemsize * width)
+        rows = np.lib.stride_tricks.as_strided(np.frombuffer(binary, dtype=np.uint8, offset=start),
+                                               (a["count"], np.dtype(dtype).itemsize * width), (stride, 1))
+        return np.ascontiguousarray(rows).view(dtype).reshape(a["count"], width)
+
+    prim = doc["meshes"][0]["primitives"][0]
+    return (accessor(prim["attributes"]["POSITION"]), accessor(prim["attributes"]["NORMAL"]),
+            accessor(prim["indices"]).reshape(-1, 3))
+
+
+def duck_weld(obj, label):
+    """Weld with and without Keep Hard Edges on obj, which holds the Duck with
+    the file's normals as custom normals."""
+    bpy.ops.object.select_all(action="DESELECT")
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    me = obj.data
+    if V < (4, 1, 0):  # 3.4's importer leaves Auto Smooth at 30 degrees, which alone splits these edges
+        me.auto_smooth_angle = math.pi
+    # corners of two faces at one position: hard where the file's normals differ by over 30 degrees
+    a = mesh_io.MeshArrays(me)
+    key = np.unique(a.co, axis=0, return_inverse=True)[1].ravel()[a.corner_vert]
+    pos_order = np.argsort(key, kind="stable")
+    pairs = np.flatnonzero(key[pos_order][1:] == key[pos_order][:-1])
+    loop = a.from_loops(np.arange(a.corner_vert.size))  # loop[corner]
+    c0, c1 = loop[pos_order[pairs]], loop[pos_order[pairs + 1]]
+    file_loop = blender_normals(me)
+    file_deg = angles_deg(file_loop[c0], file_loop[c1])
+    loop_vert = a.to_loops(a.corner_vert)
+    hard, seam = file_deg > 30, (file_deg < 0.5) & (loop_vert[c0] != loop_vert[c1])  # 0.5: storage precision
+    check(hard.sum() > 50 and seam.sum() > 50, "%s: %d corner pairs across hard edges (%.0f-%.0f deg), %d across UV seams"
+          % (label, hard.sum(), file_deg[hard].min(), file_deg[hard].max(), seam.sum()))
+    check(r_ok(bpy.ops.mesh.vn_recompute_normals(weld=True)), "%s, weld: operator finished" % label)
+    got = blender_normals(me)
+    d = angles_deg(got[c0], got[c1])
+    # recomputed from the geometry, a hard edge's two normals need not keep the file's angle, but stay well apart
+    check(d[hard].min() > 10 and d[seam].max() < 0.5,
+          "%s, weld: hard edges stay hard (min %.1f, median %.1f deg), UV seams closed (max %.3f deg)"
+          % (label, d[hard].min(), np.median(d[hard]), d[seam].max()))
+    check(r_ok(bpy.ops.mesh.vn_recompute_normals(weld=True, weld_keep_hard=False)),
+          "%s, weld without Keep Hard Edges" % label)
+    got = blender_normals(me)
+    d = angles_deg(got[c0], got[c1])
+    check(d[hard].max() < 0.5, "%s, weld without Keep Hard Edges: hard edges joined (max %.3f deg)"
+          % (label, d[hard].max()))
+    bpy.data.objects.remove(obj)
+    bpy.data.meshes.remove(me)
+
+
+duck = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "Duck.glb")
+co, file_normals, tris = read_glb(duck)
+me = bpy.data.meshes.new("Duck")
+me.from_pydata(co.tolist(), [], tris.tolist())
+shade_smooth(me)
+if V < (4, 1, 0):
+    me.use_auto_smooth = True
+me.normals_split_custom_set_from_vertices(file_normals / np.linalg.norm(file_normals, axis=1)[:, None])
+obj = bpy.data.objects.new("Duck", me)
+bpy.context.collection.objects.link(obj)
+duck_weld(obj, "Duck")
+if V >= (4, 1, 0):  # Blender's own importer (3.4's fails with Debian's numpy)
+    bpy.ops.object.select_all(action="DESELECT")
+    check(r_ok(bpy.ops.import_scene.gltf(filepath=duck)), "Duck imported by Blender's glTF importer")
+    duck_weld(next(o for o in bpy.context.selected_objects if o.type == "MESH"), "Duck (imported)")
+
 # Two objects sharing one mesh: computed once
 a_obj = sphere_smooth()
 b_obj = a_obj.copy()
