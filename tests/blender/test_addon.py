@@ -736,6 +736,13 @@ finally:
 check(r_ok(r) and len(calls) == 1, "two objects, one mesh: computed %d time(s)" % len(calls))
 bpy.data.objects.remove(b_obj)
 
+# The menu entry names the method it will run: the last one used (Blender
+# keeps the settings of operators run as the UI runs them: with undo)
+check(r_ok(bpy.ops.mesh.vn_recompute_normals("EXEC_DEFAULT", True, method="MWSELR")), "MWSELR run")
+e = [x for x in menu_entries("VIEW3D_MT_object") if x[0].startswith("vn:")]
+check(e == [("vn:mesh.vn_recompute_normals", "Recompute Normals (MWSELR)")], "the entry now says MWSELR: %s" % e)
+check(r_ok(bpy.ops.mesh.vn_recompute_normals("EXEC_DEFAULT", True, method="MWA")), "MWA run")
+
 # Subdivision Surface's default settings throw custom normals away: a warning names the fix
 mod = a_obj.modifiers.new("Subdivision", "SUBSURF")
 w = addon._subsurf_warnings(a_obj) if hasattr(addon, "_subsurf_warnings") else []
