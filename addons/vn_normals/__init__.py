@@ -6,14 +6,17 @@ bl_info = {
     "author": "vn",
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
-    "location": "View3D > Object > Recompute Normals; Edit Mode > Mesh > Normals > Recompute Normals",
+    "location": "View3D > Object > Recompute Normals; Edit Mode > Mesh > Normals > Recompute Normals; "
+                "Properties > Object Data > vn Live Normals",
     "description": "Recompute custom split normals with the weighting schemes of Jin, Lewis & West 2005",
     "category": "Mesh",
 }
 
+import hashlib
 import math
 import sys
 import time
+import traceback
 
 if "bpy" in locals():
     import importlib
@@ -23,7 +26,7 @@ if "bpy" in locals():
 import bmesh
 import bpy
 import numpy as np
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, PointerProperty, StringProperty
 
 from . import binding, mesh_io
 
@@ -116,6 +119,55 @@ def _method_items():
     return [(i, label, "%s (%s).%s" % (d, r, _NOT_FOR_SHADING.get(i, ""))) for i, label, d, r in METHODS]
 
 
+def _settings(update=None):
+    """The properties a run's normals depend on, by name: the operator's, and
+    the copy a live mesh keeps (update: called when that copy changes)."""
+    return {
+        "method": EnumProperty(name="Method", items=_method_items(), default="MWA",
+                               description="Weighting scheme", update=update),
+        "keep_sharp": BoolProperty(
+            name="Keep Sharp Edges", default=True, update=update,
+            description="Marked sharp edges and flat-shaded faces split the normals, as Blender's own normals do"),
+        "use_crease": BoolProperty(
+            name="Crease", default=False, update=update,
+            description="Also split where two faces meet at more than the crease angle (marks those edges sharp)"),
+        "crease_angle": FloatProperty(
+            name="Crease Angle", subtype="ANGLE", default=math.radians(30.0), min=0.0, max=math.pi, update=update),
+        "weld": BoolProperty(
+            name="Weld by Position", default=False, update=update,
+            description="Treat vertices at the same position as one (meshes imported in split chunks)"),
+        "weld_distance": FloatProperty(
+            name="Weld Distance", subtype="DISTANCE", default=1e-5, min=0.0, precision=6, update=update,
+            description="Vertices this close in every coordinate count as one"),
+        "weld_keep_hard": BoolProperty(
+            name="Keep Hard Edges", default=True, update=update,
+            description="Weld: vertices whose current normals differ by more than the crease angle stay apart "
+                        "(the hard edges of imported files)"),
+    }
+
+
+SETTINGS = tuple(_settings())
+
+
+def _draw_settings(layout, s):
+    layout.use_property_split = True
+    layout.prop(s, "method")
+    layout.prop(s, "keep_sharp")
+    row = layout.row(heading="Crease")
+    row.prop(s, "use_crease", text="")
+    sub = row.row()
+    sub.active = s.use_crease
+    sub.prop(s, "crease_angle", text="")
+    row = layout.row(heading="Weld")
+    row.prop(s, "weld", text="")
+    sub = row.row()
+    sub.active = s.weld
+    sub.prop(s, "weld_distance", text="")
+    sub = layout.row()
+    sub.active = s.weld
+    sub.prop(s, "weld_keep_hard")
+
+
 class MESH_OT_vn_recompute_normals(bpy.types.Operator):
     """Recompute custom split normals with one of vn's weighting schemes"""
 
@@ -123,28 +175,18 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
     bl_label = "Recompute Normals"
     bl_options = {"REGISTER", "UNDO"}
 
-    method: EnumProperty(name="Method", items=_method_items(), default="MWA", description="Weighting scheme")
-    keep_sharp: BoolProperty(
-        name="Keep Sharp Edges", default=True,
-        description="Marked sharp edges and flat-shaded faces split the normals, as Blender's own normals do")
-    use_crease: BoolProperty(
-        name="Crease", default=False,
-        description="Also split where two faces meet at more than the crease angle (marks those edges sharp)")
-    crease_angle: FloatProperty(
-        name="Crease Angle", subtype="ANGLE", default=math.radians(30.0), min=0.0, max=math.pi)
-    weld: BoolProperty(
-        name="Weld by Position", default=False,
-        description="Treat vertices at the same position as one (meshes imported in split chunks)")
-    weld_distance: FloatProperty(
-        name="Weld Distance", subtype="DISTANCE", default=1e-5, min=0.0, precision=6,
-        description="Vertices this close in every coordinate count as one")
-    weld_keep_hard: BoolProperty(
-        name="Keep Hard Edges", default=True,
-        description="Weld: vertices whose current normals differ by more than the crease angle stay apart "
-                    "(the hard edges of imported files)")
-    selected_only: BoolProperty(
-        name="Selected Only", default=False,
-        description="Edit mode: change only the corners of selected faces; the others keep their normals")
+    __annotations__ = {
+        **_settings(),
+        "selected_only": BoolProperty(
+            name="Selected Only", default=False,
+            description="Edit mode: change only the corners of selected faces; the others keep their normals "
+                        "(not with Live, which recomputes whole meshes)"),
+        # not remembered for the next run: a mesh goes live only when asked
+        "live": BoolProperty(
+            name="Live", default=False, options={"SKIP_SAVE"},
+            description="Keep these normals up to date: recompute them with these settings after each edit of "
+                        "the mesh (leaving Edit Mode, a change of its data in Object Mode). Stored in the mesh"),
+    }
 
     @classmethod
     def poll(cls, context):
@@ -158,26 +200,33 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
 
     def draw(self, context):
         layout = self.layout
-        layout.use_property_split = True
-        layout.prop(self, "method")
-        layout.prop(self, "keep_sharp")
-        row = layout.row(heading="Crease")
-        row.prop(self, "use_crease", text="")
-        sub = row.row()
-        sub.active = self.use_crease
-        sub.prop(self, "crease_angle", text="")
-        row = layout.row(heading="Weld")
-        row.prop(self, "weld", text="")
-        sub = row.row()
-        sub.active = self.weld
-        sub.prop(self, "weld_distance", text="")
-        sub = layout.row()
-        sub.active = self.weld
-        sub.prop(self, "weld_keep_hard")
+        _draw_settings(layout, self)
+        layout.prop(self, "live")
         if context.mode == "EDIT_MESH":
-            layout.prop(self, "selected_only")
+            row = layout.row()
+            row.active = not self.live
+            row.prop(self, "selected_only")
+
+    def invoke(self, context, event):
+        # Run again on a live mesh (the active object's first): start from its
+        # settings, Live ticked, so that changing the method keeps it live.
+        objects = sorted(_candidates(context), key=lambda o: o != context.active_object)
+        live = next((o.data.vn_live for o in objects if _is_live(o.data)), None)
+        if live is not None:
+            for name in SETTINGS + ("live",):
+                if not self.properties.is_property_set(name):
+                    setattr(self, name, getattr(live, name))
+        return self.execute(context)
 
     def execute(self, context):
+        global _busy
+        _busy = True  # its mode switches and writes are no edits for live meshes to follow
+        try:
+            return self._run(context)
+        finally:
+            _busy = False
+
+    def _run(self, context):
         objects, skipped = [], []
         for o in _candidates(context):
             why = _not_editable(o)
@@ -197,7 +246,8 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
         # objects sharing a mesh: computed once
         owners = {o.data.name_full: o for o in objects}
         edit = context.mode == "EDIT_MESH"
-        selected_only = self.selected_only and edit
+        # Live recomputes whole meshes: this run does too, so that it gives what they will
+        selected_only = self.selected_only and edit and not self.live
         # Edit Mode: the work is done on a Mesh. A copy of each edit mesh, read
         # back into it, costs a third of leaving and re-entering Edit Mode.
         copies = edit and all(_reloadable(o.data) for o in owners.values())
@@ -210,7 +260,8 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
             for obj in owners.values():
                 work = _edit_copy(obj) if copies else obj.data
                 try:
-                    c, m = self._mesh(lib, work, selected_only)
+                    c, m = _compute(lib, work, self, selected_only)
+                    _store_live(obj.data, self, work)
                     if copies:
                         _load_edit_mesh(obj.data, work)
                 finally:
@@ -229,60 +280,77 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
             self.method, len(owners), "" if len(owners) == 1 else "es", corners, ms)
         if marked:
             msg += " (%d edges marked sharp)" % marked
+        if self.live:
+            msg += ", live"
         self.report({"INFO"}, msg)
         for o in objects:
             for w in _subsurf_warnings(o):
                 self.report({"WARNING"}, "vn: " + w)
         return {"FINISHED"}
 
-    def _weld(self, lib, a, mesh):
-        """remap[v]: the vertex v counts as; with weld_keep_hard, vertices at one
-        place whose current normals differ by more than the crease angle stay apart."""
-        remap = lib.weld_positions(a.co, self.weld_distance)
-        if not self.weld_keep_hard:
-            return remap
-        n = np.zeros((len(a.co), 3))
-        np.add.at(n, a.corner_vert, a.from_loops(mesh_io.corner_normals(mesh)))
-        n /= np.maximum(np.linalg.norm(n, axis=1), 1e-30)[:, None]
-        cos_limit = math.cos(self.crease_angle)
-        bad = np.flatnonzero((n * n[remap]).sum(axis=1) < cos_limit)
-        groups = {}  # representative -> the vertices kept apart from it
-        for v in bad:
-            kept = groups.setdefault(remap[v], [])
-            remap[v] = next((k for k in kept if n[k] @ n[v] >= cos_limit), v)
-            if remap[v] == v:
-                kept.append(v)
-        return remap
 
-    def _mesh(self, lib, mesh, selected_only):
-        if not mesh.loops:
-            return 0, 0
+def _weld(lib, a, mesh, s):
+    """remap[v]: the vertex v counts as; with weld_keep_hard, vertices at one
+    place whose current normals differ by more than the crease angle stay apart."""
+    remap = lib.weld_positions(a.co, s.weld_distance)
+    if not s.weld_keep_hard:
+        return remap
+    n = np.zeros((len(a.co), 3))
+    np.add.at(n, a.corner_vert, a.from_loops(mesh_io.corner_normals(mesh)))
+    n /= np.maximum(np.linalg.norm(n, axis=1), 1e-30)[:, None]
+    cos_limit = math.cos(s.crease_angle)
+    bad = np.flatnonzero((n * n[remap]).sum(axis=1) < cos_limit)
+    groups = {}  # representative -> the vertices kept apart from it
+    for v in bad:
+        kept = groups.setdefault(remap[v], [])
+        remap[v] = next((k for k in kept if n[k] @ n[v] >= cos_limit), v)
+        if remap[v] == v:
+            kept.append(v)
+    return remap
+
+
+def _compute(lib, mesh, s, selected_only=False, a=None):
+    """Computes and stores a mesh's normals with the settings s (the operator,
+    or a live mesh's copy: the same names); a: its arrays when already read.
+    Returns (corners changed, edges marked sharp)."""
+    if not mesh.loops:
+        return 0, 0
+    if a is None:
         a = mesh_io.MeshArrays(mesh)
-        if selected_only and not a.face_select.any():
-            return 0, 0
-        a.edge_sharp &= ~_clear_own_sharp(mesh)
-        corner_vert = a.corner_vert
-        if self.weld:
-            corner_vert = self._weld(lib, a, mesh)[corner_vert]
-        # Blender 3.4-4.0's Auto Smooth splits at its angle whatever the normals are
-        crease = min(self.crease_angle if self.use_crease else math.pi, mesh_io.auto_smooth_angle(mesh))
-        normals = lib.polygon_corner_normals(a.co, corner_vert, a.face_offsets, self.method.lower(),
-                                             crease, a.sharp_corner_flags(self.keep_sharp), dtype=np.float32)
-        has_zero_rows = lib.last_stats["zero_normals"] > 0
-        changed = None
-        if selected_only:
-            changed = a.face_select[a.face_of_corner]
-            current = a.from_loops(mesh_io.corner_normals(mesh))
-            normals = np.where(changed[:, None], normals, current)
-        split = np.zeros(len(mesh.edges), dtype=bool)
-        if selected_only or self.use_crease:
-            # Blender averages custom normals over each of its fans: split its
-            # fans wherever the new normals differ across an edge.
-            split = a.edges_where_normals_differ(normals) & ~a.edge_sharp
-            mesh_io.mark_sharp(mesh, split)
-        _set_own_sharp(mesh, split)
-        mesh_io.set_custom_normals(mesh, a, normals, has_zero_rows)
-        return int(changed.sum()) if changed is not None else len(normals), int(split.sum())
+    if selected_only and not a.face_select.any():
+        return 0, 0
+    a.edge_sharp &= ~_clear_own_sharp(mesh)
+    corner_vert = a.corner_vert
+    if s.weld:
+        corner_vert = _weld(lib, a, mesh, s)[corner_vert]
+    # Blender 3.4-4.0's Auto Smooth splits at its angle whatever the normals are
+    crease = min(s.crease_angle if s.use_crease else math.pi, mesh_io.auto_smooth_angle(mesh))
+    normals = lib.polygon_corner_normals(a.co, corner_vert, a.face_offsets, s.method.lower(),
+                                         crease, a.sharp_corner_flags(s.keep_sharp), dtype=np.float32)
+    has_zero_rows = lib.last_stats["zero_normals"] > 0
+    changed = None
+    if selected_only:
+        changed = a.face_select[a.face_of_corner]
+        current = a.from_loops(mesh_io.corner_normals(mesh))
+        normals = np.where(changed[:, None], normals, current)
+    split = np.zeros(len(mesh.edges), dtype=bool)
+    if selected_only or s.use_crease:
+        # Blender averages custom normals over each of its fans: split its
+        # fans wherever the new normals differ across an edge.
+        split = a.edges_where_normals_differ(normals) & ~a.edge_sharp
+        mesh_io.mark_sharp(mesh, split)
+    _set_own_sharp(mesh, split)
+    mesh_io.set_custom_normals(mesh, a, normals, has_zero_rows)
+    return int(changed.sum()) if changed is not None else len(normals), int(split.sum())
+
+
+def _own_sharp(mesh):
+    """The edges this add-on marked sharp in its last run (listed in OWN_SHARP)."""
+    attr = mesh.attributes.get(OWN_SHARP)
+    own = np.zeros(len(mesh.edges), dtype=bool)
+    if attr is not None:
+        attr.data.foreach_get("value", own)
+    return own
 
 
 def _reloadable(mesh):
@@ -322,14 +390,11 @@ def _load_edit_mesh(mesh, work):
 def _clear_own_sharp(mesh):
     """Unmarks the edges this add-on marked sharp in an earlier run (so that
     only the user's marks remain); returns them."""
-    attr = mesh.attributes.get(OWN_SHARP)
-    own = np.zeros(len(mesh.edges), dtype=bool)
-    if attr is None:
-        return own
-    attr.data.foreach_get("value", own)
-    sharp = np.empty(len(mesh.edges), dtype=bool)
-    mesh.edges.foreach_get("use_edge_sharp", sharp)
-    mesh.edges.foreach_set("use_edge_sharp", sharp & ~own)
+    own = _own_sharp(mesh)
+    if own.any():
+        sharp = np.empty(len(mesh.edges), dtype=bool)
+        mesh.edges.foreach_get("use_edge_sharp", sharp)
+        mesh.edges.foreach_set("use_edge_sharp", sharp & ~own)
     return own
 
 
@@ -342,6 +407,153 @@ def _set_own_sharp(mesh, own):
     if attr is None:
         attr = mesh.attributes.new(OWN_SHARP, "BOOLEAN", "EDGE")
     attr.data.foreach_set("value", own)
+
+
+# ------------------------------------------------------------------ live normals
+# A live mesh keeps the settings of the run that made it live (in its
+# vn_live) and is recomputed with them after each edit of its data. The
+# normals are the mesh's, so the setting is too: objects sharing a mesh share
+# it, and it is computed once.
+
+_busy = False  # the operator is running: its own mode switches and writes are no edits
+# How many live meshes were checked for a change (read and digested) and how
+# many were recomputed, since the add-on was loaded (the tests count them).
+live_stats = {"checked": 0, "recomputed": 0}
+
+
+def _is_live(mesh):
+    # reading mesh.vn_live would add the (empty) settings to every mesh asked
+    return mesh.is_property_set("vn_live") and mesh.vn_live.live
+
+
+def _read(mesh):
+    """(arrays, state) of a mesh with faces: its arrays as _compute reads them
+    (edge_sharp without the add-on's own marks), and a digest of what the
+    normals are computed from: positions, faces, the user's sharp edges and
+    flat faces, 3.4-4.0's Auto Smooth angle. Writing custom normals and the
+    add-on's own marks leave the digest unchanged."""
+    a = mesh_io.MeshArrays(mesh)
+    a.edge_sharp &= ~_own_sharp(mesh)
+    sharp = a.sharp_corner_flags(True)
+    parts = (a.co, a.corner_vert, a.face_offsets,
+             np.flatnonzero(sharp) if sharp is not None else np.empty(0, dtype=np.intp),
+             np.array([mesh_io.auto_smooth_angle(mesh)]))
+    # to notice changes, not to resist attacks: SHA-1 is the fastest hashlib has (CPUs do it)
+    h = hashlib.sha1(np.array([p.size for p in parts], dtype=np.int64), usedforsecurity=False)
+    for p in parts:
+        h.update(np.ascontiguousarray(p))
+    return a, h.hexdigest()
+
+
+def _store_live(mesh, s, data=None):
+    """After a run with the settings s: the mesh follows edits with them
+    (s.live), or no longer does. data: the Mesh the run computed, when not
+    mesh itself (Edit Mode's copy)."""
+    if not s.live:
+        if _is_live(mesh):
+            mesh.vn_live.live = False
+        return
+    live = mesh.vn_live
+    for name in SETTINGS:
+        setattr(live, name, getattr(s, name))
+    live.live = True
+    data = data or mesh
+    live.state = _read(data)[1] if data.loops else ""
+    live.error = ""
+
+
+def _live_recompute(mesh):
+    """Recomputes a live mesh with its settings when its data changed since
+    its normals were computed. Not while an object edits, sculpts or paints it
+    (in Edit Mode its data is not current; strokes come one by one): leaving
+    the mode updates the mesh, which comes back here."""
+    live = mesh.vn_live
+    if (mesh.library is not None or not mesh.loops
+            or any(o.mode != "OBJECT" and o.data == mesh for o in bpy.data.objects)):
+        return
+    live_stats["checked"] += 1
+    a, state = _read(mesh)
+    if state == live.state:
+        return  # e.g. its own custom normals written, a shape key's value changed
+    try:
+        _compute(_library(), mesh, live, a=a)
+    except Exception as e:  # a handler's exception would be printed on every update
+        error = str(e) if isinstance(e, binding.VnError) else "%s: %s" % (type(e).__name__, e)
+        if error != live.error:  # once, not on every update (shown in the vn panel meanwhile)
+            print("vn live: mesh %r not recomputed, its normals are stale: %s" % (mesh.name, error))
+            if not isinstance(e, binding.VnError):
+                traceback.print_exc()
+            live.error = error
+        live.state = ""  # retried on the next update, whatever it is (a failure may have written a part)
+        return
+    live.state = state
+    live.error = ""
+    live_stats["recomputed"] += 1
+
+
+def _live_changed(self, context):
+    """A live mesh's settings or its Live tick changed (the vn panel, a
+    script): recompute now, or on leaving Edit Mode."""
+    if _busy:
+        return  # the operator stores the settings of the normals it computes
+    self.state = ""  # the normals are not those of these settings
+    if self.live:
+        _live_recompute(self.id_data)
+
+
+@bpy.app.handlers.persistent
+def _on_depsgraph_update(scene, depsgraph):
+    """Live meshes whose data was updated: recomputed if it changed. Frame
+    changes (animation, playback) do not come here, and neither does the
+    update of what this writes (Blender's second evaluation pass runs no
+    handlers)."""
+    if _busy:
+        return
+    meshes = [u.id.original for u in depsgraph.updates
+              if u.is_updated_geometry and isinstance(u.id, bpy.types.Mesh)]
+    for mesh in meshes:
+        if _is_live(mesh):
+            _live_recompute(mesh)
+
+
+class VN_LiveSettings(bpy.types.PropertyGroup):
+    __annotations__ = {
+        "live": BoolProperty(
+            name="Live", default=False, update=_live_changed,
+            description="Recompute this mesh's normals with these settings after each edit "
+                        "(leaving Edit Mode, a change of its data in Object Mode)"),
+        **_settings(update=_live_changed),
+        # digest of the mesh data the normals were computed from (_read)
+        "state": StringProperty(),
+        # why the last live recompute failed ("" when it worked)
+        "error": StringProperty(),
+    }
+
+
+class DATA_PT_vn_live(bpy.types.Panel):
+    """Object Data properties, beside Blender's Normals: the mesh's live setting."""
+
+    bl_label = "vn Live Normals"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "data"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.mesh is not None
+
+    def draw_header(self, context):
+        self.layout.prop(context.mesh.vn_live, "live", text="")
+
+    def draw(self, context):
+        live = context.mesh.vn_live
+        layout = self.layout
+        if live.error:
+            layout.label(text=live.error, icon="ERROR")
+        col = layout.column()
+        col.active = live.live
+        _draw_settings(col, live)
 
 
 def _draw_entry(layout, context):
@@ -407,22 +619,26 @@ def _menu_draws():
     return bpy.types.VIEW3D_MT_object._dyn_ui_initialize()
 
 
-_classes = (VN_AddonPreferences, MESH_OT_vn_recompute_normals)
+_classes = (VN_AddonPreferences, VN_LiveSettings, MESH_OT_vn_recompute_normals, DATA_PT_vn_live)
 
 
 def register():
     for c in _classes:
         bpy.utils.register_class(c)
+    bpy.types.Mesh.vn_live = PointerProperty(type=VN_LiveSettings)
     draws = _menu_draws()
     draws[0] = _object_menu(draws[0])
     bpy.types.VIEW3D_MT_edit_mesh_normals.append(_normals_menu_entry)
+    bpy.app.handlers.depsgraph_update_post.append(_on_depsgraph_update)
 
 
 def unregister():
+    bpy.app.handlers.depsgraph_update_post.remove(_on_depsgraph_update)
     bpy.types.VIEW3D_MT_edit_mesh_normals.remove(_normals_menu_entry)
     draws = _menu_draws()
     for i, f in enumerate(draws):
         if hasattr(f, "vn_wrapped"):
             draws[i] = f.vn_wrapped
+    del bpy.types.Mesh.vn_live
     for c in reversed(_classes):
         bpy.utils.unregister_class(c)
