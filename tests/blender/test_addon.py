@@ -1105,11 +1105,14 @@ bpy.ops.object.mode_set(mode="OBJECT")
 check(inside == 0 and recomputed() == n0 + 1, "live, Edit Mode: %d checks or recomputes inside, 1 on leaving, "
       "none for entering and leaving again without a change (%d)" % (inside, recomputed() - n0 - 1))
 # Live with Selected Only: live recomputes whole meshes, so the run does too
+n0 = recomputed()
 edit_top_third(me)
 r = bpy.ops.mesh.vn_recompute_normals(method="MWE", selected_only=True, live=True)
 bpy.ops.object.mode_set(mode="OBJECT")
 compare("live with Selected Only: the whole mesh computed", blender_normals(me), reference(me, "MWE"))
 check(r_ok(r) and not mesh_io.MeshArrays(me).edge_sharp.any(), "live with Selected Only: no border marked")
+check(recomputed() == n0, "live, run in Edit Mode: its result is current on leaving (%d recomputes)"
+      % (recomputed() - n0))
 # Sculpt Mode: its strokes change the mesh data one by one: recomputed on leaving
 n0 = recomputed()
 bpy.ops.object.mode_set(mode="SCULPT")
