@@ -23,7 +23,9 @@
  *    and its corners get the sum over all the vertex's usable faces.
  * 4. Each fan's sum, from 0, adds its corners' contributions in corner order,
  *    is normalized as parallel.c's finalize does (vn_normalize) and written
- *    to every corner of the fan.
+ *    to every corner of the fan. With options->face_strength (Blender's Face
+ *    Influence) only the corners of the fan's strongest faces are added;
+ *    those vertices all take the general path (vertex_fans).
  *
  * Every corner's result is formed by one worker from data that does not
  * depend on the split, so results are bit-identical for any thread count.
@@ -33,7 +35,7 @@
  *
  * Work memory, from options->workspace when it is large enough, else from
  * the allocator: 32 bytes a corner (36 for polygons), 24 a face, 4 a vertex;
- * a vertex of more than FEW corners adds 60 bytes per corner of the largest
+ * a vertex of more than FEW corners adds 64 bytes per corner of the largest
  * star per worker, from the allocator. */
 #include <stdlib.h>
 
@@ -86,6 +88,7 @@ typedef struct job {
 	uint32_t n, nv;     /* corners, vertices */
 	unsigned nt;
 	const uint8_t* sharp;
+	const int32_t* strength; /* options->face_strength, or NULL */
 	int crease, want_stats, avx2;
 	double cos_c, sin_c;
 	vn_vectors out;
@@ -236,12 +239,14 @@ typedef struct fan_scratch {
 	uint32_t* prev;   /* the corner before it in its face */
 	uint32_t* out;    /* the vertex after it in its face, NONE when not an edge to match */
 	uint32_t* in;     /* the vertex before it in its face, NONE likewise */
+	int32_t* top;     /* with face strengths: at a fan's root, the fan's highest strength */
 } fan_scratch;
 
+#define SCRATCH_PER_CORNER (2 * sizeof(uint64_t) + 3 * sizeof(double) + 6 * sizeof(uint32_t))
 
 VN_INLINE size_t scratch_bytes_for(uint32_t valence)
 {
-	return ((size_t)valence ? valence : 1) * (2 * sizeof(uint64_t) + 3 * sizeof(double) + 5 * sizeof(uint32_t));
+	return ((size_t)valence ? valence : 1) * SCRATCH_PER_CORNER;
 }
 
 static fan_scratch scratch_at(unsigned char* p, uint32_t valence)
@@ -255,6 +260,7 @@ static fan_scratch scratch_at(unsigned char* p, uint32_t valence)
 	s.prev = s.face + k;
 	s.out = s.prev + k;
 	s.in = s.out + k;
+	s.top = (int32_t*)(s.in + k);
 	return s;
 }
 
@@ -391,6 +397,31 @@ static size_t small_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t k
 	return zero;
 }
 
+/* Face Influence (Blender's Weighted Normal modifier): s->top[r] receives
+ * the highest face strength of the fan rooted at r, for every root; returns
+ * the highest of the whole star. Roots are their fans' lowest corners, so a
+ * root comes first among its fan's corners. */
+static int32_t fan_strengths(const job* j, const fan_scratch* s, uint32_t k)
+{
+	int32_t star = INT32_MIN;
+	for (uint32_t i = 0; i < k; ++i) {
+		if (s->face[i] >= UNUSABLE)
+			continue;
+		const int32_t st = j->strength[s->face[i]];
+		const uint32_t r = s->parent[i];
+		s->top[r] = r == i || st > s->top[r] ? st : s->top[r];
+		star = st > star ? st : star;
+	}
+	return star;
+}
+
+/* Whether local corner i (of a usable face) is added to its fan's sum:
+ * always, or with face strengths when its face is among the fan's strongest. */
+VN_INLINE int counts(const job* j, const fan_scratch* s, uint32_t i)
+{
+	return !j->strength || j->strength[s->face[i]] == s->top[s->parent[i]];
+}
+
 /* Steps 3 and 4 for vertex v, whose corners are L[0..k). Returns the number
  * of zero normals written. */
 static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t k, const fan_scratch* s)
@@ -467,19 +498,22 @@ static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t 
 		}
 	}
 
-	/* The degenerate faces' corners: the sum over every usable face. */
+	for (uint32_t i = 0; i < k; ++i)
+		s->parent[i] = s->face[i] < UNUSABLE ? vn_find(s->parent, i) : NONE;
+	const int32_t star = j->strength ? fan_strengths(j, s, k) : 0;
+
+	/* The degenerate faces' corners: the sum over every usable face (the
+	 * strongest, with face strengths). */
 	double all[3] = {0.0, 0.0, 0.0};
 	size_t zero = 0;
 	if (degenerate) {
 		for (uint32_t i = 0; i < k; ++i)
-			if (s->face[i] < UNUSABLE) {
+			if (s->face[i] < UNUSABLE && (!j->strength || j->strength[s->face[i]] == star)) {
 				const double* c = j->contrib + 3 * (size_t)L[i];
 				all[0] += c[0], all[1] += c[1], all[2] += c[2];
 			}
 		vn_normalize(all);
 	}
-	for (uint32_t i = 0; i < k; ++i)
-		s->parent[i] = s->face[i] < UNUSABLE ? vn_find(s->parent, i) : NONE;
 
 	/* Each fan's sum in corner order from its root, its lowest corner. With
 	 * few corners in registers, root by root (k x fans steps); with many,
@@ -497,7 +531,7 @@ static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t 
 				continue;
 			double a[3] = {0.0, 0.0, 0.0};
 			for (uint32_t i = r; i < k; ++i)
-				if (s->parent[i] == r) {
+				if (s->parent[i] == r && counts(j, s, i)) {
 					const double* c = j->contrib + 3 * (size_t)L[i];
 					a[0] += c[0], a[1] += c[1], a[2] += c[2];
 				}
@@ -518,7 +552,8 @@ static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t 
 		const double* c = j->contrib + 3 * (size_t)L[i];
 		if (r == i)
 			a[0] = a[1] = a[2] = 0.0;
-		a[0] += c[0], a[1] += c[1], a[2] += c[2];
+		if (counts(j, s, i))
+			a[0] += c[0], a[1] += c[1], a[2] += c[2];
 	}
 	for (uint32_t i = 0; i < k; ++i)
 		if (s->parent[i] == i)
@@ -557,13 +592,13 @@ static void phase_fans(void* ctx, unsigned t)
 
 	/* Stars of up to FEW corners fit on the stack; bigger ones use the
 	 * allocated scratch. */
-	uint64_t small[(FEW * (2 * sizeof(uint64_t) + 3 * sizeof(double) + 5 * sizeof(uint32_t)) + 7) / 8];
+	uint64_t small[(FEW * SCRATCH_PER_CORNER + 7) / 8];
 	const fan_scratch s = j->scratch ? scratch_at(j->scratch + j->scratch_bytes * t, j->workers[0].valence)
 	                                 : scratch_at((unsigned char*)small, FEW);
 	size_t zero = 0;
 	for (uint32_t v = v0, begin = wk->base; v < v1; begin = end[v++]) {
 		const uint32_t k = end[v] - begin;
-		const size_t z = k <= SMALL ? small_fans(j, v, j->list + begin, k) : SIZE_MAX;
+		const size_t z = k <= SMALL && !j->strength ? small_fans(j, v, j->list + begin, k) : SIZE_MAX;
 		zero += z != SIZE_MAX ? z : vertex_fans(j, v, j->list + begin, k, &s);
 	}
 	wk->zero = zero;
@@ -665,6 +700,7 @@ static vn_result prepare(job* j, const vn_vectors* normals, const vn_positions* 
 	j->w.method = method;
 	j->nv = (uint32_t)positions->count;
 	j->sharp = sharp_edges;
+	j->strength = options ? options->face_strength : NULL;
 	j->crease = crease_angle < VN_PI;
 	j->cos_c = cos(crease_angle);
 	j->sin_c = sin(crease_angle);

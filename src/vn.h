@@ -39,14 +39,16 @@ extern "C" {
 /* ------------------------------------------------------------------ version */
 
 #define VN_VERSION_MAJOR 0
-#define VN_VERSION_MINOR 1
+#define VN_VERSION_MINOR 2
 #define VN_VERSION_PATCH 0
 /* (major << 16) | (minor << 8) | patch, comparable as an integer. */
 #define VN_VERSION ((VN_VERSION_MAJOR << 16) | (VN_VERSION_MINOR << 8) | VN_VERSION_PATCH)
-#define VN_VERSION_STRING "0.1.0"
+#define VN_VERSION_STRING "0.2.0"
 
 /* The VN_VERSION the library was built with. A program should check at start
- * that vn_version() >> 16 == VN_VERSION_MAJOR (same major: compatible ABI). */
+ * that vn_version() >> 8 == VN_VERSION >> 8: before 1.0 a minor version may
+ * change the ABI (0.2 appended vn_options.face_strength, so a program built
+ * with 0.1's vn.h passes a shorter vn_options). */
 VN_API uint32_t vn_version(void);
 /* The same as a "MAJOR.MINOR.PATCH" string with static storage. */
 VN_API const char* vn_version_string(void);
@@ -151,6 +153,17 @@ typedef struct vn_options {
 	void* workspace;
 	size_t workspace_size;
 	vn_allocator allocator;
+	/* Face Influence, as Blender's Weighted Normal modifier has it: NULL, or
+	 * one strength per face (index_count / 3 triangles for vn_corner_normals,
+	 * face_count faces for vn_polygon_corner_normals). In each fan of corners
+	 * that share a normal, only the faces of the fan's highest strength
+	 * contribute, and the result goes to every corner of the fan. Values are
+	 * only compared (Blender's: -16384 weak, 0 medium, 16384 strong; any
+	 * int32 here); equal strengths change nothing. The corners of a
+	 * degenerate face get the strongest usable faces of their whole vertex.
+	 * Read by the two corner-normal functions; the vertex-normal functions
+	 * ignore it. */
+	const int32_t* face_strength;
 } vn_options;
 
 /* What the computation met. Every field is a count. */
@@ -243,8 +256,9 @@ VN_API vn_result vn_weld_positions(uint32_t* remap, const vn_positions* position
  * vectors. A corner of a degenerate triangle gets its vertex's smooth
  * normal over all its non-degenerate triangles, or zero; degenerate
  * triangles take part in no edge (so a zero-area sliver next to a face is a
- * boundary of it). A negative or NaN crease_angle, or index_count above
- * UINT32_MAX, is invalid_argument. */
+ * boundary of it). options->face_strength (one per triangle) gives
+ * Blender's Face Influence (vn_options). A negative or NaN crease_angle, or
+ * index_count above UINT32_MAX, is invalid_argument. */
 VN_API vn_result vn_corner_normals(const vn_vectors* normals, const vn_positions* positions, const uint32_t* indices,
                                    size_t index_count, vn_method method, double crease_angle,
                                    const uint8_t* sharp_edges, const vn_options* options, vn_stats* stats);
@@ -268,6 +282,8 @@ VN_API vn_result vn_corner_normals(const vn_vectors* normals, const vn_positions
  * the face; they contribute nothing, as in vn_polygon_normals). Every index
  * is checked before anything is written; a negative or NaN crease_angle,
  * NULL face_offsets or decreasing offsets are invalid_argument.
+ * options->face_strength (one per face) gives Blender's Face Influence
+ * (vn_options).
  * Computed on options->threads threads (fewer below 4096 vertices a thread),
  * bit-identical whatever their number. With nothing sharp each corner gets
  * its vertex's vn_polygon_normals normal bit for bit; on triangles it
@@ -275,7 +291,7 @@ VN_API vn_result vn_corner_normals(const vn_vectors* normals, const vn_positions
  * kernels' arithmetic, and runs on this code: same threads, same memory).
  * Work memory comes from options->workspace when workspace_size is at least
  * 36 bytes a corner + 24 a face + 4 a vertex + 64 a thread + 64, else from
- * the allocator; a vertex with more than 24 corners also takes about 60
+ * the allocator; a vertex with more than 24 corners also takes about 64
  * bytes per corner of the largest such star, per thread, from the allocator. */
 VN_API vn_result vn_polygon_corner_normals(const vn_vectors* normals, const vn_positions* positions,
                                            const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,

@@ -342,6 +342,7 @@ static void names_and_results(void** state)
 	assert_int_equal(vn_version(), VN_VERSION);
 	assert_string_equal(vn_version_string(), VN_VERSION_STRING);
 	assert_int_equal(vn_version() >> 16, VN_VERSION_MAJOR);
+	assert_int_equal(vn_version() >> 8, VN_VERSION >> 8);
 }
 
 /* ---------------------------------------------------------------- allocator */

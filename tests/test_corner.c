@@ -828,6 +828,22 @@ static void uv_seam_welded(void** state)
 
 /* ---------------------------------------------------------------- polygon corner normals */
 
+/* vn_polygon_corner_normals, or vn_corner_normals when off is NULL (nf
+ * triangles), with face strengths (NULL: none). */
+static vn_result scorners(const double* pos, size_t nv, const uint32_t* idx, const uint32_t* off, size_t nf,
+                          vn_method m, double crease, const uint8_t* sharp, const int32_t* strength, unsigned threads,
+                          double* out)
+{
+	const vn_positions p = {pos, nv, 0, vn_scalar_float64};
+	const vn_vectors o = {out, 0, vn_scalar_float64};
+	vn_options opt;
+	memset(&opt, 0, sizeof(opt));
+	opt.threads = threads;
+	opt.face_strength = strength;
+	return off ? vn_polygon_corner_normals(&o, &p, idx, off, nf, m, crease, sharp, &opt, NULL)
+	           : vn_corner_normals(&o, &p, idx, 3 * nf, m, crease, sharp, &opt, NULL);
+}
+
 static vn_result pcorners(const double* pos, size_t nv, const uint32_t* idx, const uint32_t* off, size_t nf,
                           vn_method m, double crease, const uint8_t* sharp, unsigned threads, double* out,
                           vn_stats* st)
@@ -1017,7 +1033,8 @@ static void poly_matches_vertex_normals(void** state)
  * corner and the other the in edge of the other, is not flagged and its
  * faces' normals are at most crease apart (acos), or when the two are
  * consecutive corners of one face at the same vertex. Contributions from
- * the paper's definitions, in long double. */
+ * the paper's definitions, in long double; with strengths (not NULL), only
+ * those of the group's strongest faces. */
 static void brute_newell(const double* pos, const uint32_t* face, uint32_t k, long double n[3])
 {
 	n[0] = n[1] = n[2] = 0;
@@ -1033,7 +1050,7 @@ static void brute_newell(const double* pos, const uint32_t* face, uint32_t k, lo
 }
 
 static void brute_corner_normals(const double* pos, const uint32_t* idx, const uint32_t* off, size_t nf, int method,
-                                 double crease, const uint8_t* sharp, double* out)
+                                 double crease, const uint8_t* sharp, const int32_t* strength, double* out)
 {
 	const size_t n = off[nf];
 	uint32_t* fof = (uint32_t*)malloc(sizeof(uint32_t) * n);
@@ -1077,8 +1094,12 @@ static void brute_corner_normals(const double* pos, const uint32_t* idx, const u
 		}
 	for (size_t c = 0; c < n; ++c) {
 		long double s[3] = {0, 0, 0};
+		int32_t top = INT32_MIN;
+		for (size_t d = 0; d < n; ++d)
+			if (grp[d] == grp[c] && strength && strength[fof[d]] > top)
+				top = strength[fof[d]];
 		for (size_t d = 0; d < n; ++d) {
-			if (grp[d] != grp[c])
+			if (grp[d] != grp[c] || (strength && strength[fof[d]] != top))
 				continue;
 			const double* p = pos + 3 * (size_t)idx[d];
 			const double* pp = pos + 3 * (size_t)idx[prv[d]];
@@ -1145,7 +1166,7 @@ static void poly_matches_brute_force(void** state)
 				sharp[c] = next_random(&seed) % 5 == 0;
 			assert_int_equal(pcorners(pos, nv, idx, off, nf, (vn_method)m, creases[t], sharp, 1, out, NULL),
 			                 vn_result_success);
-			brute_corner_normals(pos, idx, off, nf, (int)m, creases[t], sharp, want);
+			brute_corner_normals(pos, idx, off, nf, (int)m, creases[t], sharp, NULL, want);
 			for (size_t c = 0; c < n; ++c)
 				assert_vec(out + 3 * c, want[3 * c], want[3 * c + 1], want[3 * c + 2], 1e-12);
 		}
@@ -1191,7 +1212,7 @@ static void poly_high_valence(void** state)
 				const double crease = t == 1 ? 0.25 : PI;
 				assert_int_equal(pcorners(pos, 2 * N + 1, idx, off, N, (vn_method)m, crease, sharp, 1, out, NULL),
 				                 vn_result_success);
-				brute_corner_normals(pos, idx, off, N, (int)m, crease, sharp, want);
+				brute_corner_normals(pos, idx, off, N, (int)m, crease, sharp, NULL, want);
 				for (size_t k = 0; k < c; ++k)
 					assert_vec(out + 3 * k, want[3 * k], want[3 * k + 1], want[3 * k + 2], 1e-12);
 			}
@@ -1426,6 +1447,222 @@ static void poly_memory(void** state)
 	assert_vec(out, 0, 0, -1, 0);
 }
 
+/* ---------------------------------------------------------------- face strengths (Face Influence) */
+
+enum { WEAK = -16384, MEDIUM = 0, STRONG = 16384 }; /* Blender's values */
+
+/* The quad cube with -z strong, -y and -x weak, the others medium. MWA (all
+ * corners right angles): each vertex's normal is the mean of its strongest
+ * faces' normals: the four -z vertices get -z; (0,0,1) only +z; (1,0,1)
+ * +z and +x; (0,1,1) +z and +y; (1,1,1) all three. Triangles (two per
+ * quad, the same strengths) give the same. With -z's edges flagged, each
+ * bottom vertex has two fans: -z alone, and its two side faces, where the
+ * strong face no longer outranks them: (-1,-1,0)/sqrt 2 at vertex 0 (two
+ * weak faces, both counted), (1,1,0)/sqrt 2 at vertex 2 (two medium), +x
+ * at vertex 1 and +y at vertex 3 (one medium face and one weak). */
+static void strength_cube(void** state)
+{
+	(void)state;
+	const int32_t quad[6] = {STRONG, MEDIUM, WEAK, MEDIUM, WEAK, MEDIUM};
+	int32_t tri[12];
+	for (int t = 0; t < 12; ++t)
+		tri[t] = quad[t / 2];
+	const double h = 0.7071067811865475, k = 0.5773502691896258;
+	const double want[8][3] = {{0, 0, -1}, {0, 0, -1}, {0, 0, -1}, {0, 0, -1},
+	                           {0, 0, 1},  {h, 0, h},  {k, k, k},  {0, h, h}};
+	double out[36 * 3];
+	for (int tris = 0; tris < 2; ++tris) {
+		const uint32_t* idx = tris ? cube_idx : qcube_idx;
+		const size_t n = tris ? 36 : 24;
+		assert_int_equal(scorners(cube_pos, 8, idx, tris ? NULL : qcube_off, tris ? 12 : 6, vn_method_mwa, PI, NULL,
+		                          tris ? tri : quad, 1, out),
+		                 vn_result_success);
+		for (size_t c = 0; c < n; ++c) {
+			const double* w = want[idx[c]];
+			assert_vec(out + 3 * c, w[0], w[1], w[2], 1e-15);
+		}
+	}
+	const uint8_t sharp[24] = {1, 1, 1, 1}; /* the -z quad's four edges */
+	assert_int_equal(scorners(cube_pos, 8, qcube_idx, qcube_off, 6, vn_method_mwa, PI, sharp, quad, 1, out),
+	                 vn_result_success);
+	const double side[4][3] = {{-h, -h, 0}, {1, 0, 0}, {h, h, 0}, {0, 1, 0}};
+	for (int c = 0; c < 24; ++c) {
+		const uint32_t v = qcube_idx[c];
+		if (c < 4)
+			assert_vec(out + 3 * c, 0, 0, -1, 0);
+		else if (v < 4)
+			assert_vec(out + 3 * c, side[v][0], side[v][1], side[v][2], 1e-15);
+	}
+}
+
+/* Random strengths (weak, medium, strong) on the mixed torus with faces
+ * removed, random flags and crease angles, polygons and the same faces as
+ * triangle fans: the library agrees with the brute force within 1e-12;
+ * strengths all equal give the result without strengths bit for bit. */
+static void strength_matches_brute_force(void** state)
+{
+	(void)state;
+	double pos[3 * 2 * TU * TV];
+	uint32_t idx[6 * TU * TV], off[2 * TU * TV + 1];
+	size_t nv;
+	size_t nf = mixed_torus(TU, TV, 13, pos, &nv, idx, off);
+	const size_t f = 31, gone = off[f + 1] - off[f]; /* one face removed: a boundary */
+	memmove(idx + off[f], idx + off[f + 1], sizeof(uint32_t) * (off[nf] - off[f + 1]));
+	for (size_t h = f; h < nf; ++h)
+		off[h] = off[h + 1] - (uint32_t)gone;
+	--nf;
+	const size_t n = off[nf];
+	uint32_t* tri = (uint32_t*)malloc(sizeof(uint32_t) * 3 * n);
+	uint32_t* tri_off = (uint32_t*)malloc(sizeof(uint32_t) * (n + 1));
+	int32_t* strength = (int32_t*)malloc(sizeof(int32_t) * nf);
+	int32_t* tri_strength = (int32_t*)malloc(sizeof(int32_t) * n);
+	int32_t* equal = (int32_t*)calloc(n, sizeof(int32_t));
+	uint32_t seed = 41;
+	size_t nt = 0;
+	for (size_t g = 0; g < nf; ++g) {
+		const int32_t levels[3] = {WEAK, MEDIUM, STRONG};
+		strength[g] = levels[next_random(&seed) % 3];
+		for (uint32_t c = off[g] + 1; c + 1 < off[g + 1]; ++c) {
+			tri[3 * nt] = idx[off[g]], tri[3 * nt + 1] = idx[c], tri[3 * nt + 2] = idx[c + 1];
+			tri_off[nt] = (uint32_t)(3 * nt);
+			tri_strength[nt++] = strength[g];
+		}
+	}
+	tri_off[nt] = (uint32_t)(3 * nt);
+	double* out = (double*)malloc(sizeof(double) * 9 * n);
+	double* want = (double*)malloc(sizeof(double) * 9 * n);
+	uint8_t* sharp = (uint8_t*)malloc(3 * n);
+	const double creases[3] = {0.4, 1.2, PI};
+	for (unsigned m = 0; m < vn_method_count; ++m)
+		for (int t = 0; t < 6; ++t) {
+			const int tris = t % 2;
+			const size_t faces = tris ? nt : nf, corners = tris ? 3 * nt : n;
+			const uint32_t* fi = tris ? tri : idx;
+			const uint32_t* fo = tris ? tri_off : off;
+			for (size_t c = 0; c < corners; ++c)
+				sharp[c] = next_random(&seed) % 6 == 0;
+			const int32_t* s = tris ? tri_strength : strength;
+			assert_int_equal(scorners(pos, nv, fi, tris ? NULL : fo, faces, (vn_method)m, creases[t / 2], sharp, s, 1,
+			                          out),
+			                 vn_result_success);
+			brute_corner_normals(pos, fi, fo, faces, (int)m, creases[t / 2], sharp, s, want);
+			for (size_t c = 0; c < corners; ++c)
+				assert_vec(out + 3 * c, want[3 * c], want[3 * c + 1], want[3 * c + 2], 1e-12);
+			assert_int_equal(scorners(pos, nv, fi, tris ? NULL : fo, faces, (vn_method)m, creases[t / 2], sharp,
+			                          equal, 1, out),
+			                 vn_result_success);
+			assert_int_equal(scorners(pos, nv, fi, tris ? NULL : fo, faces, (vn_method)m, creases[t / 2], sharp, NULL,
+			                          1, want),
+			                 vn_result_success);
+			assert_memory_equal(out, want, sizeof(double) * 3 * corners);
+		}
+	free(sharp);
+	free(want);
+	free(out);
+	free(equal);
+	free(tri_strength);
+	free(strength);
+	free(tri_off);
+	free(tri);
+}
+
+/* Weak faces that share no vertex with each other, the rest medium, on the
+ * closed mixed torus with nothing sharp: every star stays one fan when the
+ * weak faces are removed, and each of its vertices keeps a medium face, so
+ * the other corners' normals are those of the mesh without the weak faces,
+ * bit for bit (the same contributions added in the same order); the weak
+ * faces' own corners get their vertex's normal. */
+static void strength_is_removing_weak_faces(void** state)
+{
+	(void)state;
+	double pos[3 * 2 * TU * TV];
+	uint32_t idx[6 * TU * TV], off[2 * TU * TV + 1], kept_idx[6 * TU * TV], kept_off[2 * TU * TV + 1];
+	size_t nv;
+	const size_t nf = mixed_torus(TU, TV, 19, pos, &nv, idx, off);
+	int32_t strength[2 * TU * TV];
+	unsigned char used[2 * TU * TV] = {0};
+	size_t weak = 0, kept = 0, nk = 0;
+	kept_off[0] = 0;
+	for (size_t f = 0; f < nf; ++f) {
+		int free_vertices = f % 3 == 0;
+		for (uint32_t c = off[f]; c < off[f + 1]; ++c)
+			free_vertices &= !used[idx[c]];
+		strength[f] = free_vertices ? WEAK : MEDIUM;
+		for (uint32_t c = off[f]; c < off[f + 1]; ++c) {
+			used[idx[c]] |= free_vertices;
+			if (!free_vertices)
+				kept_idx[nk++] = idx[c];
+		}
+		weak += free_vertices;
+		if (!free_vertices)
+			kept_off[++kept] = (uint32_t)nk;
+	}
+	assert_true(weak > 10);
+	double out[3 * 6 * TU * TV], want[3 * 6 * TU * TV], vert[3 * 2 * TU * TV];
+	const vn_positions p = {pos, nv, 0, vn_scalar_float64};
+	const vn_vectors ov = {vert, 0, vn_scalar_float64};
+	for (unsigned m = 0; m < vn_method_count; ++m) {
+		assert_int_equal(scorners(pos, nv, idx, off, nf, (vn_method)m, PI, NULL, strength, 1, out), vn_result_success);
+		assert_int_equal(scorners(pos, nv, kept_idx, kept_off, kept, (vn_method)m, PI, NULL, NULL, 1, want),
+		                 vn_result_success);
+		assert_int_equal(vn_polygon_normals(&ov, &p, kept_idx, kept_off, kept, (vn_method)m, NULL, NULL),
+		                 vn_result_success);
+		for (size_t f = 0, k = 0; f < nf; ++f)
+			for (uint32_t c = off[f]; c < off[f + 1]; ++c)
+				assert_same(out + 3 * c, strength[f] == WEAK ? vert + 3 * (size_t)idx[c] : want + 3 * k++);
+	}
+}
+
+/* With face strengths, results are bit-identical for 1, 2, 3 and 7
+ * threads (polygons and triangles) on a mesh big enough for 7 workers. */
+static void strength_threads_bit_identical(void** state)
+{
+	(void)state;
+	const int U = 220, V = 150;
+	double* pos = (double*)malloc(sizeof(double) * 3 * 2 * U * V);
+	uint32_t* idx = (uint32_t*)malloc(sizeof(uint32_t) * 6 * U * V);
+	uint32_t* off = (uint32_t*)malloc(sizeof(uint32_t) * (2 * U * V + 1));
+	size_t nv;
+	const size_t nf = mixed_torus(U, V, 5, pos, &nv, idx, off), n = off[nf];
+	assert_true(nv > 7 * 4096);
+	uint32_t* tri = (uint32_t*)malloc(sizeof(uint32_t) * 3 * n);
+	int32_t* strength = (int32_t*)malloc(sizeof(int32_t) * 3 * n);
+	uint8_t* sharp = (uint8_t*)malloc(3 * n);
+	uint32_t seed = 29;
+	for (size_t c = 0; c < 3 * n; ++c) {
+		strength[c] = (int32_t)(next_random(&seed) % 3) - 1;
+		sharp[c] = next_random(&seed) % 9 == 0;
+	}
+	size_t nt = 0;
+	for (size_t f = 0; f < nf; ++f)
+		for (uint32_t c = off[f] + 1; c + 1 < off[f + 1]; ++c, ++nt)
+			tri[3 * nt] = idx[off[f]], tri[3 * nt + 1] = idx[c], tri[3 * nt + 2] = idx[c + 1];
+	double* one = (double*)malloc(sizeof(double) * 9 * n);
+	double* many = (double*)malloc(sizeof(double) * 9 * n);
+	const unsigned counts[3] = {2, 3, 7};
+	for (int tris = 0; tris < 2; ++tris) {
+		const uint32_t* fi = tris ? tri : idx;
+		const size_t faces = tris ? nt : nf, corners = tris ? 3 * nt : n;
+		assert_int_equal(scorners(pos, nv, fi, tris ? NULL : off, faces, vn_method_mwa, 0.4, sharp, strength, 1, one),
+		                 vn_result_success);
+		for (int t = 0; t < 3; ++t) {
+			memset(many, 0xff, sizeof(double) * 3 * corners);
+			assert_int_equal(scorners(pos, nv, fi, tris ? NULL : off, faces, vn_method_mwa, 0.4, sharp, strength,
+			                          counts[t], many),
+			                 vn_result_success);
+			assert_memory_equal(one, many, sizeof(double) * 3 * corners);
+		}
+	}
+	free(many);
+	free(one);
+	free(sharp);
+	free(strength);
+	free(tri);
+	free(off);
+	free(idx);
+	free(pos);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -1469,6 +1706,10 @@ int main(void)
 	    cmocka_unit_test(poly_degenerate),
 	    cmocka_unit_test(poly_errors),
 	    cmocka_unit_test(poly_memory),
+	    cmocka_unit_test(strength_cube),
+	    cmocka_unit_test(strength_matches_brute_force),
+	    cmocka_unit_test(strength_is_removing_weak_faces),
+	    cmocka_unit_test(strength_threads_bit_identical),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

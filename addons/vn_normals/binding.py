@@ -12,9 +12,10 @@ import numpy as np
 
 try:
     from . import _build
-    EXPECTED_MAJOR = _build.VN_VERSION_MAJOR
+    # before 1.0 the ABI is the major and minor version's (vn.h, vn_version)
+    EXPECTED_ABI = (_build.VN_VERSION_MAJOR, _build.VN_VERSION_MINOR)
 except ImportError:  # running from the source tree, not the built package
-    EXPECTED_MAJOR = None
+    EXPECTED_ABI = None
 
 ENV_VAR = "VN_LIBRARY"
 BUNDLED = os.path.join(os.path.dirname(os.path.abspath(__file__)), "lib", "libvn.so")
@@ -40,7 +41,7 @@ class _Allocator(ctypes.Structure):
 
 class _Options(ctypes.Structure):
     _fields_ = [("threads", ctypes.c_uint), ("simd", ctypes.c_int), ("workspace", ctypes.c_void_p),
-                ("workspace_size", ctypes.c_size_t), ("allocator", _Allocator)]
+                ("workspace_size", ctypes.c_size_t), ("allocator", _Allocator), ("face_strength", ctypes.c_void_p)]
 
 
 class _Stats(ctypes.Structure):
@@ -119,9 +120,9 @@ class Library:
         _declare(self._lib)
         v = self._lib.vn_version()
         self.version = self._lib.vn_version_string().decode()
-        if EXPECTED_MAJOR is not None and (v >> 16) != EXPECTED_MAJOR:
-            raise VnError("the vn library %s is version %s; this add-on needs major version %d"
-                          % (path, self.version, EXPECTED_MAJOR))
+        if EXPECTED_ABI is not None and (v >> 16, (v >> 8) & 0xFF) != EXPECTED_ABI:
+            raise VnError("the vn library %s is version %s; this add-on needs version %d.%d"
+                          % (path, self.version) + EXPECTED_ABI)
         self.methods = []  # (name, description, reference), in vn_method order
         i = 0
         while True:
@@ -165,13 +166,15 @@ class Library:
         return remap
 
     def polygon_corner_normals(self, co, corner_vert, face_offsets, method, crease_angle=np.pi,
-                               sharp_edges=None, threads=None, dtype=np.float64):
+                               sharp_edges=None, threads=None, dtype=np.float64, face_strength=None):
         """Per-corner unit normals (dtype float64 or float32, one row per
         corner) of a polygon mesh: vn_polygon_corner_normals. method: a name
         or vn_method index; sharp_edges: one flag (bool or uint8) per corner
-        (its edge to the next corner) or None. Arrays already of the types
-        the library takes (float32/float64 (n, 3) positions, uint32 indices
-        and offsets, contiguous) are passed as they are, not copied."""
+        (its edge to the next corner) or None; face_strength: one int32 per
+        face or None (Face Influence: vn_options.face_strength). Arrays
+        already of the types the library takes (float32/float64 (n, 3)
+        positions, uint32 indices and offsets, int32 strengths, contiguous)
+        are passed as they are, not copied."""
         if isinstance(method, str):
             method = self.method_index(method)
         co, pos = self._positions(co)
@@ -185,11 +188,17 @@ class Library:
             sharp = sharp.view(np.uint8) if sharp.dtype == np.bool_ else sharp.astype(np.uint8, copy=False)
             if sharp.size != idx.size:
                 raise VnError("one sharp-edge flag per corner is needed")
+        strength = None
+        if face_strength is not None:
+            strength = np.ascontiguousarray(face_strength, dtype=np.int32)
+            if strength.size != off.size - 1:
+                raise VnError("one face strength per face is needed")
         if np.dtype(dtype) not in (np.float32, np.float64):
             raise VnError("normals are float32 or float64, not %s" % np.dtype(dtype))
         out = np.empty((idx.size, 3), dtype=dtype)
         vec = _Vectors(out.ctypes.data, 0, _FLOAT32 if out.dtype == np.float32 else _FLOAT64)
         opt = self._options(threads)
+        opt.face_strength = None if strength is None else strength.ctypes.data
         stats = _Stats()
         self._check(self._lib.vn_polygon_corner_normals(
             ctypes.byref(vec), ctypes.byref(pos), idx.ctypes.data, off.ctypes.data, off.size - 1, int(method),

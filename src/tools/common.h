@@ -55,11 +55,11 @@ static inline unsigned tool_cpu_count(void)
 	return n > 0 ? (unsigned)n : 1;
 }
 
-/* Exits with 1 unless the library this program runs with has the major
- * version it was compiled against. */
+/* Exits with 1 unless the library this program runs with has the major and
+ * minor version it was compiled against (vn.h: the ABI before 1.0). */
 static inline void tool_check_version(const char* prog)
 {
-	if (vn_version() >> 16 != VN_VERSION_MAJOR) {
+	if (vn_version() >> 8 != VN_VERSION >> 8) {
 		fprintf(stderr, "%s: error: built for libvn %s but running with %s\n", prog, VN_VERSION_STRING,
 		        vn_version_string());
 		exit(1);

@@ -4,7 +4,7 @@
 
 int main(void)
 {
-	if (vn_version() >> 16 != VN_VERSION_MAJOR)
+	if (vn_version() >> 8 != VN_VERSION >> 8)
 		return 1;
 	const float pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
 	const uint32_t idx[] = {0, 1, 2};
