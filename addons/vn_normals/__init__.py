@@ -4,7 +4,7 @@ schemes of Jin, Lewis & West 2005, computed by vn's C library (ctypes)."""
 bl_info = {
     "name": "vn: Vertex Normals",
     "author": "vn",
-    "version": (0, 1, 0),
+    "version": (0, 2, 0),
     "blender": (3, 4, 0),
     "location": "View3D > Object > Recompute Normals; Edit Mode > Mesh > Normals > Recompute Normals; "
                 "Properties > Object Data > vn Live Normals",
@@ -143,13 +143,20 @@ def _settings(update=None):
             name="Keep Hard Edges", default=True, update=update,
             description="Weld: vertices whose current normals differ by more than the crease angle stay apart "
                         "(the hard edges of imported files)"),
+        # the Weighted Normal modifier's options, with its names, descriptions and meaning
+        "use_face_influence": BoolProperty(
+            name="Face Influence", default=False, update=update, description="Use influence of face for weighting"),
+        "vertex_group": StringProperty(
+            name="Vertex Group", update=update, description="Vertex group name for modifying the selected areas"),
+        "invert_vertex_group": BoolProperty(
+            name="Invert", default=False, update=update, description="Invert vertex group influence"),
     }
 
 
 SETTINGS = tuple(_settings())
 
 
-def _draw_settings(layout, s):
+def _draw_settings(layout, s, obj):
     layout.use_property_split = True
     layout.prop(s, "method")
     layout.prop(s, "keep_sharp")
@@ -166,6 +173,16 @@ def _draw_settings(layout, s):
     sub = layout.row()
     sub.active = s.weld
     sub.prop(s, "weld_keep_hard")
+    layout.prop(s, "use_face_influence")
+    # as the modifier draws its vertex group: a search of the object's groups, invert beside it
+    row = layout.row(align=True)
+    if obj is not None and obj.type == "MESH":
+        row.prop_search(s, "vertex_group", obj, "vertex_groups")
+    else:
+        row.prop(s, "vertex_group")
+    sub = row.row(align=True)
+    sub.active = bool(s.vertex_group)
+    sub.prop(s, "invert_vertex_group", text="", icon="ARROW_LEFTRIGHT")
 
 
 class MESH_OT_vn_recompute_normals(bpy.types.Operator):
@@ -200,7 +217,7 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
 
     def draw(self, context):
         layout = self.layout
-        _draw_settings(layout, self)
+        _draw_settings(layout, self, context.active_object)
         layout.prop(self, "live")
         if context.mode == "EDIT_MESH":
             row = layout.row()
@@ -243,8 +260,10 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
         except binding.VnError as e:
             self.report({"ERROR"}, "vn: %s" % e)
             return {"CANCELLED"}
-        # objects sharing a mesh: computed once
-        owners = {o.data.name_full: o for o in objects}
+        # objects sharing a mesh: computed once (their vertex groups are the mesh's)
+        owners = {}
+        for o in objects:
+            owners.setdefault(o.data.name_full, o)
         edit = context.mode == "EDIT_MESH"
         # Live recomputes whole meshes: this run does too, so that it gives what they will
         selected_only = self.selected_only and edit and not self.live
@@ -252,21 +271,26 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
         # back into it, costs a third of leaving and re-entering Edit Mode.
         copies = edit and all(_reloadable(o.data) for o in owners.values())
         t0 = time.perf_counter()
-        corners = 0
-        marked = 0
+        meshes = corners = marked = 0
+        no_group = []
         if edit and not copies:
             bpy.ops.object.mode_set(mode="OBJECT")
         try:
             for obj in owners.values():
                 work = _edit_copy(obj) if copies else obj.data
                 try:
-                    c, m = _compute(lib, work, self, selected_only)
+                    members = _group_members(obj, work, self)
+                    if members is not None and not members.any():
+                        no_group.append(obj.name)
+                        continue
+                    c, m = _compute(lib, work, self, selected_only, members=members)
                     _store_live(obj.data, self, work)
                     if copies:
                         _load_edit_mesh(obj.data, work)
                 finally:
                     if copies:
                         obj.to_mesh_clear()
+                meshes += 1
                 corners += c
                 marked += m
         except binding.VnError as e:
@@ -275,9 +299,14 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
         finally:
             if edit and not copies:
                 bpy.ops.object.mode_set(mode="EDIT")
+        if no_group:
+            self.report({"WARNING"}, "vn: skipped %s: no vertex to change in group %r%s" % (
+                ", ".join(no_group), self.vertex_group, " (inverted)" if self.invert_vertex_group else ""))
+        if not meshes:
+            return {"CANCELLED"}
         ms = (time.perf_counter() - t0) * 1e3
         msg = "vn %s: %d mesh%s, %d corners, %.1f ms" % (
-            self.method, len(owners), "" if len(owners) == 1 else "es", corners, ms)
+            self.method, meshes, "" if meshes == 1 else "es", corners, ms)
         if marked:
             msg += " (%d edges marked sharp)" % marked
         if self.live:
@@ -309,9 +338,26 @@ def _weld(lib, a, mesh, s):
     return remap
 
 
-def _compute(lib, mesh, s, selected_only=False, a=None):
+def _group_members(obj, mesh, s):
+    """Per vertex of mesh (obj's mesh, or Edit Mode's copy of it): whether
+    the settings s change it (in the vertex group, or not in it with Invert),
+    or None for every vertex. As the Weighted Normal modifier: membership
+    counts, not weight. A mesh without the group has no member. The group
+    names are the mesh's (3.0+), reached through an object using it."""
+    if not s.vertex_group:
+        return None
+    index = obj.vertex_groups.find(s.vertex_group)
+    members = (mesh_io.vertex_group_members(mesh, index) if index >= 0
+               else np.zeros(len(mesh.vertices), dtype=bool))
+    if s.invert_vertex_group:
+        members = ~members
+    return None if members.all() else members
+
+
+def _compute(lib, mesh, s, selected_only=False, a=None, members=None):
     """Computes and stores a mesh's normals with the settings s (the operator,
-    or a live mesh's copy: the same names); a: its arrays when already read.
+    or a live mesh's copy: the same names); a: its arrays when already read;
+    members: per vertex, whether it changes (None: all).
     Returns (corners changed, edges marked sharp)."""
     if not mesh.loops:
         return 0, 0
@@ -325,12 +371,20 @@ def _compute(lib, mesh, s, selected_only=False, a=None):
         corner_vert = _weld(lib, a, mesh, s)[corner_vert]
     # Blender 3.4-4.0's Auto Smooth splits at its angle whatever the normals are
     crease = min(s.crease_angle if s.use_crease else math.pi, mesh_io.auto_smooth_angle(mesh))
+    # Face Influence without face strengths on the mesh: all medium, no effect
+    strength = a.face_strength if s.use_face_influence else None
     normals = lib.polygon_corner_normals(a.co, corner_vert, a.face_offsets, s.method.lower(),
-                                         crease, a.sharp_corner_flags(s.keep_sharp), dtype=np.float32)
+                                         crease, a.sharp_corner_flags(s.keep_sharp), dtype=np.float32,
+                                         face_strength=strength)
     has_zero_rows = lib.last_stats["zero_normals"] > 0
     changed = None
     if selected_only:
         changed = a.face_select[a.face_of_corner]
+    if members is not None:
+        # a whole vertex changes or keeps its normals, so Blender's fans need no new split
+        in_group = members[a.corner_vert]
+        changed = in_group if changed is None else changed & in_group
+    if changed is not None:
         current = a.from_loops(mesh_io.corner_normals(mesh))
         normals = np.where(changed[:, None], normals, current)
     split = np.zeros(len(mesh.edges), dtype=bool)
@@ -430,13 +484,15 @@ def _read(mesh):
     """(arrays, state) of a mesh with faces: its arrays as _compute reads them
     (edge_sharp without the add-on's own marks), and a digest of what the
     normals are computed from: positions, faces, the user's sharp edges and
-    flat faces, 3.4-4.0's Auto Smooth angle. Writing custom normals and the
-    add-on's own marks leave the digest unchanged."""
+    flat faces, face strengths, 3.4-4.0's Auto Smooth angle. Writing custom
+    normals and the add-on's own marks leave the digest unchanged. Vertex
+    group membership is not in it: Blender reads it one vertex at a time."""
     a = mesh_io.MeshArrays(mesh)
     a.edge_sharp &= ~_own_sharp(mesh)
     sharp = a.sharp_corner_flags(True)
     parts = (a.co, a.corner_vert, a.face_offsets,
              np.flatnonzero(sharp) if sharp is not None else np.empty(0, dtype=np.intp),
+             a.face_strength if a.face_strength is not None else np.empty(0, dtype=np.int32),
              np.array([mesh_io.auto_smooth_angle(mesh)]))
     # to notice changes, not to resist attacks: SHA-1 is the fastest hashlib has (CPUs do it)
     h = hashlib.sha1(np.array([p.size for p in parts], dtype=np.int64), usedforsecurity=False)
@@ -468,15 +524,18 @@ def _live_recompute(mesh):
     (in Edit Mode its data is not current; strokes come one by one): leaving
     the mode updates the mesh, which comes back here."""
     live = mesh.vn_live
-    if (mesh.library is not None or not mesh.loops
-            or any(o.mode != "OBJECT" and o.data == mesh for o in bpy.data.objects)):
+    users = [o for o in bpy.data.objects if o.data == mesh]
+    if (mesh.library is not None or not mesh.loops or any(o.mode != "OBJECT" for o in users)
+            or (live.vertex_group and not users)):  # group names are reached through an object
         return
     live_stats["checked"] += 1
     a, state = _read(mesh)
     if state == live.state:
         return  # e.g. its own custom normals written, a shape key's value changed
     try:
-        _compute(_library(), mesh, live, a=a)
+        members = _group_members(users[0], mesh, live) if users else None
+        if members is None or members.any():
+            _compute(_library(), mesh, live, a=a, members=members)
     except Exception as e:  # a handler's exception would be printed on every update
         error = str(e) if isinstance(e, binding.VnError) else "%s: %s" % (type(e).__name__, e)
         if error != live.error:  # once, not on every update (shown in the vn panel meanwhile)
@@ -553,7 +612,7 @@ class DATA_PT_vn_live(bpy.types.Panel):
             layout.label(text=live.error, icon="ERROR")
         col = layout.column()
         col.active = live.live
-        _draw_settings(col, live)
+        _draw_settings(col, live, context.object)
 
 
 def _draw_entry(layout, context):

@@ -17,6 +17,10 @@ import bpy
 import numpy as np
 
 HAS_CORNER_NORMALS = bpy.app.version >= (4, 1, 0)
+# The face attribute Bevel's Harden Normals and Set Face Strength write and
+# the Weighted Normal modifier's Face Influence reads (3.4 to 4.3):
+# -16384 weak, 0 medium, 16384 strong.
+FACE_STRENGTH = "__mod_weightednormals_faceweight"
 
 
 def _get(seq, attr, n, dtype, width=1):
@@ -82,6 +86,14 @@ class MeshArrays:
             return _attribute(self.mesh, ".corner_edge", "value", nl, np.int32)
         corner_edge = _get(self.mesh.loops, "edge_index", nl, np.uint32)
         return corner_edge if self.order is None else corner_edge[self.order]
+
+    @functools.cached_property
+    def face_strength(self):
+        """Blender's face strengths (int32 per face), or None when the mesh has none."""
+        attr = self.mesh.attributes.get(FACE_STRENGTH)
+        if attr is None or attr.domain != "FACE" or attr.data_type != "INT":
+            return None
+        return _get(attr.data, "value", len(self.face_size), np.int32)
 
     @functools.cached_property
     def face_select(self):
@@ -165,6 +177,14 @@ def corner_normals(mesh):
         if nl:
             mesh.loops.foreach_get("normal", a)
     return a.reshape(-1, 3)
+
+
+def vertex_group_members(mesh, index):
+    """Per vertex: whether it is in vertex group `index`, whatever its weight
+    (0 too). Blender has no bulk read of vertex groups: a Python loop, 1.3 s
+    a million vertices in 3.4, 0.5 s in 4.3."""
+    return np.fromiter((any(g.group == index for g in v.groups) for v in mesh.vertices), bool,
+                       len(mesh.vertices))
 
 
 def auto_smooth_angle(mesh):

@@ -15,7 +15,10 @@ error report rather than a traceback. Live normals (issue 15): recomputed
 once per edit (mesh data in Object Mode, leaving Edit or Sculpt Mode) with
 every stored setting, never for their own write, a frame change or a
 shape key's value, turned off and on, reported once when failing, and still
-live after the file is saved and reopened. Any failure raises (exit status 1).
+live after the file is saved and reopened. Then parity with Blender's
+Weighted Normal modifier (issue 15): MWA = its Corner Angle mode, and the
+add-on's Face Influence, Vertex Group and Invert = the modifier's. Any
+failure raises (exit status 1).
 """
 
 import contextlib
@@ -1250,6 +1253,196 @@ settle()
 compare("reopened: an edit recomputes", blender_normals(me), reference(me, "MWRELR"))
 check(recomputed() == n0 + 1, "reopened: one edit, one recompute (%d)" % (recomputed() - n0))
 print("live normals in %.2f s" % (time.perf_counter() - t0))
+# ------------------------------------------------------------------ issue 15: parity with the Weighted Normal modifier
+# The modifier at Weight 50 gives every corner the inverse power weight
+# 1 / 1^n = 1 (whatever the Threshold): Corner Angle mode is then exactly
+# angle weighted (MWA), Face Area mode weights by the face's area. Keep
+# Sharp on: its fans are Blender's, as the add-on's (Keep Sharp Edges on).
+def weighted_normal_modifier(obj, **settings):
+    """Corner normals of a copy of obj with the Weighted Normal modifier
+    (Corner Angle, weight 50, threshold 0.01, Keep Sharp, and settings) applied."""
+    copy = obj.copy()
+    copy.data = obj.data.copy()
+    bpy.context.collection.objects.link(copy)
+    m = copy.modifiers.new("WN", "WEIGHTED_NORMAL")
+    m.mode, m.weight, m.thresh, m.keep_sharp = "CORNER_ANGLE", 50, 0.01, True
+    for k, v in settings.items():
+        setattr(m, k, v)
+    bpy.ops.object.select_all(action="DESELECT")
+    copy.select_set(True)
+    bpy.context.view_layer.objects.active = copy
+    bpy.ops.object.modifier_apply(modifier=m.name)
+    n = blender_normals(copy.data)
+    data = copy.data
+    bpy.data.objects.remove(copy)
+    bpy.data.meshes.remove(data)
+    bpy.ops.object.select_all(action="DESELECT")
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    return n
+
+
+def vn_normals(obj, **props):
+    """obj's corner normals after the operator with props, on a copy of its mesh
+    (obj keeps its own)."""
+    saved = obj.data
+    obj.data = saved.copy()
+    r = bpy.ops.mesh.vn_recompute_normals(**props)
+    n = blender_normals(obj.data)
+    data, obj.data = obj.data, saved
+    bpy.data.meshes.remove(data)
+    check(r_ok(r), "operator finished (%s)" % props)
+    return n
+
+
+def differs(label, got, ref, min_deg):
+    d = angles_deg(got, ref)
+    check(d.max() > min_deg, "%s: max %.2f deg apart (> %g)" % (label, d.max(), min_deg))
+
+
+# MWA = Corner Angle on an irregular mesh of quads and triangles
+obj = sphere_smooth()
+mod = weighted_normal_modifier(obj)
+compare("jittered sphere (quads, pole triangles): MWA = modifier's Corner Angle",
+        vn_normals(obj, method="MWA"), mod)
+differs("...while MWE is not angle weighted", vn_normals(obj, method="MWE"), mod, 0.3)
+
+# Face Area: MWAAT weights a corner by |E x E'| (its corner triangle), the
+# modifier by its face's area: the same on triangles, not on quads
+area = weighted_normal_modifier(obj, mode="FACE_AREA")
+d = angles_deg(vn_normals(obj, method="MWAAT"), area)
+check(d.max() > 0.3, "Face Area != MWAAT on the jittered sphere's quads: max %.3f deg, median %.4f deg, mean %.4f deg"
+      % (d.max(), np.median(d), d.mean()))
+bpy.data.objects.remove(obj)
+obj = new_scene_object(bpy.ops.mesh.primitive_monkey_add)
+shade_smooth(obj.data)
+if V < (4, 1, 0):
+    obj.data.use_auto_smooth = True
+    obj.data.auto_smooth_angle = math.pi
+d = angles_deg(vn_normals(obj, method="MWAAT"), weighted_normal_modifier(obj, mode="FACE_AREA"))
+check(d.max() > 0.3, "Face Area != MWAAT on Suzanne (quads and triangles): max %.3f deg, median %.4f deg, "
+      "mean %.4f deg" % (d.max(), np.median(d), d.mean()))
+bpy.data.objects.remove(obj)
+obj = new_scene_object(ico_sphere)
+me = obj.data
+shade_smooth(me)
+co = np.empty(len(me.vertices) * 3, dtype=np.float32)
+me.vertices.foreach_get("co", co)
+me.vertices.foreach_set("co", co * rng.uniform(0.9, 1.1, co.size).astype(np.float32))
+if V < (4, 1, 0):
+    me.use_auto_smooth = True
+    me.auto_smooth_angle = math.pi
+compare("jittered ico sphere (triangles): MWAAT = modifier's Face Area", vn_normals(obj, method="MWAAT"),
+        weighted_normal_modifier(obj, mode="FACE_AREA"))
+bpy.data.objects.remove(obj)
+
+
+# Face Influence: a cube bevelled with Harden Normals (face strengths: the
+# original faces strong, the bevel's weak and medium), jittered
+def hardened_cube():
+    bpy.ops.mesh.primitive_cube_add(size=2.0)
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.mesh.select_all(action="SELECT")
+    bpy.ops.mesh.bevel(offset=0.3, segments=3, harden_normals=True, face_strength_mode="AFFECTED")
+    bpy.ops.object.mode_set(mode="OBJECT")
+
+
+obj = new_scene_object(hardened_cube)
+me = obj.data
+shade_smooth(me)
+co = np.empty(len(me.vertices) * 3, dtype=np.float32)
+me.vertices.foreach_get("co", co)
+me.vertices.foreach_set("co", co + rng.uniform(-0.01, 0.01, co.size).astype(np.float32))
+if V < (4, 1, 0):
+    me.use_auto_smooth = True
+    me.auto_smooth_angle = math.pi
+strength = mesh_io.MeshArrays(me).face_strength
+levels = sorted(set(strength.tolist())) if strength is not None else []
+check(levels == [-16384, 0, 16384], "bevelled cube: face strengths %s in %s" % (levels, mesh_io.FACE_STRENGTH))
+mod = weighted_normal_modifier(obj, use_face_influence=True)
+got = vn_normals(obj, method="MWA", use_face_influence=True)
+compare("bevelled cube, Face Influence: MWA = modifier's Corner Angle", got, mod)
+plain = vn_normals(obj, method="MWA")
+differs("...and Face Influence off differs from it", plain, mod, 5.0)
+compare("bevelled cube, Face Influence off = modifier's off", plain, weighted_normal_modifier(obj))
+big = mesh_io.MeshArrays(me)
+on_strong = big.to_loops((strength[big.face_of_corner] == 16384).astype(np.uint8)).astype(bool)
+fn = np.empty(len(me.polygons) * 3)
+me.polygons.foreach_get("normal", fn)
+face_n = big.to_loops(fn.reshape(-1, 3)[big.face_of_corner])
+d = angles_deg(got[on_strong], face_n[on_strong])
+check(d.max() < 0.5, "Face Influence: the strong (original) faces stay flat: %.3f deg from their normals" % d.max())
+me.attributes.remove(me.attributes[mesh_io.FACE_STRENGTH])
+compare("no face strengths: Face Influence changes nothing", vn_normals(obj, method="MWA", use_face_influence=True),
+        plain, max_deg=1e-6, median_deg=1e-6)
+bpy.data.objects.remove(obj)
+
+# Vertex group and Invert: the group's vertices (membership, not weight:
+# some weigh 0) get new normals, the others keep theirs
+obj = sphere_smooth()
+me = obj.data
+me.normals_split_custom_set_from_vertices(np.tile(np.float32([0, 0, 1]), (len(me.vertices), 1)))
+me.update()
+up = blender_normals(me)  # +z as stored: what the others keep
+co = np.array([v.co[:] for v in me.vertices])
+top = np.flatnonzero(co[:, 2] > 0.3)
+group = obj.vertex_groups.new(name="Top")
+group.add(top[::2].tolist(), 1.0, "REPLACE")
+group.add(top[1::2].tolist(), 0.0, "REPLACE")
+obj.vertex_groups.new(name="Other").add([0], 1.0, "REPLACE")
+a = mesh_io.MeshArrays(me)
+in_top = a.to_loops(np.isin(a.corner_vert, top).astype(np.uint8)).astype(bool)
+check(0 < in_top.sum() < in_top.size, "vertex group: %d of %d corners in 'Top'" % (in_top.sum(), in_top.size))
+whole = vn_normals(obj, method="MWA")
+for invert in (False, True):
+    label = "vertex group 'Top'%s" % (", inverted" if invert else "")
+    mod = weighted_normal_modifier(obj, vertex_group="Top", invert_vertex_group=invert)
+    got = vn_normals(obj, method="MWA", vertex_group="Top", invert_vertex_group=invert)
+    compare(label + ": MWA = modifier's Corner Angle", got, mod)
+    changed = ~in_top if invert else in_top
+    compare(label + ": changed corners = the whole mesh's", got[changed], whole[changed])
+    compare(label + ": the others keep their +z", got[~changed], up[~changed])
+    differs(label + ": without the group", whole, mod, 20.0)
+props = bpy.ops.mesh.vn_recompute_normals.get_rna_type().properties
+P = bpy.types.WeightedNormalModifier.bl_rna.properties
+check(all(props[k].name == P[k].name and props[k].description == P[k].description
+          for k in ("use_face_influence", "vertex_group", "invert_vertex_group")),
+      "Face Influence, Vertex Group, Invert: the modifier's names and descriptions")
+
+
+class Layout:
+    """Stands in for the Adjust Last Operation panel's layout: records prop and prop_search calls."""
+
+    def __init__(self, calls):
+        self.calls = calls
+
+    def __getattr__(self, name):
+        def call(*a, **k):
+            self.calls.append((name,) + a)
+            return Layout(self.calls)
+        return call
+
+
+calls = []
+op = type("Op", (), {k: props[k].default for k in props.keys() if hasattr(props[k], "default")
+                     and not getattr(props[k], "is_array", False)})()
+op.layout, op.vertex_group = Layout(calls), "Top"
+addon.MESH_OT_vn_recompute_normals.draw(op, bpy.context)
+search = [c for c in calls if c[0] == "prop_search"]
+check(len(search) == 1 and search[0][2:] == ("vertex_group", obj, "vertex_groups")
+      and ("prop", op, "invert_vertex_group") in calls and ("prop", op, "use_face_influence") in calls,
+      "panel: Face Influence, a search of the object's vertex groups, Invert (%s)" % [c[2:] for c in search])
+
+# A selected object whose mesh lacks the group is skipped (nothing to change), said in a warning
+other = sphere_smooth()
+before = blender_normals(other.data)
+obj.select_set(True)
+bpy.context.view_layer.objects.active = obj
+m = run_message(method="MWA", vertex_group="Top")
+check(m == "{'FINISHED'}" and angles_deg(blender_normals(other.data), before).max() < 1e-6,
+      "second object without the group: left alone (%s)" % m)
+bpy.data.objects.remove(other)
+bpy.data.objects.remove(obj)
 
 print("storage precision: worst corner %.3f deg from the library's normals" % max(PRECISION))
 
