@@ -995,6 +995,9 @@ class Layout:
         self.props.append(name)
         getattr(data, name)
 
+    def prop_search(self, data, name, *a, **kw):
+        self.prop(data, name)
+
     def label(self, text="", **kw):
         self.labels.append(text)
 
@@ -1004,7 +1007,7 @@ class Layout:
 
 lay = Layout()
 panel = type("Panel", (), {"layout": lay})()
-fake_context = type("Context", (), {"mesh": me})()
+fake_context = type("Context", (), {"mesh": me, "object": obj})()
 addon.DATA_PT_vn_live.draw_header(panel, fake_context)
 addon.DATA_PT_vn_live.draw(panel, fake_context)
 check(lay.props == ["live"] + list(addon.SETTINGS), "vn Live Normals panel draws the tick and %s" % lay.props[1:])
@@ -1047,8 +1050,10 @@ check(d > 3 and recomputed() == n0 + 4, "...and an edit leaves it stale (%.1f de
 bpy.data.objects.remove(obj)
 
 # Every setting is stored; Crease and Weld are used by the live recomputes
+# (Face Influence without face strengths and every vertex by an inverted absent group: no effect)
 props = dict(method="MWRELR", keep_sharp=False, use_crease=True, crease_angle=math.radians(40.0), weld=True,
-             weld_distance=2e-4, weld_keep_hard=False)
+             weld_distance=2e-4, weld_keep_hard=False, use_face_influence=True, vertex_group="none",
+             invert_vertex_group=True)
 obj = sphere_smooth()
 me = obj.data
 bpy.ops.mesh.vn_recompute_normals(live=True, **props)
@@ -1214,7 +1219,7 @@ check(len(lines) == 1 and "stale" in lines[0] and "does not exist" in me.vn_live
       "live recompute failing twice: one message %s, error kept (%r), normals stale (%.1f deg)"
       % (lines, me.vn_live.error, d))
 lay = Layout()
-addon.DATA_PT_vn_live.draw(type("Panel", (), {"layout": lay})(), type("Context", (), {"mesh": me})())
+addon.DATA_PT_vn_live.draw(type("Panel", (), {"layout": lay})(), type("Context", (), {"mesh": me, "object": a_obj})())
 check(me.vn_live.error in lay.labels, "the vn panel shows the error")
 prefs.library_path = ""
 me.vertices.foreach_set("co", kept.ravel())  # put back: Blender stores normals less precisely on crumpled meshes
