@@ -1,5 +1,6 @@
 /*
- * MeshLab filter plugin: "Recompute Vertex Normals (vn)", every weighting
+ * MeshLab filter plugin: "Re-Compute Vertex Normals (all published
+ * weightings)", every weighting
  * scheme of the vn library (Jin, Lewis & West 2005), computed in double
  * precision by the library. One source for MeshLab 2020.09 and 2022.02+
  * (see meshlab_compat.h).
@@ -43,7 +44,8 @@ public:
 #endif
 
 private:
-	void fillParameters(RichParameterList& par) const;
+	/* somethingSelected: the default of "Affect only selected vertices". */
+	void fillParameters(RichParameterList& par, bool somethingSelected) const;
 	/* Computes and writes the normals; returns an empty string on success,
 	 * else the error message (nothing in the mesh changed). */
 	QString run(MeshModel& m, const RichParameterList& par, vcg::CallBackPos* cb);
