@@ -47,12 +47,15 @@ if [ ! -f "$root$w/sdk/.complete" ]; then
 	$SUDO touch "$root$w/sdk/.complete"
 fi
 
-# This source tree: the library's C files, the plugin, the loader.
-$SUDO rm -rf "$root$w/build" && $SUDO mkdir -p "$root$w/build"
-$SUDO cp -r "$src/src" "$root$w/build/vnsrc"
-$SUDO cp "$src"/filters/meshlab/*.h "$src"/filters/meshlab/*.cpp "$src/tests/meshlab/load_filter_plugin.cpp" "$root$w/build/"
+# This source tree: the library's C files, the plugin, the loader, in a
+# build folder of this run's own (runs from several worktrees may overlap).
+b=$w/build-$$
+trap '$SUDO rm -rf "$root$b"' EXIT
+$SUDO rm -rf "$root$b" && $SUDO mkdir -p "$root$b"
+$SUDO cp -r "$src/src" "$root$b/vnsrc"
+$SUDO cp "$src"/filters/meshlab/*.h "$src"/filters/meshlab/*.cpp "$src/tests/meshlab/load_filter_plugin.cpp" "$root$b/"
 inroot sh -ec "
-cd $w/build
+cd $b
 ver=\$(tr -d ' \n' < ../sdk/ML_VERSION)
 echo \"check-meshlab2022: MeshLab \$ver SDK, \$(dpkg-query -W -f='\${Version}' meshlab) installed, \$(g++ --version | head -n1)\"
 defs=\"-DMESHLAB_SCALAR=float -DMESHLAB_VERSION=\$ver -DVN_MESHLAB_API=2022\"

@@ -120,8 +120,8 @@ QString FilterVnPlugin::filterInfo(VnActionID filter) const
 		    "around a vertex that Jin, Lewis and West compared, computed in double precision by the vn "
 		    "library %1.<br>"
 		    "A vertex that no face contributes to (a loose point, or one whose faces all have zero "
-		    "area) keeps the normal it has, as with MeshLab's own Re-Compute Vertex Normals. A layer "
-		    "without faces is refused.<br><br>")
+		    "area) keeps the normal it has (MeshLab's own Re-Compute Vertex Normals, too, leaves loose "
+		    "points alone). A layer without faces is refused.<br><br>")
 		                .arg(QString::fromLatin1(vn_version_string()));
 		for (int i = 0; i < static_cast<int>(vn_method_count); ++i)
 			s += QString::fromLatin1("<b>%1</b>: %2<br>")

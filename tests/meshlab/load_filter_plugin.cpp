@@ -1,7 +1,10 @@
 // Loads libfilter_vn.so the way MeshLab 2022.02+ does (QPluginLoader, the
 // FilterPlugin IID, getMLVersion() against the running libmeshlab-common) and
-// applies its filter to a small mesh: every method gives unit or zero normals,
-// no NaN, zero for the isolated vertex and one only in a zero-area face; a bad method throws MLException.
+// applies its filter to a small mesh: every method gives unit normals, no NaN;
+// the isolated vertex and one only in a zero-area face keep their normals; the
+// name, the method labels and the help as the dialog shows them; "only
+// selected" takes the vertices of selected faces and is on by default when
+// something is selected; a layer without faces and a bad method throw MLException.
 //   load_filter_plugin PLUGIN.so   (exit status 0 when all pass)
 #include <common/globals.h>
 #include <common/mlexception.h>
@@ -13,6 +16,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 static int failures = 0;
 static void check(bool ok, const char* what)
@@ -42,7 +46,7 @@ int main(int argc, char** argv)
 	std::printf("     plugin built for MeshLab %s, %s\n", v.first.c_str(), v.second ? "double" : "float");
 	check(fp->actions().size() == 1, "exactly one filter");
 	QAction* a = fp->actions().front();
-	check(fp->filterName(a) == "Recompute Vertex Normals (vn)", "filter name");
+	check(fp->filterName(a) == "Re-Compute Vertex Normals (all published weightings)", "filter name");
 	check(fp->getClass(a) == FilterPlugin::Normal, "class Normal (not Generic)");
 	check((fp->postCondition(a) & MeshModel::MM_VERTNORMAL) != 0, "postcondition: vertex normals");
 
@@ -57,10 +61,31 @@ int main(int argc, char** argv)
 	RichParameterList par = fp->initParameterList(a, *m);
 	check(par.hasParameter("method") && par.getEnum("method") == 1, "parameter method, default MWA (1)");
 	check(par.hasParameter("weldByPosition") && !par.getBool("weldByPosition"), "weldByPosition, default off");
-	check(par.hasParameter("onlySelected") && !par.getBool("onlySelected"), "onlySelected, default off");
+	check(par.hasParameter("onlySelected") && !par.getBool("onlySelected"), "onlySelected, default off (nothing selected)");
+	{
+		const RichEnum* e = dynamic_cast<const RichEnum*>(&par.getParameterByName("method"));
+		bool ok = e && e->enumvalues.size() == 7 && e->enumvalues[1] == "Angle weighted (MWA, default)" &&
+		          e->enumvalues[2] == "Sine and edge-length reciprocals (MWSELR, Max 1999)" &&
+		          e->enumvalues[6].contains("not for shading") && e->enumvalues[6].contains("MEWCSA");
+		for (int i = 0; ok && i < 7; ++i) ok = !e->enumvalues[i].contains("|E") && !e->enumvalues[i].contains("sin(");
+		check(ok, "method labels in plain words with the acronym, MEWCSA not for shading");
+		if (e)
+			for (const QString& l : e->enumvalues) std::printf("     %s\n", qUtf8Printable(l));
+		bool help = true;
+		for (const char* n : {"method", "weldByPosition", "onlySelected", "faceNormals"}) {
+			const QString t = par.getParameterByName(n).toolTip();
+			help = help && !t.contains('\n') && !t.contains("|E");
+			for (const QString& line : t.split("<br>")) help = help && line.size() <= 80;
+		}
+		check(help, "parameter help in short <br>-separated lines, no paper notation");
+	}
 	check(par.hasParameter("faceNormals") && par.getBool("faceNormals"), "faceNormals, default on");
+	const Point3m given4(0, 1, 0), given5(1, 0, 0);
+	std::vector<Point3m> whole;
 	for (int method = 0; method < 7; ++method) {
 		par.setValue("method", IntValue(method));
+		m->cm.vert[4].N() = given4;
+		m->cm.vert[5].N() = given5;
 		unsigned int mask = 0;
 		bool ok = true;
 		try {
@@ -73,11 +98,59 @@ int main(int argc, char** argv)
 			const Point3m& n = m->cm.vert[i].cN();
 			ok = ok && std::isfinite(n[0]) && std::isfinite(n[1]) && std::isfinite(n[2]) && std::fabs(n.Norm() - 1) < 1e-6;
 		}
-		// 4 is isolated, 5 only in a zero-area face: both get the zero vector
-		ok = ok && m->cm.vert[4].cN() == Point3m(0, 0, 0) && m->cm.vert[5].cN() == Point3m(0, 0, 0);
-		char what[100];
-		std::snprintf(what, sizeof what, "method %d: unit normals, isolated and degenerate-only vertices zero, no NaN", method);
+		// 4 is isolated, 5 only in a zero-area face: no face contributes, both keep theirs
+		ok = ok && m->cm.vert[4].cN() == given4 && m->cm.vert[5].cN() == given5;
+		char what[120];
+		std::snprintf(what, sizeof what, "method %d: unit normals, isolated and degenerate-only vertices keep theirs, no NaN", method);
 		check(ok, what);
+		if (method == 1)
+			for (int i = 0; i < 6; ++i) whole.push_back(m->cm.vert[i].cN());
+	}
+
+	// Face 1 (vertices 0, 1, 3) selected: "only selected" on by default; those
+	// three get the whole-mesh normals, vertex 2 keeps its own.
+	m->cm.face[1].SetS();
+	m->cm.sfn = 1;
+	{
+		RichParameterList sp = fp->initParameterList(a, *m);
+		check(sp.getBool("onlySelected"), "onlySelected, default on when a face is selected");
+		const Point3m marker(0, 0, -1);
+		for (int i = 0; i < 6; ++i) m->cm.vert[i].N() = marker;
+		unsigned int mask = 0;
+		bool ok = true;
+		try {
+			fp->applyFilter(a, sp, md, mask, nullptr);
+		} catch (const MLException& e) {
+			std::printf("     %s\n", e.what());
+			ok = false;
+		}
+		for (int i : {0, 1, 3}) ok = ok && (m->cm.vert[i].cN() - whole[i]).Norm() < 1e-6;
+		for (int i : {2, 4, 5}) ok = ok && m->cm.vert[i].cN() == marker;
+		check(ok && !m->cm.vert[0].IsS(), "selected face: its vertices get the whole-mesh normals, the others keep theirs, "
+		                                  "MeshLab's selection unchanged");
+	}
+
+	// A layer with 960 points and no faces: refused, normals untouched.
+	{
+		MeshModel* cloud = md.addNewMesh("", "cloud");
+		vcg::tri::Allocator<CMeshO>::AddVertices(cloud->cm, 960);
+		for (int i = 0; i < 960; ++i) {
+			cloud->cm.vert[i].P() = Point3m(i, 0, 0);
+			cloud->cm.vert[i].N() = Point3m(0, 0, 1);
+		}
+		RichParameterList cp = fp->initParameterList(a, *cloud);
+		bool threw = false;
+		try {
+			unsigned int mask = 0;
+			fp->applyFilter(a, cp, md, mask, nullptr);
+		} catch (const MLException& e) {
+			std::printf("     %s\n", e.what());
+			threw = QString(e.what()).contains("needs faces: this layer has 960 vertices and no faces");
+		}
+		bool kept = true;
+		for (int i = 0; i < 960; ++i) kept = kept && cloud->cm.vert[i].cN() == Point3m(0, 0, 1);
+		check(md.mm() == cloud && threw && kept, "960 points, no faces: MLException in the filter's words, normals kept");
+		md.setCurrentMesh(m->id());
 	}
 	par.setValue("method", IntValue(99));
 	bool threw = false;
