@@ -366,6 +366,18 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 	if (vr != vn_result_success)
 		return vn_io_fail(error, vr == vn_result_out_of_memory ? vn_io_error_memory : vn_io_error_unsupported,
 		                  "%s: %s", in, vn_result_string(vr));
+	/* A point no face gave a normal keeps the input's float normal (as
+	 * decoded: re-encoded on the same bits it decodes the same). */
+	const vn_drc_attribute* input_normal = first(g, vn_drc_normal);
+	if (input_normal && input_normal->components == 3 && input_normal->component_type == vn_drc_float32) {
+		st.input_normals = 1;
+		const float* w = static_cast<const float*>(input_normal->data);
+		for (size_t i = 0; i < g.point_count; ++i) {
+			float* v = &normals[3 * i];
+			if (v[0] == 0 && v[1] == 0 && v[2] == 0)
+				std::copy_n(w + 3 * i, 3, v);
+		}
+	}
 	const double t2 = now();
 
 	/* Every attribute as decoded, NORMAL replaced (or added), bits given

@@ -52,7 +52,7 @@ static const vn_io_format formats[] = {
      GLTF_DOCUMENT_LOSES},
     {"drc", "Draco", "Draco", ".drc", "Draco mesh (triangles; positions, normals, texcoords, colours; quantized)",
      vn_io_drc_read, vn_io_drc_write, vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes,
-     vn_io_path_drc, vn_io_draco_output, "the zero vector",
+     vn_io_path_drc, vn_io_draco_output, "the zero vector (Draco's octahedral coding decodes it as (1, 0, 0))",
      {{vn_io_holds_texcoords, "the first TEX_COORD (2 floats)", NULL},
       {vn_io_holds_colors, "the first COLOR (RGBA)", NULL},
       {vn_io_holds_attributes, "every other attribute in its type (TEX_COORD and COLOR sets, GENERIC as `_NAME`)",

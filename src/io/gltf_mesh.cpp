@@ -45,10 +45,11 @@ static bool attribute_values(const document& d, const primitive& p, const std::s
 	return true;
 }
 
-/* Every triangle primitive merged into one mesh: positions, triangles, the
- * first colour set (COLOR_0) into colors, TEXCOORD_0 into texcoords, every
- * other vertex attribute (TEXCOORD_n, COLOR_n, JOINTS_n, WEIGHTS_n,
- * TANGENT, _NAME) into attributes in its own type; a primitive without an
+/* Every triangle primitive merged into one mesh: positions, triangles,
+ * NORMAL into normals (when any primitive has it), the first colour set
+ * (COLOR_0) into colors, TEXCOORD_0 into texcoords, every other vertex
+ * attribute (TEXCOORD_n, COLOR_n, JOINTS_n, WEIGHTS_n, TANGENT, _NAME)
+ * into attributes in its own type; a primitive without an
  * attribute another one has gets zeros there. */
 static void mesh_from_document(const document& d, vn_io_mesh* mesh)
 {
@@ -77,6 +78,19 @@ static void mesh_from_document(const document& d, vn_io_mesh* mesh)
 	}
 	for (size_t f = 0; f <= triangles; ++f)
 		mesh->face_offsets[f] = (uint32_t)(3 * f);
+	/* The input's normals, which a vertex no face gives a normal keeps
+	 * (zeros where a primitive has none). */
+	if (std::any_of(prims.begin(), prims.end(), [](const primitive& p) { return !p.input_normals.empty(); })) {
+		mesh->normals = (double*)calloc(3 * (vertices ? vertices : 1), sizeof(double));
+		if (!mesh->normals)
+			fail(vn_io_error_memory, "out of memory");
+		v = 0;
+		for (const primitive& p : prims) {
+			for (size_t i = 0; i < p.input_normals.size(); ++i)
+				p.input_normals.load(i, mesh->normals + 3 * (v + i));
+			v += p.vertices();
+		}
+	}
 
 	/* Attribute names in first-seen order. */
 	std::vector<std::string> names;
@@ -221,10 +235,16 @@ static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 			attributes[name] = accessors.size() - 1;
 	};
 	add("POSITION", 5126, 3, false, n, [&](size_t i, size_t c) { return mesh->positions[3 * i + c]; }, true, 34962);
+	/* glTF's normals are unit vectors: one that is not (an input's normal a
+	 * vertex without faces kept, from a format that allows any length) is
+	 * normalized, and none (or zero, or not finite) is written as +Z. A
+	 * unit vector is written as it is, bit for bit. */
 	add("NORMAL", 5126, 3, false, n, [&](size_t i, size_t c) {
 		const double* v = mesh->normals ? &mesh->normals[3 * i] : nullptr;
-		const bool zero = !v || (v[0] == 0 && v[1] == 0 && v[2] == 0);
-		return zero ? (c == 2 ? 1.0 : 0.0) : v[c]; }, false, 34962);
+		const double l = v ? std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) : 0;
+		if (!(l > 0) || !std::isfinite(l))
+			return c == 2 ? 1.0 : 0.0;
+		return std::fabs(l - 1) <= 1e-6 ? v[c] : v[c] / l; }, false, 34962);
 	int texcoords = 0, colors = 0;
 	if (mesh->texcoords)
 		add(str("TEXCOORD_%d", texcoords++), 5126, 2, false, n, [&](size_t i, size_t c) { return mesh->texcoords[2 * i + c]; },

@@ -82,8 +82,9 @@ static void usage(FILE* out)
 	        "crash removes. A symbolic link is written through to its target; a replaced file keeps\n"
 	        "its mode, owner and group.\n"
 	        "OUT must be a regular file (not a device, FIFO or folder). Positions must be finite.\n"
-	        "A vertex that no face contributes to (isolated, or only degenerate faces) gets the zero\n"
-	        "normal in OFF, and a warning.\n"
+	        "A vertex that no face contributes to (isolated, or only degenerate faces) keeps the\n"
+	        "input's normal; when the input has none it gets the zero normal in OFF and Draco and\n"
+	        "(0, 0, 1) in glTF (whose normals must be unit vectors), and a warning either way.\n"
 	        "\n"
 	        "glTF to glTF keeps the whole document and recomputes only the NORMAL of each\n"
 	        "TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitive, in mesh-local space; a vertex\n"
@@ -328,7 +329,7 @@ static int convert_gltf(args* a)
 	if (st.zero_normals && !a->quiet)
 		fprintf(stderr,
 		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); "
-		        "written as the input's unit normal, else (0, 0, 1)\n",
+		        "the input's normal kept where it is a unit vector, else written as (0, 0, 1)\n",
 		        prog, st.zero_normals, st.vertices, noun(st.vertices, "vertex", "vertices"),
 		        noun(st.zero_normals, "has", "have"));
 	if (st.tangent_primitives && !a->quiet && !a->gltf.drop_tangents)
@@ -398,10 +399,10 @@ static int convert_drc(const args* a)
 		die(1, "%s", err.message);
 	if (st.normals.zero_normals && !a->quiet)
 		fprintf(stderr,
-		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); written as the zero "
-		        "vector\n",
+		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); %s\n",
 		        prog, st.normals.zero_normals, st.points, noun(st.points, "vertex", "vertices"),
-		        noun(st.normals.zero_normals, "has", "have"));
+		        noun(st.normals.zero_normals, "has", "have"),
+		        st.input_normals ? "the input's normal kept" : "written as the zero vector");
 	if (a->stats) {
 		printf("input:              %s (%s)\n", a->in, a->in_format->name);
 		printf("output:             %s (%s)\n", a->out, a->out_format->name);
@@ -488,6 +489,7 @@ int main(int argc, char** argv)
 
 	const double t1 = tool_now();
 	vn_stats st;
+	const int had_normals = mesh.normals != NULL;
 	const vn_result r = tool_compute(&mesh, a.method, a.threads, &st);
 	if (r != vn_result_success) {
 		fprintf(stderr, "%s: error: %s: %s\n", prog, a.in, vn_result_string(r));
@@ -499,9 +501,10 @@ int main(int argc, char** argv)
 	if (st.zero_normals && !a.quiet)
 		fprintf(stderr,
 		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); "
-		        "written as %s\n",
+		        "%s%s\n",
 		        prog, st.zero_normals, mesh.vertex_count, noun(mesh.vertex_count, "vertex", "vertices"),
-		        noun(st.zero_normals, "has", "have"), a.out_format->no_normal);
+		        noun(st.zero_normals, "has", "have"), had_normals ? "the input's normal kept" : "written as ",
+		        had_normals ? "" : a.out_format->no_normal);
 
 	if (!(a.out_format->holds & vn_io_holds_loose_vertices) && !a.quiet) {
 		/* Draco 1.5.5's decoder refuses more points than 3 per triangle: the writer
