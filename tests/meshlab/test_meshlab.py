@@ -297,7 +297,7 @@ def main():
 
         # -- the default method is MWA (a script that omits it)
         script = os.path.join(tmp, "default.mlx")
-        mlx(script, 0)  # then without the method (MeshLab 2020.09 aborts when more are missing)
+        mlx(script, 0)  # then without the method (MeshLab 2020.09 aborts when any other parameter is missing)
         with open(script) as f:
             text = "".join(l for l in f if 'name="method"' not in l)
         with open(script, "w") as f:
