@@ -79,6 +79,9 @@ QString methodHelp()
 	return t;
 }
 
+// Below this many vertices vn runs on the calling thread.
+const uint32_t kThreadMinVertices = 200000;
+
 QString errorPrefix()
 {
 	return QString::fromLatin1(kFilterName) + QString::fromLatin1(": ");
@@ -242,11 +245,16 @@ QString FilterVnPlugin::run(MeshModel& mm, const RichParameterList& par, vcg::Ca
 			if (onlySelected && fi->IsS()) chosen[v] = 1;
 		}
 	}
+	// Progress only where it can be seen: a call on a small mesh takes about
+	// a millisecond, and each report costs the GUI an event loop pass.
+	if (!(count >= kThreadMinVertices)) cb = nullptr;
 	if (cb) cb(10, "vn: mesh read");
 
 	vn_positions pos = {positions.data(), count, 0, vn_scalar_float64};
 	vn_options options = {};
-	options.threads = std::thread::hardware_concurrency();
+	// Threads pay off only on large meshes: starting them costs more than the
+	// bunny's (35k vertices) whole computation.
+	options.threads = count >= kThreadMinVertices ? std::thread::hardware_concurrency() : 1;
 	std::vector<uint32_t> remap;
 	if (weld) {
 		remap.resize(count);
