@@ -25,6 +25,20 @@ static void check(bool ok, const char* what)
 	if (!ok) ++failures;
 }
 
+// Applies the filter: the message of the MLException it threw, or a null
+// QString when it threw none.
+static QString apply(FilterPlugin* fp, QAction* a, const RichParameterList& par, MeshDocument& md)
+{
+	try {
+		unsigned int mask = 0;
+		fp->applyFilter(a, par, md, mask, nullptr);
+	} catch (const MLException& e) {
+		std::printf("     %s\n", e.what());
+		return QString::fromUtf8(e.what());
+	}
+	return QString();
+}
+
 int main(int argc, char** argv)
 {
 	QApplication app(argc, argv);
@@ -86,14 +100,7 @@ int main(int argc, char** argv)
 		par.setValue("method", IntValue(method));
 		m->cm.vert[4].N() = given4;
 		m->cm.vert[5].N() = given5;
-		unsigned int mask = 0;
-		bool ok = true;
-		try {
-			fp->applyFilter(a, par, md, mask, nullptr);
-		} catch (const MLException& e) {
-			std::printf("     %s\n", e.what());
-			ok = false;
-		}
+		bool ok = apply(fp, a, par, md).isNull();
 		for (int i = 0; i < 4; ++i) {
 			const Point3m& n = m->cm.vert[i].cN();
 			ok = ok && std::isfinite(n[0]) && std::isfinite(n[1]) && std::isfinite(n[2]) && std::fabs(n.Norm() - 1) < 1e-6;
@@ -116,14 +123,7 @@ int main(int argc, char** argv)
 		check(sp.getBool("onlySelected"), "onlySelected, default on when a face is selected");
 		const Point3m marker(0, 0, -1);
 		for (int i = 0; i < 6; ++i) m->cm.vert[i].N() = marker;
-		unsigned int mask = 0;
-		bool ok = true;
-		try {
-			fp->applyFilter(a, sp, md, mask, nullptr);
-		} catch (const MLException& e) {
-			std::printf("     %s\n", e.what());
-			ok = false;
-		}
+		bool ok = apply(fp, a, sp, md).isNull();
 		for (int i : {0, 1, 3}) ok = ok && (m->cm.vert[i].cN() - whole[i]).Norm() < 1e-6;
 		for (int i : {2, 4, 5}) ok = ok && m->cm.vert[i].cN() == marker;
 		check(ok && !m->cm.vert[0].IsS(), "selected face: its vertices get the whole-mesh normals, the others keep theirs, "
@@ -139,28 +139,14 @@ int main(int argc, char** argv)
 			cloud->cm.vert[i].N() = Point3m(0, 0, 1);
 		}
 		RichParameterList cp = fp->initParameterList(a, *cloud);
-		bool threw = false;
-		try {
-			unsigned int mask = 0;
-			fp->applyFilter(a, cp, md, mask, nullptr);
-		} catch (const MLException& e) {
-			std::printf("     %s\n", e.what());
-			threw = QString(e.what()).contains("needs faces: this layer has 960 vertices and no faces");
-		}
+		const bool threw = apply(fp, a, cp, md).contains("needs faces: this layer has 960 vertices and no faces");
 		bool kept = true;
 		for (int i = 0; i < 960; ++i) kept = kept && cloud->cm.vert[i].cN() == Point3m(0, 0, 1);
 		check(md.mm() == cloud && threw && kept, "960 points, no faces: MLException in the filter's words, normals kept");
 		md.setCurrentMesh(m->id());
 	}
 	par.setValue("method", IntValue(99));
-	bool threw = false;
-	try {
-		unsigned int mask = 0;
-		fp->applyFilter(a, par, md, mask, nullptr);
-	} catch (const MLException& e) {
-		threw = QString(e.what()).contains("not one of 0..6");
-	}
-	check(threw, "method 99: MLException");
+	check(apply(fp, a, par, md).contains("not one of 0..6"), "method 99: MLException");
 	std::printf("load_filter_plugin: %d failed\n", failures);
 	return failures ? 1 : 0;
 }

@@ -581,11 +581,8 @@ def test_weld(server, vnconvert, tmp, methods):
 def test_selected(server, vnconvert, tmp, lumpy):
     """Only selected vertices (MeshLab's Conditional Vertex Selection x > 0) change;
     the others keep the file's normals."""
-    with open(lumpy) as f:
-        lines = [l.split() for l in f if l.strip()]
-    nv, nf = int(lines[1][0]), int(lines[1][1])
-    positions = [tuple(float(x) for x in l) for l in lines[2:2 + nv]]
-    tris = [tuple(int(x) for x in l[1:4]) for l in lines[2 + nv:2 + nv + nf]]
+    positions, tris = read_off_mesh(lumpy)
+    nv = len(positions)
     src = os.path.join(tmp, "lumpy-n.off")
     write_off(src, positions, tris, normals=[(0.0, 0.0, 1.0)] * nv)
     script = os.path.join(tmp, "sel.mlx")
