@@ -109,6 +109,7 @@ static vn_result compute(vn_work* w, const vn_vectors* normals, vn_accumulate_fn
 	w->out = &out;
 	w->want_stats = stats != NULL;
 	w->simd = o->simd == vn_simd_auto && vn_cpu_has_avx2();
+	w->keep_existing = o->keep_existing != 0;
 
 	vn_range_stats st = {0, 0, 0, 0};
 	vn_result r = w->vertex_count ? vn_run(w, accumulate, o, &st) : vn_result_success;

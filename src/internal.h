@@ -30,6 +30,7 @@ typedef struct vn_work {
 	const vn_vectors* out;
 	int want_stats;
 	int simd; /* the AVX2 kernels may run */
+	int keep_existing; /* vn_options.keep_existing: zero normals are not stored */
 	/* Per-corner mode of the polygon walk (corner.c), when not NULL: face f's
 	 * unit normal, or 0 when it contributes nothing, goes to face_normals[3f..],
 	 * and corner c's contribution is added to acc[3 (offsets[f] + c)..]

@@ -27,13 +27,15 @@ typedef struct vn_task {
 	vn_range_stats stats;
 } vn_task;
 
-/* Normalizes acc[v] into the output; returns 1 when it is the zero vector. */
+/* Normalizes acc[v] into the output; returns 1 when it is the zero vector
+ * (then stored only without keep_existing). */
 VN_INLINE int finalize_one(const vn_work* w, uint32_t v)
 {
 	double a[3];
 	memcpy(a, w->acc + 4 * (size_t)v, sizeof(a));
 	const int zero = vn_normalize(a);
-	vn_store(w->out, v, a);
+	if (!(zero && w->keep_existing))
+		vn_store(w->out, v, a);
 	return zero;
 }
 

@@ -39,16 +39,17 @@ extern "C" {
 /* ------------------------------------------------------------------ version */
 
 #define VN_VERSION_MAJOR 0
-#define VN_VERSION_MINOR 2
+#define VN_VERSION_MINOR 3
 #define VN_VERSION_PATCH 0
 /* (major << 16) | (minor << 8) | patch, comparable as an integer. */
 #define VN_VERSION ((VN_VERSION_MAJOR << 16) | (VN_VERSION_MINOR << 8) | VN_VERSION_PATCH)
-#define VN_VERSION_STRING "0.2.0"
+#define VN_VERSION_STRING "0.3.0"
 
 /* The VN_VERSION the library was built with. A program should check at start
  * that vn_version() >> 8 == VN_VERSION >> 8: before 1.0 a minor version may
- * change the ABI (0.2 appended vn_options.face_strength, so a program built
- * with 0.1's vn.h passes a shorter vn_options). */
+ * change the ABI (0.2 appended vn_options.face_strength and 0.3
+ * vn_options.keep_existing, so a program built with an older vn.h passes a
+ * shorter vn_options). */
 VN_API uint32_t vn_version(void);
 /* The same as a "MAJOR.MINOR.PATCH" string with static storage. */
 VN_API const char* vn_version_string(void);
@@ -164,6 +165,13 @@ typedef struct vn_options {
 	 * Read by the two corner-normal functions; the vertex-normal functions
 	 * ignore it. */
 	const int32_t* face_strength;
+	/* Nonzero: vn_triangle_normals and vn_polygon_normals do not write the
+	 * output of a vertex whose normal is the zero vector (no face
+	 * contributes, or the contributions cancel), so it keeps what the
+	 * caller put there, e.g. the normals the mesh came with; stats still
+	 * count it in zero_normals. Zero: such a vertex gets (0, 0, 0). The
+	 * corner-normal functions ignore it. */
+	int keep_existing;
 } vn_options;
 
 /* What the computation met. Every field is a count. */

@@ -221,6 +221,44 @@ static void isolated_vertex_and_empty_meshes(void** state)
 	assert_int_equal(poly(NULL, 0, NULL, off0, 0, vn_method_mwa, NULL, &st), vn_result_success);
 }
 
+/* keep_existing: a vertex whose normal is zero keeps what the output held.
+ * Vertices 0-2 and 5-7: unit triangles facing +z and -x; 3 isolated; 4 only
+ * in a zero-area face. Every scheme, SIMD on and off, triangles and the same
+ * faces as polygons, float32 output with a stride. */
+static void keep_existing_leaves_zero_normals(void** state)
+{
+	(void)state;
+	const double pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 9, 9, 9, 2, 2, 2, 0, 0, 5, 0, 1, 5, 0, 0, 6};
+	const uint32_t idx[] = {0, 1, 2, 0, 4, 4, 5, 7, 6};
+	const uint32_t off[] = {0, 3, 6, 9};
+	const vn_positions p = {pos, 8, 0, vn_scalar_float64};
+	const float want[8][3] = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {7, 8, 9}, {7, 8, 9}, {-1, 0, 0}, {-1, 0, 0}, {-1, 0, 0}};
+	for (int keep = 0; keep < 2; ++keep)
+		for (int simd = 0; simd < 2; ++simd)
+			for (int polygons = 0; polygons < 2; ++polygons)
+				for (unsigned m = 0; m < vn_method_mewcsa; ++m) {
+					float out[8][4];
+					for (int v = 0; v < 8; ++v)
+						out[v][0] = 7, out[v][1] = 8, out[v][2] = 9, out[v][3] = -1;
+					const vn_vectors o = {out, 4 * sizeof(float), vn_scalar_float32};
+					vn_options opt;
+					memset(&opt, 0, sizeof(opt));
+					opt.keep_existing = keep;
+					opt.simd = simd ? vn_simd_auto : vn_simd_off;
+					vn_stats st;
+					const vn_result r = polygons ? vn_polygon_normals(&o, &p, idx, off, 3, (vn_method)m, &opt, &st)
+					                             : vn_triangle_normals(&o, &p, idx, 9, (vn_method)m, &opt, &st);
+					assert_int_equal(r, vn_result_success);
+					assert_int_equal(st.zero_normals, 2);
+					for (int v = 0; v < 8; ++v) {
+						const int kept = v == 3 || v == 4;
+						for (int k = 0; k < 3; ++k)
+							assert_true(fabsf(out[v][k] - (kept && !keep ? 0.0f : want[v][k])) < 1e-6f);
+						assert_true(out[v][3] == -1); /* padding untouched */
+					}
+				}
+}
+
 /* Three triangles on one edge (0,1): each contributes to both ends. */
 static void nonmanifold_edge(void** state)
 {
@@ -518,6 +556,7 @@ int main(void)
 	    cmocka_unit_test(repeated_index_and_zero_length_edge),
 	    cmocka_unit_test(nonfinite_coordinates),
 	    cmocka_unit_test(isolated_vertex_and_empty_meshes),
+	    cmocka_unit_test(keep_existing_leaves_zero_normals),
 	    cmocka_unit_test(nonmanifold_edge),
 	    cmocka_unit_test(polygon_small_faces_and_repeated_corner),
 	    cmocka_unit_test(index_out_of_range_writes_nothing),

@@ -3,8 +3,9 @@
 # keeps the input's normal in every output format, and gets the format's
 # "no normal" (OFF: (0, 0, 0); Draco: the zero vector, which it decodes as
 # (1, 0, 0); glTF: (0, 0, 1), as glTF's normals must be unit vectors) only when the input has none (issue 16). Inputs:
-# tests/data/keep_normals/ (a NOFF, a glTF and a .drc made by draco_encoder,
-# each with normals, and an OFF without), converted to OFF, glTF, GLB and
+# tests/data/keep_normals/ (a NOFF, a glTF, a .drc made by draco_encoder and
+# one with int8 normals made by the npm draco3d encoder, each with normals,
+# and an OFF without), converted to OFF, glTF, GLB and
 # Draco; outputs read by tests/keep_normals.py (OFF, glTF) and the npm
 # draco3d decoder (.drc). A point cloud (normals, no faces) keeps its normals
 # in OFF and is refused, in one line, by the formats that need faces.
@@ -38,7 +39,7 @@ expect() { { echo "$1"; dump "$2" | awk '$1 > 1.5'; } >"$T/expected"; }
 # zeros NORMAL INPUT: the loose vertices of INPUT with normal NORMAL.
 zeros() { { echo exact; $KN --dump "$2" | awk -v n="$1" '$1 > 1.5 { print $1, $2, $3, n }'; } >"$T/expected"; }
 
-for in in loose.off loose.gltf loose.drc loose_plain.off; do
+for in in loose.off loose.gltf loose.drc loose_int8.drc loose_plain.off; do
   for ext in off gltf glb drc; do
     dst=$T/${in%.*}-${in##*.}.$ext
     run "$VNC" "$DATA/$in" "$dst"
@@ -51,10 +52,13 @@ for in in loose.off loose.gltf loose.drc loose_plain.off; do
       check "$in -> $ext: says what they got" grep -q "written as" "$T/stderr"
     else
       check "$in -> $ext: says they keep the input's normal" grep -q "the input's normal kept" "$T/stderr"
-      case $ext in
-      off) expect exact "$DATA/$in" ;;        # float precision, OFF's for every normal
-      gltf | glb) expect unit "$DATA/$in" ;;  # the same floats (one of length 2 normalized)
-      drc) expect "angle 0.2" "$DATA/$in" ;;  # 10 bits (draco_encoder's and vn's default)
+      case $in.$ext in
+      loose_int8.drc.drc) expect "angle 0.2" "$DATA/$in" ;;
+      # int8 normals: the unit vector they stand for (draco3d decodes v / 127)
+      loose_int8.drc.*) expect "angle 0.001" "$DATA/$in" ;;
+      *.off) expect exact "$DATA/$in" ;;        # float precision, OFF's for every normal
+      *.gltf | *.glb) expect unit "$DATA/$in" ;;  # the same floats (one of length 2 normalized)
+      *.drc) expect "angle 0.2" "$DATA/$in" ;;  # 10 bits (draco_encoder's and vn's default)
       esac
     fi
     if [ "$ext" = drc ]; then

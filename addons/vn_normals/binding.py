@@ -41,7 +41,8 @@ class _Allocator(ctypes.Structure):
 
 class _Options(ctypes.Structure):
     _fields_ = [("threads", ctypes.c_uint), ("simd", ctypes.c_int), ("workspace", ctypes.c_void_p),
-                ("workspace_size", ctypes.c_size_t), ("allocator", _Allocator), ("face_strength", ctypes.c_void_p)]
+                ("workspace_size", ctypes.c_size_t), ("allocator", _Allocator), ("face_strength", ctypes.c_void_p),
+                ("keep_existing", ctypes.c_int)]
 
 
 class _Stats(ctypes.Structure):

@@ -10,6 +10,9 @@
 
 #include "meshlab_compat.h"
 
+#include <memory>
+#include <mutex>
+
 class FilterVnPlugin : public QObject, public VnFilterBase
 {
 	Q_OBJECT
@@ -25,6 +28,7 @@ public:
 	enum { FP_VN_VERTEX_NORMALS };
 
 	FilterVnPlugin();
+	~FilterVnPlugin() override;
 
 	QString pluginName() const override;
 	QString filterName(VnActionID filter) const override;
@@ -49,6 +53,11 @@ private:
 	/* Computes and writes the normals; returns an empty string on success,
 	 * else the error message (nothing in the mesh changed). */
 	QString run(MeshModel& m, const RichParameterList& par, vcg::CallBackPos* cb);
+
+	struct Work; /* work arrays kept between calls (filter_vn.cpp) */
+	QString compute(MeshModel& m, const RichParameterList& par, vcg::CallBackPos* cb, Work& w);
+	std::unique_ptr<Work> work;
+	std::mutex workMutex;
 };
 
 #endif

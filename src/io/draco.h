@@ -215,8 +215,10 @@ typedef struct vn_drc_convert_stats {
 	                          COLOR (else the defaults) and the level */
 	vn_drc_normal_error normal_error;
 	double read_seconds, normals_seconds, write_seconds;
-	int input_normals; /* the input has a float NORMAL: a point no face gave a
-	                      normal keeps its own (else the zero vector) */
+	int input_normals; /* the input has a NORMAL of 3 floats or signed integers: a
+	                      point no face gives a normal keeps its own (an integer
+	                      one as the unit vector it stands for), else it gets
+	                      the zero vector */
 } vn_drc_convert_stats;
 
 /* Reads the Draco mesh `in`, recomputes its normals with options->method

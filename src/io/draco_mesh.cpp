@@ -161,9 +161,49 @@ static double color_scale(int type)
 static double component(const vn_drc_attribute& a, size_t i)
 {
 	switch (a.component_type) {
+	case vn_drc_int8: return static_cast<const int8_t*>(a.data)[i];
 	case vn_drc_uint8: return static_cast<const uint8_t*>(a.data)[i];
+	case vn_drc_int16: return static_cast<const int16_t*>(a.data)[i];
 	case vn_drc_uint16: return static_cast<const uint16_t*>(a.data)[i];
+	case vn_drc_int32: return static_cast<const int32_t*>(a.data)[i];
+	case vn_drc_uint32: return static_cast<const uint32_t*>(a.data)[i];
 	default: return static_cast<const float*>(a.data)[i];
+	}
+}
+
+/* The largest value of a signed integer component type; 0 for the others. */
+static double signed_max(int type)
+{
+	switch (type) {
+	case vn_drc_int8: return 127;
+	case vn_drc_int16: return 32767;
+	case vn_drc_int32: return 2147483647;
+	default: return 0;
+	}
+}
+
+/* A NORMAL vn reads as the input's normals: 3 float components, or 3 signed
+ * integer ones (quantized normals, as glTF's KHR_mesh_quantization and
+ * gltfpack store them). Any other NORMAL is kept as an attribute. */
+static bool readable_normal(const vn_drc_attribute* a)
+{
+	return a && a->components == 3 && (a->component_type == vn_drc_float32 || signed_max(a->component_type) > 0);
+}
+
+/* The n normals of a readable_normal() attribute into out (3 per point):
+ * floats as decoded; integers as the unit vector they stand for (a
+ * normalized type's minimum read as -1, as glTF reads it; (0, 0, 0) stays). */
+template <typename T>
+static void read_normals(const vn_drc_attribute& a, size_t n, T* out)
+{
+	const double limit = signed_max(a.component_type);
+	for (size_t i = 0; i < n; ++i) {
+		double v[3];
+		for (int k = 0; k < 3; ++k)
+			v[k] = a.normalized && limit > 0 ? std::max(component(a, 3 * i + k), -limit) : component(a, 3 * i + k);
+		const double len = limit > 0 ? std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) : 1;
+		for (int k = 0; k < 3; ++k)
+			out[3 * i + k] = T(len > 0 ? v[k] / len : 0);
 	}
 }
 
@@ -235,8 +275,8 @@ static vn_io_result to_mesh(const vn_drc_geometry& g, const char* name, vn_io_me
 	}
 	if (!position || position->components != 3 || position->component_type != vn_drc_float32)
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: no 3-component float POSITION", name);
-	if (normal && (normal->components != 3 || normal->component_type != vn_drc_float32))
-		normal = nullptr; /* replaced by the new normals; kept as an attribute below */
+	if (!readable_normal(normal))
+		normal = nullptr; /* kept as an attribute below */
 
 	const size_t n = g.point_count;
 	mesh->vertex_count = n;
@@ -244,11 +284,13 @@ static vn_io_result to_mesh(const vn_drc_geometry& g, const char* name, vn_io_me
 	mesh->face_offsets = static_cast<uint32_t*>(std::malloc(sizeof(uint32_t) * (g.triangle_count + 1)));
 	mesh->indices = static_cast<uint32_t*>(std::malloc(sizeof(uint32_t) * 3 * g.triangle_count + 1));
 	if (!mesh->face_offsets || !mesh->indices || !copy_floats(position, 3, n, &mesh->positions) ||
-	    (normal && !copy_floats(normal, 3, n, &mesh->normals)) ||
+	    (normal && !(mesh->normals = static_cast<double*>(std::malloc(sizeof(double) * 3 * n + 1)))) ||
 	    (texcoord && !copy_floats(texcoord, 2, n, &mesh->texcoords)) ||
 	    (color && !(mesh->colors = static_cast<float*>(std::malloc(sizeof(float) * 4 * n + 1)))))
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	std::memcpy(mesh->indices, g.indices, sizeof(uint32_t) * 3 * g.triangle_count);
+	if (normal)
+		read_normals(*normal, n, mesh->normals);
 	for (size_t f = 0; f <= g.triangle_count; ++f)
 		mesh->face_offsets[f] = uint32_t(3 * f);
 	if (color) {
@@ -355,29 +397,25 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 			                  double(p[3 * i]), double(p[3 * i + 1]), double(p[3 * i + 2]));
 	const double t1 = now();
 
+	/* A point no face gives a normal keeps the input's (keep_existing): a
+	 * float normal as decoded (re-encoded on the same bits it decodes the
+	 * same), an integer one as the unit vector it stands for. */
 	std::vector<float> normals(3 * g.point_count + 3);
+	const vn_drc_attribute* input_normal = first(g, vn_drc_normal);
+	st.input_normals = readable_normal(input_normal);
+	if (st.input_normals)
+		read_normals(*input_normal, g.point_count, normals.data());
 	const vn_positions positions = {p, g.point_count, 0, vn_scalar_float32};
 	const vn_vectors vectors = {normals.data(), 0, vn_scalar_float32};
 	vn_options vo;
 	std::memset(&vo, 0, sizeof vo);
 	vo.threads = o.threads;
+	vo.keep_existing = st.input_normals;
 	const vn_result vr =
 	    vn_triangle_normals(&vectors, &positions, g.indices, 3 * g.triangle_count, o.method, &vo, &st.normals);
 	if (vr != vn_result_success)
 		return vn_io_fail(error, vr == vn_result_out_of_memory ? vn_io_error_memory : vn_io_error_unsupported,
 		                  "%s: %s", in, vn_result_string(vr));
-	/* A point no face gave a normal keeps the input's float normal (as
-	 * decoded: re-encoded on the same bits it decodes the same). */
-	const vn_drc_attribute* input_normal = first(g, vn_drc_normal);
-	if (input_normal && input_normal->components == 3 && input_normal->component_type == vn_drc_float32) {
-		st.input_normals = 1;
-		const float* w = static_cast<const float*>(input_normal->data);
-		for (size_t i = 0; i < g.point_count; ++i) {
-			float* v = &normals[3 * i];
-			if (v[0] == 0 && v[1] == 0 && v[2] == 0)
-				std::copy_n(w + 3 * i, 3, v);
-		}
-	}
 	const double t2 = now();
 
 	/* Every attribute as decoded, NORMAL replaced (or added), bits given

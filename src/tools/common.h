@@ -81,32 +81,28 @@ static inline void tool_list_methods(FILE* out)
  * none. stats->zero_normals counts those vertices either way. */
 static inline vn_result tool_compute(vn_io_mesh* mesh, vn_method method, unsigned threads, vn_stats* stats)
 {
-	double* fresh = (double*)malloc(3 * sizeof(double) * (mesh->vertex_count ? mesh->vertex_count : 1));
-	if (!fresh)
-		return vn_result_out_of_memory;
+	const int had_normals = mesh->normals != NULL;
+	if (!had_normals) {
+		mesh->normals = (double*)malloc(3 * sizeof(double) * (mesh->vertex_count ? mesh->vertex_count : 1));
+		if (!mesh->normals)
+			return vn_result_out_of_memory;
+	}
 	const vn_positions pos = {mesh->positions, mesh->vertex_count, 0, vn_scalar_float64};
-	const vn_vectors out = {fresh, 0, vn_scalar_float64};
+	const vn_vectors out = {mesh->normals, 0, vn_scalar_float64};
 	vn_options opt;
 	memset(&opt, 0, sizeof(opt));
 	opt.threads = threads;
+	opt.keep_existing = had_normals; /* vn writes nothing on error either */
 	static const uint32_t no_faces[1] = {0};
 	const vn_result r =
 	    vn_io_mesh_is_triangles(mesh)
 	        ? vn_triangle_normals(&out, &pos, mesh->indices, 3 * mesh->face_count, method, &opt, stats)
 	        : vn_polygon_normals(&out, &pos, mesh->indices, mesh->face_count ? mesh->face_offsets : no_faces,
 	                             mesh->face_count, method, &opt, stats);
-	if (r != vn_result_success) {
-		free(fresh);
-		return r;
+	if (r != vn_result_success && !had_normals) {
+		free(mesh->normals);
+		mesh->normals = NULL;
 	}
-	if (mesh->normals)
-		for (size_t i = 0; i < mesh->vertex_count; i++) {
-			double* v = fresh + 3 * i;
-			if (v[0] == 0 && v[1] == 0 && v[2] == 0)
-				memcpy(v, mesh->normals + 3 * i, 3 * sizeof(double));
-		}
-	free(mesh->normals);
-	mesh->normals = fresh;
 	return r;
 }
 

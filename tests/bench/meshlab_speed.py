@@ -102,13 +102,13 @@ def write_ply(path, pos, tris):
         f.write(b"".join(struct.pack("<B3i", 3, *t) for t in tris))
 
 
-def start_xvfb():
-    """An Xvfb of its own on the first free display from :150 (away from xvfb-run's :99 up
-    and from :0, which other tools on the machine may take and drop)."""
+def start_xvfb(size="640x480x24"):
+    """An Xvfb of its own (screen WxHxDEPTH) on the first free display from :150 (away from
+    xvfb-run's :99 up and from :0, which other tools on the machine may take and drop)."""
     n = 150
     while os.path.exists("/tmp/.X%d-lock" % n) or os.path.exists("/tmp/.X11-unix/X%d" % n):
         n += 1
-    p = subprocess.Popen(["Xvfb", ":%d" % n, "-screen", "0", "640x480x24", "-nolisten", "tcp"],
+    p = subprocess.Popen(["Xvfb", ":%d" % n, "-screen", "0", size, "-nolisten", "tcp"],
                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     for _ in range(100):
         if os.path.exists("/tmp/.X11-unix/X%d" % n):
