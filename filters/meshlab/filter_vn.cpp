@@ -224,6 +224,12 @@ QString FilterVnPlugin::compute(MeshModel& mm, const RichParameterList& par, vcg
 	const size_t vslots = m.vert.size();
 	if (vslots > UINT32_MAX) return errorPrefix() + QString::fromLatin1("too many vertices");
 	const bool anyDeleted = static_cast<size_t>(m.vn) != vslots;
+	size_t live = vslots;
+	if (anyDeleted) {
+		live = 0;
+		for (size_t i = 0; i < vslots; ++i)
+			if (!m.vert[i].IsD()) ++live;
+	}
 	CVertexO* const base = vslots ? &m.vert[0] : nullptr;
 	w.indices.resize(3 * static_cast<size_t>(m.fn));
 	// With "only selected": the selected vertices and the vertices of the
@@ -247,15 +253,11 @@ QString FilterVnPlugin::compute(MeshModel& mm, const RichParameterList& par, vcg
 			if (onlySelected && fi->IsS()) w.chosen[i] = 1;
 		}
 	}
-	if (n == 0) {
-		size_t live = 0;
-		for (size_t i = 0; i < vslots; ++i)
-			if (!m.vert[i].IsD()) ++live;
+	if (n == 0)
 		return QString::fromLatin1("%1 needs faces: this layer has %2 vertices and no faces; its normals "
 		                           "are left as they are")
 		    .arg(QString::fromLatin1(kFilterName))
 		    .arg(live);
-	}
 	// Progress only where it can be seen: a call on a small mesh takes about
 	// a millisecond, and each report costs the GUI an event loop pass.
 	if (!(vslots >= kThreadMinVertices)) cb = nullptr;
@@ -305,12 +307,7 @@ QString FilterVnPlugin::compute(MeshModel& mm, const RichParameterList& par, vcg
 		return errorPrefix() + QString::fromLatin1(vn_result_string(r));
 	if (cb) cb(80, "vn: normals computed");
 
-	size_t live = vslots, changed = 0, kept = 0, considered = 0;
-	if (anyDeleted) {
-		live = 0;
-		for (size_t i = 0; i < vslots; ++i)
-			if (!m.vert[i].IsD()) ++live;
-	}
+	size_t changed = 0, kept = 0, considered = 0;
 	if (direct) {
 		// vn's zero vectors: the live vertices kept, and every deleted slot
 		// (no live face uses one).

@@ -65,6 +65,26 @@ def run_server(server, args, cwd):
     return p.returncode, p.stdout.decode("utf-8", "replace")
 
 
+def filter_run(server, tmp, src, out, script):
+    """meshlabserver applying script to src and writing out with vertex normals:
+    (exit status, output)."""
+    return run_server(server, ["-i", src, "-o", out, "-m", "vn", "-s", script], tmp)
+
+
+def filtered(server, tmp, src, name, what, method, **kw):
+    """The filter, as mlx(method, **kw) writes its script, on src into tmp/NAME.ply:
+    (positions, normals, triangles, log), or None after a failed check "WHAT: exit N"."""
+    script, out = os.path.join(tmp, name + ".mlx"), os.path.join(tmp, name + ".ply")
+    mlx(script, method, **kw)
+    if os.path.exists(out):
+        os.remove(out)
+    rc, log = filter_run(server, tmp, src, out, script)
+    if not check(rc == 0 and os.path.exists(out), "%s: exit %d" % (what, rc)):
+        print(log[-2000:])
+        return None
+    return read_ply(out) + (log,)
+
+
 def filtering_actions(out):
     for line in out.splitlines():
         if line.startswith("Total ") and line.endswith(" filtering actions"):
@@ -73,11 +93,12 @@ def filtering_actions(out):
 
 
 def mlx(path, method, weld=False, selected=False, face_normals=True, select_condition=None, raw_method=None,
-        face_condition=None, delete_selected=False):
+        face_condition=None, delete_selected=False, omit=None):
     """An .mlx script as MeshLab saves one (enum_cardinality and enum_val* included:
     MeshLab 2020.09 silently drops a RichEnum without them). delete_selected: MeshLab's
     Delete Selected Vertices after the selection (it marks vertices and faces deleted
-    and leaves them in the mesh's arrays)."""
+    and leaves them in the mesh's arrays). omit: a parameter name left out of the
+    script (as a script written by hand may)."""
     names = ["MWE", "MWA", "MWSELR", "MWAAT", "MWELR", "MWRELR", "MEWCSA"]
     enum = " ".join('enum_val%d="%s"' % (i, n) for i, n in enumerate(names))
     value = raw_method if raw_method is not None else str(method)
@@ -93,15 +114,18 @@ def mlx(path, method, weld=False, selected=False, face_normals=True, select_cond
                 ' </filter>\n' % face_condition)
     if delete_selected:
         pre += ' <filter name="Delete Selected Vertices"/>\n'
+    text = ('<!DOCTYPE FilterScript>\n<FilterScript>\n%s'
+            ' <filter name="%s">\n'
+            '  <Param type="RichEnum" value="%s" name="method" enum_cardinality="7" %s/>\n'
+            '  <Param type="RichBool" value="%s" name="weldByPosition"/>\n'
+            '  <Param type="RichBool" value="%s" name="onlySelected"/>\n'
+            '  <Param type="RichBool" value="%s" name="faceNormals"/>\n'
+            ' </filter>\n</FilterScript>\n'
+            % (pre, FILTER, value, enum, b(weld), b(selected), b(face_normals)))
+    if omit:
+        text = "".join(l for l in text.splitlines(True) if 'name="%s"' % omit not in l)
     with open(path, "w") as f:
-        f.write('<!DOCTYPE FilterScript>\n<FilterScript>\n%s'
-                ' <filter name="%s">\n'
-                '  <Param type="RichEnum" value="%s" name="method" enum_cardinality="7" %s/>\n'
-                '  <Param type="RichBool" value="%s" name="weldByPosition"/>\n'
-                '  <Param type="RichBool" value="%s" name="onlySelected"/>\n'
-                '  <Param type="RichBool" value="%s" name="faceNormals"/>\n'
-                ' </filter>\n</FilterScript>\n'
-                % (pre, FILTER, value, enum, b(weld), b(selected), b(face_normals)))
+        f.write(text)
 
 
 PLY_TYPES = {"char": "b", "int8": "b", "uchar": "B", "uint8": "B", "short": "h", "int16": "h",
@@ -268,14 +292,10 @@ def main():
         for name, path in samples.items():
             per = []
             for i, m in enumerate(methods):
-                script = os.path.join(tmp, "m%d.mlx" % i)
-                mlx(script, i)
-                out = os.path.join(tmp, "%s.%s.ply" % (name, m))
-                rc, log = run_server(ours, ["-i", path, "-o", out, "-m", "vn", "-s", script], tmp)
-                if not check(rc == 0 and os.path.exists(out), "%s %s: meshlabserver exit %d" % (name, m, rc)):
-                    print(log[-2000:])
+                r = filtered(ours, tmp, path, "%s.%s" % (name, m), "%s %s: meshlabserver" % (name, m), i)
+                if not r:
                     continue
-                positions, normals, tris = read_ply(out)
+                positions, normals, tris, _ = r
                 ref = vn_reference(vnconvert, tmp, name, positions, tris, m)
                 refs[(name, m)] = ref
                 nan = any(not math.isfinite(c) for n in normals for c in n)
@@ -300,16 +320,10 @@ def main():
                       % (name, METHOD_GAP, min(gaps) if gaps else -1))
 
         # -- the default method is MWA (a script that omits it)
-        script = os.path.join(tmp, "default.mlx")
-        mlx(script, 0)  # then without the method (MeshLab 2020.09 aborts when any other parameter is missing)
-        with open(script) as f:
-            text = "".join(l for l in f if 'name="method"' not in l)
-        with open(script, "w") as f:
-            f.write(text)
-        out = os.path.join(tmp, "default.ply")
-        rc, log = run_server(ours, ["-i", samples["lumpy.off"], "-o", out, "-m", "vn", "-s", script], tmp)
-        if check(rc == 0 and os.path.exists(out), "method omitted: exit %d" % rc):
-            _, normals, _ = read_ply(out)
+        # (MeshLab 2020.09 aborts when any other parameter is missing: test_missing_parameter)
+        r = filtered(ours, tmp, samples["lumpy.off"], "default", "method omitted", 0, omit="method")
+        if r:
+            normals = r[1]
             a = max_angle(normals, refs[("lumpy.off", "mwa")])
             check(a <= MAX_ANGLE, "method omitted: MWA (max angle %.5f deg)" % a)
 
@@ -450,7 +464,7 @@ def test_point_cloud(server, tmp):
         out = os.path.join(tmp, "cloud-out.ply")
         if os.path.exists(out):
             os.remove(out)
-        rc, log = run_server(server, ["-i", src, "-o", out, "-m", "vn", "-s", script], tmp)
+        rc, log = filter_run(server, tmp, src, out, script)
         check((0 < rc < 128 or rc == 255) and not os.path.exists(out)
               and "needs faces: this layer has 960 vertices and no faces; its normals are left as they are" in log,
               "point cloud (%s, 960 points with normals): refused in the filter's words, exit %d, nothing written"
@@ -466,14 +480,10 @@ def test_loose_points(server, vnconvert, tmp, lumpy):
     loose_n = [unit((1.0, 0.1 * i, -0.5)) for i in range(10)]
     src = os.path.join(tmp, "loose.off")
     write_off(src, positions + loose, tris, normals=[(0.0, 0.0, 1.0)] * nv + loose_n)
-    script = os.path.join(tmp, "loose.mlx")
-    mlx(script, 1)
-    out = os.path.join(tmp, "loose.ply")
-    rc, log = run_server(server, ["-i", src, "-o", out, "-m", "vn", "-s", script], tmp)
-    if not check(rc == 0 and os.path.exists(out), "10 loose points: exit %d" % rc):
-        print(log[-2000:])
+    r = filtered(server, tmp, src, "loose", "10 loose points", 1)
+    if not r:
         return
-    p, normals, t = read_ply(out)
+    p, normals, t, log = r
     ref = vn_reference(vnconvert, tmp, "loose", p, t, "mwa")
     idx = [p.index(q) if q in p else None for q in loose]
     ok = None not in idx and len(p) == nv + 10
@@ -494,14 +504,11 @@ def test_face_selection(server, vnconvert, tmp, lumpy):
     nv = len(positions)
     src = os.path.join(tmp, "lumpy-fsel.off")
     write_off(src, positions, tris, normals=[(0.0, 0.0, 1.0)] * nv)
-    script = os.path.join(tmp, "fsel.mlx")
-    mlx(script, 3, selected=True, face_condition="(x0 &gt; 0.2) &amp;&amp; (x1 &gt; 0.2) &amp;&amp; (x2 &gt; 0.2)")
-    out = os.path.join(tmp, "fsel.ply")
-    rc, log = run_server(server, ["-i", src, "-o", out, "-m", "vn", "-s", script], tmp)
-    if not check(rc == 0 and os.path.exists(out), "selected faces: exit %d" % rc):
-        print(log[-2000:])
+    r = filtered(server, tmp, src, "fsel", "selected faces", 3, selected=True,
+                 face_condition="(x0 &gt; 0.2) &amp;&amp; (x1 &gt; 0.2) &amp;&amp; (x2 &gt; 0.2)")
+    if not r:
         return
-    p, normals, t = read_ply(out)
+    p, normals, t, log = r
     ref = vn_reference(vnconvert, tmp, "lumpy-fsel", p, t, "mwaat")
     chosen = sorted({v for tri in t if all(p[v][0] > 0.2 for v in tri) for v in tri})
     rest = [i for i in range(len(p)) if i not in set(chosen)]
@@ -523,14 +530,10 @@ def test_degenerate(server, vnconvert, tmp, methods):
     src = os.path.join(tmp, "degenerate.off")
     write_off(src, positions, tris, normals=[given] * len(positions))
     for i, m in enumerate(methods):
-        script = os.path.join(tmp, "deg%d.mlx" % i)
-        mlx(script, i)
-        out = os.path.join(tmp, "degenerate.%s.ply" % m)
-        rc, log = run_server(server, ["-i", src, "-o", out, "-m", "vn", "-s", script], tmp)
-        if not check(rc == 0 and os.path.exists(out), "degenerate %s: exit %d" % (m, rc)):
-            print(log[-2000:])
+        r = filtered(server, tmp, src, "degenerate.%s" % m, "degenerate %s" % m, i)
+        if not r:
             continue
-        p, normals, t = read_ply(out)
+        p, normals, t, log = r
         ref = vn_reference(vnconvert, tmp, "degenerate", p, t, m)
         nan = any(not math.isfinite(c) for n in normals for c in n)
         none = [k for k in range(len(p)) if ref[k] == (0.0, 0.0, 0.0)]
@@ -563,14 +566,10 @@ def test_weld(server, vnconvert, tmp, methods):
     for m in ("mwa", "mwselr"):
         i = methods.index(m)
         for weld in (True, False):
-            script = os.path.join(tmp, "weld%d%d.mlx" % (i, weld))
-            mlx(script, i, weld=weld)
-            out = os.path.join(tmp, "soup.%s.%d.ply" % (m, weld))
-            rc, log = run_server(server, ["-i", soup, "-o", out, "-m", "vn", "-s", script], tmp)
-            if not check(rc == 0 and os.path.exists(out), "weld=%s %s: exit %d" % (weld, m, rc)):
-                print(log[-2000:])
+            r = filtered(server, tmp, soup, "soup.%s.%d" % (m, weld), "weld=%s %s" % (weld, m), i, weld=weld)
+            if not r:
                 continue
-            p, normals, t = read_ply(out)
+            p, normals, t, _ = r
             ok = len(p) == len(soup_pos)
             if weld:
                 # vnconvert on the shared-vertex mesh as MeshLab holds it (float positions)
@@ -593,14 +592,10 @@ def test_selected(server, vnconvert, tmp, lumpy):
     nv = len(positions)
     src = os.path.join(tmp, "lumpy-n.off")
     write_off(src, positions, tris, normals=[(0.0, 0.0, 1.0)] * nv)
-    script = os.path.join(tmp, "sel.mlx")
-    mlx(script, 2, selected=True, select_condition="x &gt; 0")
-    out = os.path.join(tmp, "selected.ply")
-    rc, log = run_server(server, ["-i", src, "-o", out, "-m", "vn", "-s", script], tmp)
-    if not check(rc == 0 and os.path.exists(out), "only selected: exit %d" % rc):
-        print(log[-2000:])
+    r = filtered(server, tmp, src, "selected", "only selected", 2, selected=True, select_condition="x &gt; 0")
+    if not r:
         return
-    p, normals, t = read_ply(out)
+    p, normals, t, _ = r
     ref = vn_reference(vnconvert, tmp, "lumpy-sel", p, t, "mwselr")
     sel = [i for i in range(len(p)) if p[i][0] > 0]
     rest = [i for i in range(len(p)) if p[i][0] <= 0]
@@ -623,14 +618,11 @@ def test_deleted(server, vnconvert, tmp, lumpy):
     loose_n = [unit((1.0, 0.1 * i, -0.5)) for i in range(4)]
     src = os.path.join(tmp, "lumpy-del.off")
     write_off(src, positions + loose, tris, normals=[(0.0, 0.0, 1.0)] * nv + loose_n)
-    script = os.path.join(tmp, "del.mlx")
-    mlx(script, 1, select_condition="x &gt; 0.3", delete_selected=True)
-    out = os.path.join(tmp, "deleted.ply")
-    rc, log = run_server(server, ["-i", src, "-o", out, "-m", "vn", "-s", script], tmp)
-    if not check(rc == 0 and os.path.exists(out), "deleted vertices: exit %d" % rc):
-        print(log[-2000:])
+    r = filtered(server, tmp, src, "deleted", "deleted vertices", 1, select_condition="x &gt; 0.3",
+                 delete_selected=True)
+    if not r:
         return
-    p, normals, t = read_ply(out)
+    p, normals, t, log = r
     gone = sum(1 for q in positions if q[0] > 0.3)
     ref = vn_reference(vnconvert, tmp, "lumpy-del", p, t, "mwa")
     none = [k for k in range(len(p)) if ref[k] == (0.0, 0.0, 0.0)]
@@ -650,15 +642,11 @@ def test_missing_parameter(server, tmp, src):
     aborts on an assertion in mainserver.cpp (exit 134) and writes nothing."""
     for name in ("weldByPosition", "onlySelected", "faceNormals"):
         script = os.path.join(tmp, "missing.mlx")
-        mlx(script, 0)
-        with open(script) as f:
-            text = "".join(l for l in f if 'name="%s"' % name not in l)
-        with open(script, "w") as f:
-            f.write(text)
+        mlx(script, 0, omit=name)
         out = os.path.join(tmp, "missing.ply")
         if os.path.exists(out):
             os.remove(out)
-        rc, log = run_server(server, ["-i", src, "-o", out, "-m", "vn", "-s", script], tmp)
+        rc, log = filter_run(server, tmp, src, out, script)
         check(rc == 134 and not os.path.exists(out) and "mainserver.cpp" in log and "Assertion" in log,
               "script without %s: meshlabserver's assertion in mainserver.cpp, exit %d (134), nothing written"
               % (name, rc))
@@ -669,7 +657,7 @@ def test_bad_method(server, tmp, src):
         script = os.path.join(tmp, "bad.mlx")
         mlx(script, 0, raw_method=raw)
         out = os.path.join(tmp, "bad.ply")
-        rc, log = run_server(server, ["-i", src, "-o", out, "-m", "vn", "-s", script], tmp)
+        rc, log = filter_run(server, tmp, src, out, script)
         # exit(-1) is 255; a crash would be 128 + the signal (134 abort, 139 segfault)
         check((0 < rc < 128 or rc == 255) and not os.path.exists(out) and "is not one of 0..6" in log
               and "Problem with filter" in log,
