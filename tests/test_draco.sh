@@ -146,17 +146,25 @@ check "two POSITIONs: says why" grep -q "both POSITION, which Draco cannot encod
 check "two POSITIONs: no output, no temporary" [ "$(ls -A "$T/errors")" = keep.off ]
 run "$VNC" "$HERE/data/draco/two-positions.drc" "$T/two.glb" -q
 check "two POSITIONs to .glb: exits 0" [ $rc -eq 0 ]
+# Integer POSITION (uint16, as gltfpack quantizes; make_uint16_position_drc.mjs):
+# read in the stream's own units, the tetrahedron's corner normal at the origin
+# is -(1, 1, 1)/sqrt(3) whatever the weighting.
+run "$VNC" "$HERE/data/draco/uint16_position.drc" "$T/u16.off" -q
+check "uint16 POSITION to OFF: exits 0" [ $rc -eq 0 ]
+check "uint16 POSITION: coordinates and origin normal" [ "$(sed -n 3,4p "$T/u16.off")" = "0 0 0 -0.577350269 -0.577350269 -0.577350269
+1000 0 0 0.921024478 -0.275421415 -0.275421415" ]
 
 # .drc to .drc keeps everything but NORMAL: three conversions in a row give
 # the input's attributes (unique ids, types, metadata) and, at every
 # triangle corner, its decoded values exactly (the input's own quantization
 # grid); both decoders read each output. Draco's 14-bit car (TEX_COORD),
 # 11-bit cube-parts (GENERIC attributes with metadata), 10-bit tetra-rgba
-# (uint8 COLOR), a bitstream 2.1 stream.
+# (uint8 COLOR), a bitstream 2.1 stream, uint16 POSITION.
 ATTRS="node $HERE/draco/attributes.mjs $NODE_MODULES"
 SAME="python3 $HERE/draco/same.py"
 DD=$HERE/data/draco
-for f in "$DATA/car.drc" "$DD/cube-parts.drc" "$DD/tetra-rgba.drc" "$DD/test_nm.obj.edgebreaker.1.1.0.drc"; do
+for f in "$DATA/car.drc" "$DD/cube-parts.drc" "$DD/tetra-rgba.drc" "$DD/test_nm.obj.edgebreaker.1.1.0.drc" \
+  "$DD/uint16_position.drc"; do
   name=$(basename "$f" .drc)
   prev=$f
   for k in 1 2 3; do

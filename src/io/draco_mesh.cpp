@@ -215,15 +215,24 @@ static const vn_drc_attribute* first(const vn_drc_geometry& g, int s)
 	return nullptr;
 }
 
+/* The n * components values of a into a new array, as they are (integers
+ * too: a standalone stream's integer POSITION is in its own units). */
 template <typename T>
-static bool copy_floats(const vn_drc_attribute* a, int components, size_t n, T** out)
+static bool copy_values(const vn_drc_attribute* a, int components, size_t n, T** out)
 {
 	*out = static_cast<T*>(std::malloc(sizeof(T) * components * n + 1));
 	if (!*out)
 		return false;
 	for (size_t i = 0; i < components * n; ++i)
-		(*out)[i] = T(static_cast<const float*>(a->data)[i]);
+		(*out)[i] = T(component(*a, i));
 	return true;
+}
+
+/* POSITION as vn reads it: 3 components of any type (float32, or integers
+ * as quantizing tools such as gltfpack store them). */
+static bool readable_position(const vn_drc_attribute* a)
+{
+	return a && a->components == 3;
 }
 
 /* What glTF can hold as TEXCOORD_n (2 floats, or normalized unsigned
@@ -273,8 +282,8 @@ static vn_io_result to_mesh(const vn_drc_geometry& g, const char* name, vn_io_me
 		if (!color && a.semantic == vn_drc_color && a.components >= 3 && color_scale(a.component_type))
 			color = &a;
 	}
-	if (!position || position->components != 3 || position->component_type != vn_drc_float32)
-		return vn_io_fail(error, vn_io_error_unsupported, "%s: no 3-component float POSITION", name);
+	if (!readable_position(position))
+		return vn_io_fail(error, vn_io_error_unsupported, "%s: no 3-component POSITION", name);
 	if (!readable_normal(normal))
 		normal = nullptr; /* kept as an attribute below */
 
@@ -283,9 +292,9 @@ static vn_io_result to_mesh(const vn_drc_geometry& g, const char* name, vn_io_me
 	mesh->face_count = g.triangle_count;
 	mesh->face_offsets = static_cast<uint32_t*>(std::malloc(sizeof(uint32_t) * (g.triangle_count + 1)));
 	mesh->indices = static_cast<uint32_t*>(std::malloc(sizeof(uint32_t) * 3 * g.triangle_count + 1));
-	if (!mesh->face_offsets || !mesh->indices || !copy_floats(position, 3, n, &mesh->positions) ||
+	if (!mesh->face_offsets || !mesh->indices || !copy_values(position, 3, n, &mesh->positions) ||
 	    (normal && !(mesh->normals = static_cast<double*>(std::malloc(sizeof(double) * 3 * n + 1)))) ||
-	    (texcoord && !copy_floats(texcoord, 2, n, &mesh->texcoords)) ||
+	    (texcoord && !copy_values(texcoord, 2, n, &mesh->texcoords)) ||
 	    (color && !(mesh->colors = static_cast<float*>(std::malloc(sizeof(float) * 4 * n + 1)))))
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	std::memcpy(mesh->indices, g.indices, sizeof(uint32_t) * 3 * g.triangle_count);
@@ -387,10 +396,18 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 	}
 	const vn_drc_geometry& g = d.g;
 	const vn_drc_attribute* position = first(g, vn_drc_position);
-	if (!position || position->components != 3 || position->component_type != vn_drc_float32)
-		return vn_io_fail(error, vn_io_error_unsupported, "%s: no 3-component float POSITION", in);
+	if (!readable_position(position))
+		return vn_io_fail(error, vn_io_error_unsupported, "%s: no 3-component POSITION", in);
+	vn_positions positions = {position->data, g.point_count, 0, vn_scalar_float32};
+	std::vector<double> integral; /* an integer POSITION as doubles */
+	if (position->component_type != vn_drc_float32) {
+		integral.resize(3 * g.point_count);
+		for (size_t i = 0; i < integral.size(); ++i)
+			integral[i] = component(*position, i);
+		positions = {integral.data(), g.point_count, 0, vn_scalar_float64};
+	}
 	const float* p = static_cast<const float*>(position->data);
-	for (size_t i = 0; i < g.point_count; ++i)
+	for (size_t i = 0; integral.empty() && i < g.point_count; ++i)
 		if (!std::isfinite(p[3 * i]) || !std::isfinite(p[3 * i + 1]) || !std::isfinite(p[3 * i + 2]))
 			return vn_io_fail(error, vn_io_error_unsupported,
 			                  "%s: point %zu has a non-finite position (%g, %g, %g), which no output can hold", in, i,
@@ -405,7 +422,6 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 	st.input_normals = readable_normal(input_normal);
 	if (st.input_normals)
 		read_normals(*input_normal, g.point_count, normals.data());
-	const vn_positions positions = {p, g.point_count, 0, vn_scalar_float32};
 	const vn_vectors vectors = {normals.data(), 0, vn_scalar_float32};
 	vn_options vo;
 	std::memset(&vo, 0, sizeof vo);
