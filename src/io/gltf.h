@@ -5,10 +5,10 @@
  *    merges every triangle primitive (TRIANGLES, TRIANGLE_STRIP,
  *    TRIANGLE_FAN) of every mesh into one vn_io_mesh, in mesh-local
  *    coordinates (node transforms are not applied; vn_io_gltf_read_scene
- *    applies them); the writers produce a
- *    minimal glTF (one mesh, one primitive: POSITION with min/max, NORMAL,
- *    uint32 indices; polygons fan-triangulated; asset.generator "vn"). A
- *    .gltf written this way carries its buffer as a data URI.
+ *    applies them); the writers produce a minimal glTF (one mesh, one
+ *    primitive: POSITION with min/max, NORMAL, uint32 indices; polygons
+ *    fan-triangulated; asset.generator "vn"). A .gltf written this way
+ *    carries its buffer as a data URI.
  *
  *  - As a document (vn_gltf_convert): glTF in, glTF out, recomputing the
  *    NORMAL of every triangle primitive and of its morph targets, and
