@@ -40,16 +40,16 @@ static const vn_io_format formats[] = {
       {vn_io_holds_texcoords, "texture coordinates", NULL},
       {vn_io_holds_face_colors, "face colours", "face colours (named)"},
       {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"}},
-     "comments", NULL, NULL},
+     "comments", NULL, NULL, NULL},
     {"gltf", "glTF", "glTF", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)",
      vn_io_gltf_read, vn_io_gltf_write,
      vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes | vn_io_holds_loose_vertices,
      vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
-     GLTF_DOCUMENT_LOSES},
+     GLTF_DOCUMENT_LOSES, "buffers and images"},
     {"glb", "GLB", "glTF", ".glb", "glTF 2.0 binary (as gltf)", vn_io_gltf_read, vn_io_glb_write,
      vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes | vn_io_holds_loose_vertices,
      vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
-     GLTF_DOCUMENT_LOSES},
+     GLTF_DOCUMENT_LOSES, NULL},
     {"drc", "Draco", "Draco", ".drc", "Draco mesh (triangles; positions, normals, texcoords, colours; quantized)",
      vn_io_drc_read, vn_io_drc_write, vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes,
      vn_io_path_drc, vn_io_draco_output, "the zero vector (Draco's octahedral coding decodes it as (1, 0, 0))",
@@ -59,7 +59,7 @@ static const vn_io_format formats[] = {
        "other attributes (named)"}},
      "metadata",
      "every attribute with its type, unique id, quantization grid and metadata; only NORMAL is replaced (see Draco)",
-     "nothing"},
+     "nothing", NULL},
 };
 
 #define FORMAT_COUNT (sizeof formats / sizeof formats[0])

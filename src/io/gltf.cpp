@@ -90,7 +90,7 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 			fail_named(vn_io_error_write, e.message);
 		const std::string resolved = target;
 		free(target);
-		save(d, resolved, out_glb != 0, vn_io_same_file(in, out));
+save(d, resolved, out_glb != 0, vn_io_same_file(in, out), options->image_names_from_output != 0);
 	});
 	if (stats)
 		*stats = st;

@@ -4,10 +4,11 @@
  *  - As a vn_io format ("gltf", "glb" in the format table): the reader
  *    merges every triangle primitive (TRIANGLES, TRIANGLE_STRIP,
  *    TRIANGLE_FAN) of every mesh into one vn_io_mesh, in mesh-local
- *    coordinates (node transforms are not applied); the writers produce a
- *    minimal glTF (one mesh, one primitive: POSITION with min/max, NORMAL,
- *    uint32 indices; polygons fan-triangulated; asset.generator "vn"). A
- *    .gltf written this way carries its buffer as a data URI.
+ *    coordinates (node transforms are not applied; vn_io_gltf_read_scene
+ *    applies them); the writers produce a minimal glTF (one mesh, one
+ *    primitive: POSITION with min/max, NORMAL, uint32 indices; polygons
+ *    fan-triangulated; asset.generator "vn"). A .gltf written this way
+ *    carries its buffer as a data URI.
  *
  *  - As a document (vn_gltf_convert): glTF in, glTF out, recomputing the
  *    NORMAL of every triangle primitive and of its morph targets, and
@@ -70,6 +71,11 @@ typedef struct vn_gltf_options {
 	 * as they were; those whose data the normals change encoded again) or
 	 * off (every view written plain, the extensions removed). */
 	vn_gltf_meshopt meshopt;
+	/* External images copied into the output's folder (another one than
+	 * the input's) are named OUTSTEM_NAME rather than NAME, so that models
+	 * converted into one folder never share a name for different images
+	 * (vnconvert --out-dir). */
+	int image_names_from_output;
 } vn_gltf_options;
 
 typedef struct vn_gltf_stats {
@@ -112,13 +118,23 @@ typedef struct vn_gltf_stats {
  * normals and writes `out` as GLB when out_glb, else as .gltf with its
  * buffers in files beside it (OUTSTEM.bin, OUTSTEM_1.bin, ...; data-URI
  * buffers stay data URIs) and its external images copied next to it when
- * the folder differs. Every output file is written to a temporary file
+ * the folder differs (as OUTSTEM_NAME with image_names_from_output). Every output file is written to a temporary file
  * first and renamed once all are complete. stats may be NULL. */
 vn_io_result vn_gltf_convert(const char* in, const char* out, int out_glb, const vn_gltf_options* options,
                              vn_gltf_stats* stats, vn_io_error* error);
 
 /* The format-table entry points described above. */
 vn_io_result vn_io_gltf_read(const char* path, vn_io_mesh* mesh, vn_io_error* error);
+/* As vn_io_gltf_read, but the default scene as it is drawn (vnconvert
+ * --apply-transforms): each triangle primitive once per node of the scene
+ * (scene, else scenes[0], else every root node) that instances its mesh,
+ * with the node's world transform (matrix, or translation, rotation and
+ * scale, down the hierarchy) applied to POSITION, and its inverse
+ * transpose to NORMAL (normalized); a mirroring transform (negative
+ * determinant) turns the triangles' winding over, as glTF draws them.
+ * Meshes no node of the scene instances are left out; other attributes
+ * (TANGENT too) are copied as they are. */
+vn_io_result vn_io_gltf_read_scene(const char* path, vn_io_mesh* mesh, vn_io_error* error);
 vn_io_result vn_io_gltf_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error);
 vn_io_result vn_io_glb_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error);
 

@@ -318,8 +318,9 @@ std::string data_uri(const json& buffer, const bytes& data);
 /* A GLB of JSON j and the BIN chunk bin (null: none). */
 pieces glb_file(const json& j, const buffer* bin);
 
-/* Writes the document to path as GLB or .gltf; see gltf_save.cpp. */
-void save(document& d, const std::string& path, bool glb, bool in_place);
+/* Writes the document to path as GLB or .gltf; see gltf_save.cpp. Images
+ * copied into path's folder are named PATHSTEM_NAME with stem_images. */
+void save(document& d, const std::string& path, bool glb, bool in_place, bool stem_images);
 
 } // namespace vn_gltf
 

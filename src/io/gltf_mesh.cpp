@@ -7,6 +7,7 @@
 #include "gltf_primitive.h"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -45,19 +46,174 @@ static bool attribute_values(const document& d, const primitive& p, const std::s
 	return true;
 }
 
+/* A 4x4 matrix, column-major as glTF stores it. */
+typedef std::array<double, 16> matrix;
+
+static matrix product(const matrix& a, const matrix& b)
+{
+	matrix c{};
+	for (int col = 0; col < 4; ++col)
+		for (int row = 0; row < 4; ++row)
+			for (int k = 0; k < 4; ++k)
+				c[4 * col + row] += a[4 * k + row] * b[4 * col + k];
+	return c;
+}
+
+/* The numbers of node[key] (n of them), or false when it has none. */
+static bool numbers(const json& node, const char* key, size_t n, double* out, const std::string& what)
+{
+	auto it = node.find(key);
+	if (it == node.end())
+		return false;
+	if (!it->is_array() || it->size() != n)
+		fail(vn_io_error_parse, str("%s.%s is not an array of %zu numbers", what.c_str(), key, n));
+	for (size_t i = 0; i < n; ++i) {
+		if (!(*it)[i].is_number() || !std::isfinite((*it)[i].get<double>()))
+			fail(vn_io_error_parse, str("%s.%s[%zu] is not a finite number", what.c_str(), key, i));
+		out[i] = (*it)[i].get<double>();
+	}
+	return true;
+}
+
+/* A node's local transform: its matrix, else T * R * S. */
+static matrix local_transform(const json& node, const std::string& what)
+{
+	matrix m{};
+	if (numbers(node, "matrix", 16, m.data(), what))
+		return m;
+	double t[3] = {0, 0, 0}, q[4] = {0, 0, 0, 1}, sc[3] = {1, 1, 1};
+	numbers(node, "translation", 3, t, what);
+	numbers(node, "rotation", 4, q, what);
+	numbers(node, "scale", 3, sc, what);
+	const double x = q[0], y = q[1], z = q[2], w = q[3];
+	const double r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
+	                     2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+	                     2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y)}; /* columns */
+	for (int col = 0; col < 3; ++col)
+		for (int row = 0; row < 3; ++row)
+			m[4 * col + row] = r[3 * col + row] * sc[col];
+	m[12] = t[0], m[13] = t[1], m[14] = t[2], m[15] = 1;
+	return m;
+}
+
+/* A primitive (index into the document's triangle primitives) where it is
+ * drawn: with the world transform of a node that instances its mesh, or
+ * as it is (placed == false). */
+struct placement {
+	size_t k;
+	bool placed = false;
+	matrix world{};
+	double normal[9] = {}; /* inverse transpose of world's upper 3x3, columns */
+	bool mirrored = false; /* negative determinant: the winding turns over */
+};
+
+/* Every node of the default scene (scene, else scenes[0], else every root
+ * node) with a mesh, in depth-first order, with its world transform. */
+static void scene_meshes(const document& d, std::vector<std::pair<size_t, matrix>>& out)
+{
+	auto nodes = d.j.find("nodes");
+	if (nodes == d.j.end())
+		return;
+	if (!nodes->is_array())
+		fail(vn_io_error_parse, "nodes is not an array");
+	std::vector<long long> roots;
+	auto scenes = d.j.find("scenes");
+	if (scenes != d.j.end() && scenes->is_array() && !scenes->empty()) {
+		const long long s = get_int(d.j, "scene", 0, "the document");
+		const json& scene = element(d.j, "scenes", s, "scene");
+		if (scene.is_object() && scene.contains("nodes")) {
+			if (!scene["nodes"].is_array())
+				fail(vn_io_error_parse, str("scenes[%lld].nodes is not an array", s));
+			for (const json& n : scene["nodes"])
+				roots.push_back(n.is_number_integer() ? n.get<long long>() : -1);
+		}
+	} else {
+		std::vector<bool> child(nodes->size(), false);
+		for (const json& node : *nodes)
+			if (node.is_object() && node.contains("children") && node["children"].is_array())
+				for (const json& c : node["children"])
+					if (c.is_number_integer() && c.get<long long>() >= 0 && (size_t)c.get<long long>() < child.size())
+						child[(size_t)c.get<long long>()] = true;
+		for (size_t i = 0; i < child.size(); ++i)
+			if (!child[i])
+				roots.push_back((long long)i);
+	}
+	/* glTF's nodes form trees: a node met twice on one path is a cycle. */
+	std::vector<bool> on_path(nodes->size(), false);
+	std::function<void(long long, const matrix&)> visit = [&](long long i, const matrix& parent) {
+		const std::string what = str("nodes[%lld]", i);
+		const json& node = element(d.j, "nodes", i, what);
+		if (on_path[(size_t)i])
+			fail(vn_io_error_parse, what + " is its own ancestor (the node hierarchy has a cycle)");
+		on_path[(size_t)i] = true;
+		const matrix world = product(parent, local_transform(node, what));
+		if (node.contains("mesh"))
+			out.emplace_back((size_t)get_int(node, "mesh", 0, what), world);
+		if (node.contains("children")) {
+			if (!node["children"].is_array())
+				fail(vn_io_error_parse, what + ".children is not an array");
+			for (const json& c : node["children"])
+				visit(c.is_number_integer() ? c.get<long long>() : -1, world);
+		}
+		on_path[(size_t)i] = false;
+	};
+	const matrix identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+	for (long long r : roots)
+		visit(r, identity);
+}
+
+/* Where each primitive goes: once each, as it is; or (scene) once per node
+ * of the default scene that instances its mesh, transformed. */
+static std::vector<placement> placements(const document& d, const std::vector<primitive>& prims, bool scene)
+{
+	std::vector<placement> out;
+	if (!scene) {
+		for (size_t k = 0; k < prims.size(); ++k)
+			out.push_back(placement{k});
+		return out;
+	}
+	std::vector<std::pair<size_t, matrix>> instances;
+	scene_meshes(d, instances);
+	for (const auto& in : instances)
+		for (size_t k = 0; k < prims.size(); ++k) {
+			if (prims[k].mesh != in.first)
+				continue;
+			placement p{k};
+			p.placed = true;
+			p.world = in.second;
+			const matrix& m = p.world;
+			/* Cofactors of the upper 3x3 are its inverse transpose times the
+			 * determinant, whose sign alone matters once normalized. */
+			auto a = [&](int row, int col) { return m[4 * col + row]; };
+			for (int col = 0; col < 3; ++col)
+				for (int row = 0; row < 3; ++row) {
+					const int r1 = (row + 1) % 3, r2 = (row + 2) % 3, c1 = (col + 1) % 3, c2 = (col + 2) % 3;
+					p.normal[3 * col + row] = a(r1, c1) * a(r2, c2) - a(r1, c2) * a(r2, c1);
+				}
+			const double det = a(0, 0) * p.normal[0] + a(0, 1) * p.normal[3] + a(0, 2) * p.normal[6];
+			p.mirrored = det < 0;
+			if (p.mirrored)
+				for (double& x : p.normal)
+					x = -x;
+			out.push_back(p);
+		}
+	return out;
+}
+
 /* Every triangle primitive merged into one mesh: positions, triangles,
  * NORMAL into normals (when any primitive has it), the first colour set
  * (COLOR_0) into colors, TEXCOORD_0 into texcoords, every other vertex
  * attribute (TEXCOORD_n, COLOR_n, JOINTS_n, WEIGHTS_n, TANGENT, _NAME)
  * into attributes in its own type; a primitive without an
  * attribute another one has gets zeros there. */
-static void mesh_from_document(const document& d, vn_io_mesh* mesh)
+static void mesh_from_document(const document& d, vn_io_mesh* mesh, bool scene)
 {
 	std::vector<primitive> prims = triangle_primitives(d, nullptr);
+	const std::vector<placement> at = placements(d, prims, scene);
 	size_t vertices = 0, triangles = 0;
-	for (const primitive& p : prims) {
-		vertices += p.vertices();
-		triangles += p.triangles.size() / 3;
+	for (const placement& pl : at) {
+		vertices += prims[pl.k].vertices();
+		triangles += prims[pl.k].triangles.size() / 3;
 	}
 	if (vertices > UINT32_MAX || 3 * triangles > UINT32_MAX)
 		fail(vn_io_error_unsupported, "the meshes have more than 2^32 vertices or indices");
@@ -69,11 +225,20 @@ static void mesh_from_document(const document& d, vn_io_mesh* mesh)
 	if (!mesh->positions || !mesh->indices || !mesh->face_offsets)
 		fail(vn_io_error_memory, "out of memory");
 	size_t v = 0, t = 0;
-	for (const primitive& p : prims) {
-		for (size_t i = 0; i < p.vertices(); ++i)
-			p.positions.load(i, mesh->positions + 3 * (v + i));
-		for (uint32_t i : p.triangles)
-			mesh->indices[t++] = (uint32_t)(v + i);
+	for (const placement& pl : at) {
+		const primitive& p = prims[pl.k];
+		for (size_t i = 0; i < p.vertices(); ++i) {
+			double* x = mesh->positions + 3 * (v + i);
+			p.positions.load(i, x);
+			if (pl.placed) {
+				const double y[3] = {x[0], x[1], x[2]};
+				for (int r = 0; r < 3; ++r)
+					x[r] = pl.world[r] * y[0] + pl.world[4 + r] * y[1] + pl.world[8 + r] * y[2] + pl.world[12 + r];
+			}
+		}
+		for (size_t c = 0; c < p.triangles.size(); ++c)
+			/* A mirrored triangle is wound the other way round to face out. */
+			mesh->indices[t++] = (uint32_t)(v + p.triangles[pl.mirrored && c % 3 ? c + 3 - 2 * (c % 3) : c]);
 		v += p.vertices();
 	}
 	for (size_t f = 0; f <= triangles; ++f)
@@ -85,17 +250,28 @@ static void mesh_from_document(const document& d, vn_io_mesh* mesh)
 		if (!mesh->normals)
 			fail(vn_io_error_memory, "out of memory");
 		v = 0;
-		for (const primitive& p : prims) {
-			for (size_t i = 0; i < p.input_normals.size(); ++i)
-				p.input_normals.load(i, mesh->normals + 3 * (v + i));
+		for (const placement& pl : at) {
+			const primitive& p = prims[pl.k];
+			for (size_t i = 0; i < p.input_normals.size(); ++i) {
+				double* n = mesh->normals + 3 * (v + i);
+				p.input_normals.load(i, n);
+				if (pl.placed) {
+					const double y[3] = {n[0], n[1], n[2]};
+					for (int r = 0; r < 3; ++r)
+						n[r] = pl.normal[r] * y[0] + pl.normal[3 + r] * y[1] + pl.normal[6 + r] * y[2];
+					const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+					for (int r = 0; r < 3 && l > 0; ++r)
+						n[r] /= l;
+				}
+			}
 			v += p.vertices();
 		}
 	}
 
 	/* Attribute names in first-seen order. */
 	std::vector<std::string> names;
-	for (const primitive& p : prims)
-		for (auto& kv : d.j["meshes"][p.mesh]["primitives"][p.index]["attributes"].items())
+	for (const placement& pl : at)
+		for (auto& kv : d.j["meshes"][prims[pl.k].mesh]["primitives"][prims[pl.k].index]["attributes"].items())
 			if (kv.key() != "POSITION" && kv.key() != "NORMAL" &&
 			    std::find(names.begin(), names.end(), kv.key()) == names.end())
 				names.push_back(kv.key());
@@ -145,7 +321,8 @@ static void mesh_from_document(const document& d, vn_io_mesh* mesh)
 			fail(vn_io_error_memory, "out of memory");
 		const size_t k = color ? 4 : texcoord ? 2 : type.components, csize = component_size(type.component);
 		v = 0;
-		for (size_t j = 0; j < prims.size(); ++j) {
+		for (const placement& pl : at) {
+			const size_t j = pl.k;
 			const primitive& p = prims[j];
 			const accessor& here = types[j];
 			if (has[j])
@@ -304,17 +481,13 @@ static vn_io_result write_stream(FILE* out, const char* path, const vn_io_mesh* 
 	});
 }
 
-} // namespace vn_gltf
-
-using namespace vn_gltf;
-
-extern "C" vn_io_result vn_io_gltf_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)
+static vn_io_result read_mesh(const char* path, vn_io_mesh* mesh, bool scene, vn_io_error* error)
 {
 	memset(mesh, 0, sizeof *mesh);
 	vn_io_result r = guarded(path, error, [&] {
 		document d = load(path);
 		decode_meshopt(d, nullptr);
-		mesh_from_document(d, mesh);
+		mesh_from_document(d, mesh, scene);
 		const std::string warnings = warning_lines(d);
 		if (!warnings.empty() && !(mesh->warnings = strdup(warnings.c_str())))
 			throw std::bad_alloc();
@@ -322,6 +495,20 @@ extern "C" vn_io_result vn_io_gltf_read(const char* path, vn_io_mesh* mesh, vn_i
 	if (r != vn_io_success)
 		vn_io_mesh_free(mesh);
 	return r;
+}
+
+} // namespace vn_gltf
+
+using namespace vn_gltf;
+
+extern "C" vn_io_result vn_io_gltf_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)
+{
+	return read_mesh(path, mesh, false, error);
+}
+
+extern "C" vn_io_result vn_io_gltf_read_scene(const char* path, vn_io_mesh* mesh, vn_io_error* error)
+{
+	return read_mesh(path, mesh, true, error);
 }
 
 extern "C" vn_io_result vn_io_gltf_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error)

@@ -392,8 +392,9 @@ static void make_folders(const std::string& folder, const std::string& name)
 /* External images keep their URIs when they stay inside the output's
  * folder (copied there when it is another folder, folders made as needed);
  * one that would land outside it ("../tex/a.png") is copied into it under
- * its own name. */
-static void copy_images(document& d, const std::string& folder, file_set& files)
+ * its own name. A prefix goes before each copy's file name
+ * ("tex/a.png" -> "tex/PREFIXa.png"). */
+static void copy_images(document& d, const std::string& folder, const std::string& prefix, file_set& files)
 {
 	auto images = d.j.find("images");
 	if (images == d.j.end() || !images->is_array() || same_folder(d.folder, folder))
@@ -406,16 +407,18 @@ static void copy_images(document& d, const std::string& folder, file_set& files)
 		bytes data, existing;
 		if (!read_file(d.folder + name, data))
 			fail_named(vn_io_error_open, str("%s: cannot read the image '%s'", (d.folder + name).c_str(), name.c_str()));
-		std::string to = name;
-		if (!stays_inside(name)) {
-			const std::string base = name.substr(name.rfind('/') == std::string::npos ? 0 : name.rfind('/') + 1);
+		const bool outside = !stays_inside(name);
+		std::string to = outside ? name.substr(name.rfind('/') == std::string::npos ? 0 : name.rfind('/') + 1) : name;
+		to.insert(to.rfind('/') == std::string::npos ? 0 : to.rfind('/') + 1, prefix);
+		if (outside) {
+			const std::string base = to;
 			const size_t ext = base.rfind('.');
-			to = base;
 			for (size_t n = 1; placed.count(to) && placed[to] != data; ++n)
 				to = (ext == std::string::npos || ext == 0 ? base : base.substr(0, ext)) + str("_%zu", n) +
 				     (ext == std::string::npos || ext == 0 ? "" : base.substr(ext));
-			image["uri"] = uri_encode(to);
 		}
+		if (to != name)
+			image["uri"] = uri_encode(to);
 		if (placed.count(to))
 			continue;
 		placed[to] = data;
@@ -436,13 +439,18 @@ static void copy_images(document& d, const std::string& folder, file_set& files)
  * OUTSTEM_1.bin, ...); buffers without data stay without; images kept by
  * URI are copied next to it when the folder differs, never outside path's
  * folder. */
-void save(document& d, const std::string& path, bool glb, bool in_place)
+void save(document& d, const std::string& path, bool glb, bool in_place, bool stem_images)
 {
 	file_set files;
 	const std::string folder = folder_of(path);
+	std::string stem = path.substr(folder.size());
+	size_t dot = stem.rfind('.');
+	if (dot != std::string::npos && dot > 0)
+		stem.resize(dot);
+	const std::string image_prefix = stem_images ? stem + "_" : "";
 	if (glb) {
 		merge_for_glb(d);
-		copy_images(d, folder, files);
+		copy_images(d, folder, image_prefix, files);
 		const bool bin = !d.buffers.empty() && !d.buffers[0].absent;
 		files.add(path, glb_file(d.j, bin ? &d.buffers[0] : nullptr));
 		files.commit();
@@ -455,10 +463,6 @@ void save(document& d, const std::string& path, bool glb, bool in_place)
 		return std::any_of(d.buffer_files.begin(), d.buffer_files.end(),
 		                   [&](const std::string& q) { return vn_io_same_file(p.c_str(), q.c_str()); });
 	};
-	std::string stem = path.substr(folder.size());
-	size_t dot = stem.rfind('.');
-	if (dot != std::string::npos && dot > 0)
-		stem.resize(dot);
 	size_t k = 0;
 	for (size_t i = 0; i < d.buffers.size(); ++i) {
 		json& b = (*jb)[i];
@@ -482,7 +486,7 @@ void save(document& d, const std::string& path, bool glb, bool in_place)
 		contents.add(d.buffers[i], false);
 		files.add(folder + name, contents);
 	}
-	copy_images(d, folder, files);
+	copy_images(d, folder, image_prefix, files);
 	files.add(path, d.j.dump(2) + "\n");
 	files.commit();
 }

@@ -190,6 +190,10 @@ typedef struct vn_io_format {
 	 * vn_io_path_mesh): what is kept and what is left out. */
 	const char* document_keeps;
 	const char* document_loses;
+	/* NULL when a file of this format is all there is to it, so that it can
+	 * be read from a pipe or written to one (vnconvert's `-`); else what
+	 * other files it may come with ("buffers and images"). */
+	const char* companions;
 } vn_io_format;
 
 /* Names what writing mesh as `format` leaves out ("face colours, TEXCOORD_1,

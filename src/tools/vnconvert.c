@@ -5,9 +5,17 @@
  * Exit status: 0 on success, 1 when the work failed (unreadable or
  * malformed input, unwritable output), 2 on a usage error. Every failure
  * prints exactly one line on stderr and leaves OUT as it was. */
+/* MAP_ANONYMOUS (glibc: not in POSIX 2008). */
+#define _DEFAULT_SOURCE
 #include "common.h"
 
+#include <dirent.h>
+#include <poll.h>
+#include <signal.h>
 #include <stdarg.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
@@ -21,7 +29,10 @@ static void usage(FILE* out)
 {
 	fprintf(out,
 	        "usage: vnconvert IN OUT [options]\n"
+	        "       vnconvert --out-dir DIR [--format F] [options] IN...\n"
 	        "Recomputes the vertex normals of the mesh IN and writes the mesh with them to OUT.\n"
+	        "IN or OUT '-' is standard input or output, for formats that are one file (not .gltf);\n"
+	        "then --input-format or --format names the format. A failure writes nothing there.\n"
 	        "\n"
 	        "options:\n"
 	        "  -m, --method M         weighting scheme (default mwa, the paper's overall choice);\n"
@@ -30,13 +41,34 @@ static void usage(FILE* out)
 	        "      --list-conversions what each pair of formats keeps (a Markdown table)\n"
 	        "  -f, --format F         output format, overriding OUT's extension\n"
 	        "      --input-format F   input format, overriding IN's extension\n"
-	        "  -j, --threads N        worker threads (default: all %u cores; results do not depend on it)\n"
+	        "  -j, --threads N        workers (default: all %u cores; results do not depend on it): the\n"
+	        "                         threads of a conversion; in a batch, the files converted at once\n"
+	        "                         (one thread each, the cores left over going to the last files)\n"
+	        "      --apply-transforms glTF written as another format, which has no scene graph:\n"
+	        "                         the default scene as drawn, each mesh once per node using it,\n"
+	        "                         with the node transforms applied; without it, every mesh once,\n"
+	        "                         in its own (mesh-local) coordinates\n"
 	        "      --in-place         allow OUT to be IN (otherwise refused)\n"
 	        "      --stats            print counts, degenerate input and timings\n"
 	        "  -q, --quiet            no warnings or progress\n"
 	        "  -h, --help             this text\n"
 	        "      --version          print the version\n"
 	        "\n"
+	        "batch mode: every IN (a file, or a folder's files of a format vn reads) to DIR:\n"
+	        "  -o, --out-dir DIR      write DIR/STEM.EXT for each input (EXT: --format's, else the\n"
+	        "                         input's own); DIR and its subfolders are created\n"
+	        "  -r, --recursive        enter the subfolders of folder inputs, keeping their layout\n"
+	        "                         under DIR (without it, subfolders are counted, not entered)\n"
+	        "  A status line per file on stderr (-q: only failures) and a summary; exit status 1\n"
+	        "  when a file failed (the others are still converted), 2 before any work when two\n"
+	        "  inputs would have one output, an output is its input, or an option applies to no\n"
+	        "  file (one that applies to some files applies to those). --input-format applies to\n"
+	        "  the files named; a folder's files go by their extensions (others, and hidden ones,\n"
+	        "  are passed over). Images a .gltf output refers to are copied as STEM_NAME, so that\n"
+	        "  models converted into one folder keep theirs apart.\n"
+	        "\n",
+	        tool_cpu_count());
+	fprintf(out,
 	        "glTF to glTF only (.gltf/.glb in and out):\n"
 	        "      --no-weld          compute on the vertices as the file splits them (seams show)\n"
 	        "      --weld-epsilon E   weld vertices whose coordinates all differ by at most E\n"
@@ -67,8 +99,7 @@ static void usage(FILE* out)
 	        "  so it decodes to the input's values exactly (no generation loss); new bits (these\n"
 	        "  flags) mean a new grid, and values move by up to half a step of the new bits.\n"
 	        "\n"
-	        "formats:\n",
-	        tool_cpu_count());
+	        "formats:\n");
 	for (size_t i = 0; vn_io_format_at(i); ++i) {
 		const vn_io_format* f = vn_io_format_at(i);
 		fprintf(out, "  %-8s %-12s %s\n", f->name, f->extensions, f->description);
@@ -90,8 +121,8 @@ static void usage(FILE* out)
 	        "TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitive, in mesh-local space; a vertex\n"
 	        "no face contributes to keeps its unit input normal, else gets (0, 0, 1). glTF to OFF\n"
 	        "merges every triangle primitive into one mesh, in mesh-local coordinates (node\n"
-	        "transforms are not applied). OFF to glTF writes one mesh with POSITION, NORMAL and\n"
-	        "indices (polygons fan-triangulated).\n");
+	        "transforms are not applied unless --apply-transforms). OFF to glTF writes one mesh\n"
+	        "with POSITION, NORMAL and indices (polygons fan-triangulated).\n");
 }
 
 /* One line on stderr, "vnconvert: error: ...", then exit(status). */
@@ -121,12 +152,19 @@ typedef struct args {
 	const vn_io_format* in_format;
 	const vn_io_format* out_format;
 	vn_method method;
-	unsigned threads;
-	int in_place, stats, quiet;
+	unsigned threads; /* -j: a conversion's threads; in batch mode the files converted at once */
+	int in_place, stats, quiet, apply_transforms;
 	vn_gltf_options gltf;
 	/* Draco flags as given, -1 when not: a .drc input's own bits or the
 	 * defaults fill the rest once the input is read. */
 	vn_drc_options drc;
+	/* The first option given that applies only to some conversions (NULL: none). */
+	const char *drc_given, *gltf_only;
+	/* Batch mode (out_dir not NULL): every IN into out_dir. */
+	const char* out_dir;
+	int recursive;
+	const char** inputs;
+	size_t input_count;
 } args;
 
 static const char* need_value(int argc, char** argv, int* i)
@@ -155,6 +193,39 @@ static void unknown_extension(const char* path, int input)
 	die(2, "%s", text);
 }
 
+/* --apply-transforms applies: a glTF scene written as a format without one. */
+static int transforms_apply(const vn_io_format* in, const vn_io_format* out)
+{
+	return in->path == vn_io_path_gltf && vn_io_conversion_path(in, out) == vn_io_path_mesh;
+}
+
+/* What a given option that does not apply to converting `in` to `out`
+ * applies to ("--crease-angle applies only to glTF to glTF conversions
+ * (...)"), in a static buffer; NULL when every option given applies. */
+static const char* option_misfit(const args* a, const vn_io_format* in, const vn_io_format* out)
+{
+	static char text[512];
+	char where[256];
+	const vn_io_path path = vn_io_conversion_path(in, out);
+	if (a->drc_given && !(out->draco & vn_io_draco_output) &&
+	    !(path != vn_io_path_mesh && (in->draco & vn_io_draco_document))) {
+		vn_io_format_list(vn_io_list_draco, where, sizeof where);
+		snprintf(text, sizeof text, "%s applies to %s", a->drc_given, where);
+		return text;
+	}
+	if (a->gltf_only && path != vn_io_path_gltf) {
+		vn_io_path_description(vn_io_path_gltf, where, sizeof where);
+		snprintf(text, sizeof text, "%s applies only to %s", a->gltf_only, where);
+		return text;
+	}
+	if (a->apply_transforms && !transforms_apply(in, out)) {
+		snprintf(text, sizeof text, "%s applies to glTF input written as a format without a scene graph",
+		         "--apply-transforms");
+		return text;
+	}
+	return NULL;
+}
+
 static args parse(int argc, char** argv)
 {
 	args a;
@@ -162,8 +233,10 @@ static args parse(int argc, char** argv)
 	a.method = vn_method_mwa;
 	a.threads = tool_cpu_count();
 	a.drc = (vn_drc_options){-1, -1, -1, -1, -1};
-	/* The first option given that applies only to some conversions. */
 	const char *drc_given = NULL, *gltf_only = NULL;
+	a.inputs = (const char**)calloc((size_t)argc, sizeof *a.inputs);
+	if (!a.inputs)
+		die(1, "%s", "out of memory");
 	for (int i = 1; i < argc; ++i) {
 		const char* s = argv[i];
 		if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
@@ -261,36 +334,55 @@ static args parse(int argc, char** argv)
 			a.stats = 1;
 		} else if (!strcmp(s, "-q") || !strcmp(s, "--quiet")) {
 			a.quiet = 1;
+		} else if (!strcmp(s, "--apply-transforms")) {
+			a.apply_transforms = 1;
+		} else if (!strcmp(s, "-o") || !strcmp(s, "--out-dir")) {
+			a.out_dir = need_value(argc, argv, &i);
+		} else if (!strcmp(s, "-r") || !strcmp(s, "--recursive")) {
+			a.recursive = 1;
 		} else if (s[0] == '-' && s[1]) {
 			die(2, "unknown option '%s' (see --help)", s);
-		} else if (!a.in) {
-			a.in = s;
-		} else if (!a.out) {
-			a.out = s;
 		} else {
-			die(2, "unexpected argument '%s': give one input and one output", s);
+			a.inputs[a.input_count++] = s;
 		}
 	}
-	if (!a.in || !a.out)
+	a.drc_given = drc_given;
+	a.gltf_only = gltf_only;
+	if (a.out_dir) {
+		if (!a.input_count)
+			die(2, "%s", "usage: vnconvert --out-dir DIR IN... (see --help)");
+		if (a.stats)
+			die(2, "%s", "--stats is for one file: a batch ends with a summary instead");
+		return a;
+	}
+	if (a.recursive)
+		die(2, "%s", "--recursive walks the folders of a batch: give --out-dir DIR too");
+	if (a.input_count > 2)
+		die(2, "unexpected argument '%s': give one input and one output (or --out-dir DIR for many inputs)",
+		    a.inputs[2]);
+	if (a.input_count < 2)
 		die(2, "%s", "usage: vnconvert IN OUT [--method M] (see --help)");
+	a.in = a.inputs[0];
+	a.out = a.inputs[1];
+	if (!strcmp(a.in, "-") || !strcmp(a.out, "-")) {
+		if (!strcmp(a.in, "-") && !a.in_format)
+			die(2, "%s", "IN '-' (standard input) needs --input-format: there is no extension to tell the format");
+		if (!strcmp(a.out, "-") && !a.out_format)
+			die(2, "%s", "OUT '-' (standard output) needs --format: there is no extension to tell the format");
+		if (a.stats)
+			die(2, "%s", "--stats needs IN and OUT to be files, not '-'");
+		const vn_io_format* f = !strcmp(a.in, "-") && a.in_format->companions ? a.in_format : a.out_format;
+		if ((!strcmp(a.in, "-") && a.in_format->companions) || (!strcmp(a.out, "-") && a.out_format->companions))
+			die(2, "'-' is for formats that are one file, and %s (%s) may come with other files (%s): use a file name",
+			    f->title, f->extensions, f->companions);
+	}
 	if (!a.in_format && !(a.in_format = vn_io_format_for_path(a.in)))
 		unknown_extension(a.in, 1);
 	if (!a.out_format && !(a.out_format = vn_io_format_for_path(a.out)))
 		unknown_extension(a.out, 0);
-	const vn_io_path path = vn_io_conversion_path(a.in_format, a.out_format);
-	if (drc_given && !(a.out_format->draco & vn_io_draco_output) &&
-	    !(path != vn_io_path_mesh && (a.in_format->draco & vn_io_draco_document))) {
-		char where[256];
-		vn_io_format_list(vn_io_list_draco, where, sizeof where);
-		die(2, "%s applies to %s, and this one is %s to %s: leave it out", drc_given, where, a.in_format->name,
-		    a.out_format->name);
-	}
-	if (gltf_only && path != vn_io_path_gltf) {
-		char where[256];
-		vn_io_path_description(vn_io_path_gltf, where, sizeof where);
-		die(2, "%s applies only to %s, and this one is %s to %s: leave it out", gltf_only, where,
-		    a.in_format->name, a.out_format->name);
-	}
+	const char* misfit = option_misfit(&a, a.in_format, a.out_format);
+	if (misfit)
+		die(2, "%s, and this one is %s to %s: leave it out", misfit, a.in_format->name, a.out_format->name);
 	return a;
 }
 
@@ -311,7 +403,7 @@ static void progress(const args* a, const char* what, const char* path)
 }
 
 /* glTF to glTF: the document path, which keeps everything but the normals. */
-static int convert_gltf(args* a)
+static int convert_gltf(args* a, size_t* triangles)
 {
 	a->gltf.method = a->method;
 	a->gltf.threads = a->threads;
@@ -325,6 +417,7 @@ static int convert_gltf(args* a)
 	    vn_io_success)
 		die(1, "%s", err.message);
 	const double t1 = tool_now();
+	*triangles = st.triangles;
 	input_warnings(a, st.warnings);
 	if (st.zero_normals && !a->quiet)
 		fprintf(stderr,
@@ -384,7 +477,7 @@ static int convert_gltf(args* a)
 
 /* .drc to .drc: the document path of Draco, which keeps every attribute
  * (type, unique id, grid) and the metadata, and replaces only NORMAL. */
-static int convert_drc(const args* a)
+static int convert_drc(const args* a, size_t* triangles)
 {
 	vn_drc_convert_options o;
 	memset(&o, 0, sizeof o);
@@ -397,6 +490,7 @@ static int convert_drc(const args* a)
 	progress(a, "converting", a->in);
 	if (vn_drc_convert(a->in, a->out, &o, &st, &err) != vn_io_success)
 		die(1, "%s", err.message);
+	*triangles = st.normals.faces;
 	if (st.normals.zero_normals && !a->quiet)
 		fprintf(stderr,
 		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); %s\n",
@@ -426,20 +520,22 @@ static int convert_drc(const args* a)
 	return 0;
 }
 
-int main(int argc, char** argv)
+/* Triangles of mesh once its polygons are fan-triangulated. */
+static size_t triangle_count(const vn_io_mesh* mesh)
 {
-	tool_check_version(prog);
-#ifdef __GLIBC__
-	/* glibc raises its trim and mmap thresholds as large blocks are freed,
-	 * after which freed memory stays resident: a fixed trim threshold (which
-	 * keeps both) took a sixth to a quarter off the peak memory of large
-	 * Draco conversions (docs/PERFORMANCE.md). */
-	mallopt(M_TRIM_THRESHOLD, 1 << 20);
-#endif
-	/* A crash (in a library too) or an interrupt leaves no temporary file. */
-	vn_io_remove_temporaries_on_signal();
-	args a = parse(argc, argv);
+	size_t n = 0;
+	for (size_t f = 0; f < mesh->face_count; f++) {
+		const size_t k = mesh->face_offsets[f + 1] - mesh->face_offsets[f];
+		n += k >= 3 ? k - 2 : 0;
+	}
+	return n;
+}
 
+/* Converts a.in to a.out: exit status 0, 1 (*triangles: how many it wrote
+ * on success) or 2, with every message on stderr (warnings; an error in
+ * one line). */
+static int convert_one(args a, size_t* triangles)
+{
 	if (!a.in_place && (!strcmp(a.in, a.out) || vn_io_same_file(a.in, a.out)))
 		die(2, "output '%s' is the input; pass --in-place to overwrite it", a.out);
 	vn_io_error err;
@@ -448,9 +544,9 @@ int main(int argc, char** argv)
 		die(1, "%s", err.message);
 	switch (vn_io_conversion_path(a.in_format, a.out_format)) {
 	case vn_io_path_gltf:
-		return convert_gltf(&a);
+		return convert_gltf(&a, triangles);
 	case vn_io_path_drc:
-		return convert_drc(&a);
+		return convert_drc(&a, triangles);
 	case vn_io_path_mesh:
 		break;
 	}
@@ -463,7 +559,8 @@ int main(int argc, char** argv)
 	const int drc_out = (a.out_format->draco & vn_io_draco_output) != 0;
 	vn_drc_options drc;
 	vn_drc_default_options(&drc);
-	if (vn_io_read_file(a.in, a.in_format, &mesh, &err) != vn_io_success)
+	if ((a.apply_transforms ? vn_io_gltf_read_scene(a.in, &mesh, &err)
+	                        : vn_io_read_file(a.in, a.in_format, &mesh, &err)) != vn_io_success)
 		die(1, "%s", err.message);
 	input_warnings(&a, mesh.warnings);
 	const size_t nonfinite = vn_io_mesh_first_nonfinite(&mesh);
@@ -509,11 +606,7 @@ int main(int argc, char** argv)
 	if (!(a.out_format->holds & vn_io_holds_loose_vertices) && !a.quiet) {
 		/* Draco 1.5.5's decoder refuses more points than 3 per triangle: the writer
 		 * then keeps only the vertices faces use. */
-		size_t corners = 0;
-		for (size_t f = 0; f < mesh.face_count; f++) {
-			const size_t k = mesh.face_offsets[f + 1] - mesh.face_offsets[f];
-			corners += k >= 3 ? 3 * (k - 2) : 0;
-		}
+		const size_t corners = 3 * triangle_count(&mesh);
 		if (mesh.vertex_count > corners)
 			fprintf(stderr,
 			        "%s: warning: %zu vertices and %zu %s: only the vertices faces use are written, as %s "
@@ -529,6 +622,7 @@ int main(int argc, char** argv)
 		return 1;
 	}
 	const double t3 = tool_now();
+	*triangles = triangle_count(&mesh);
 
 	if (a.stats) {
 		printf("input:              %s (%s)\n", a.in, a.in_format->name);
@@ -559,4 +653,530 @@ int main(int argc, char** argv)
 	}
 	vn_io_mesh_free(&mesh);
 	return 0;
+}
+
+/* ------------------------------------------------------------------ many files, and '-'
+ *
+ * Each file is converted in a child process (fork, then convert_one): a
+ * crash or an exit in one file's conversion is that file's failure alone,
+ * and its messages are collected whole and printed together. */
+
+typedef struct job {
+	const char *in, *out;           /* as converted */
+	const char *in_name, *out_name; /* as messages name them (temporaries of '-': "<stdin>") */
+	const vn_io_format *in_format, *out_format;
+	int apply_transforms;
+	pid_t pid;
+	int fd;      /* the child's stderr, read end */
+	char* text;  /* what it wrote there */
+	size_t length, capacity;
+	double start;
+} job;
+
+/* Written by each child before it exits: shared memory, one per job. */
+typedef struct outcome {
+	size_t triangles;
+} outcome;
+
+/* Copies line (length n) to out with every in/out path of j replaced by
+ * the name messages give it. */
+static void put_named(FILE* out, const job* j, const char* line, size_t n)
+{
+	const char* from[2] = {j->in, j->out};
+	const char* to[2] = {j->in_name, j->out_name};
+	size_t i = 0;
+	while (i < n) {
+		int hit = -1;
+		for (int k = 0; k < 2 && hit < 0; ++k)
+			if (from[k] != to[k] && strlen(from[k]) <= n - i && !strncmp(line + i, from[k], strlen(from[k])))
+				hit = k;
+		if (hit < 0) {
+			fputc(line[i++], out);
+			continue;
+		}
+		fputs(to[hit], out);
+		i += strlen(from[hit]);
+	}
+}
+
+/* "12,345" */
+static const char* grouped(size_t n, char text[32])
+{
+	char digits[32];
+	const int len = snprintf(digits, sizeof digits, "%zu", n);
+	int o = 0;
+	for (int i = 0; i < len; ++i) {
+		if (i && (len - i) % 3 == 0)
+			text[o++] = ',';
+		text[o++] = digits[i];
+	}
+	text[o] = '\0';
+	return text;
+}
+
+typedef struct batch {
+	args* a;
+	job* jobs;
+	size_t count;
+	int stdio;                          /* one job for '-': its messages as they are, no status lines */
+	size_t ok, failed, skipped, unentered, triangles;
+	double start;
+	int bar;                            /* a progress bar is on the terminal's last line */
+} batch;
+
+static void clear_bar(batch* b)
+{
+	if (b->bar)
+		fputs("\r\033[K", stderr);
+	b->bar = 0;
+}
+
+static void draw_bar(batch* b, size_t done)
+{
+	if (b->stdio || b->a->quiet || !isatty(STDERR_FILENO) || tool_now() - b->start < 1)
+		return;
+	const int width = 30, filled = (int)(width * done / b->count);
+	fprintf(stderr, "\r[%.*s%*s] %zu/%zu files", filled, "==============================", width - filled, "", done,
+	        b->count);
+	b->bar = 1;
+}
+
+/* The child's messages, then its status line; counts it. */
+static void report(batch* b, job* j, int status, const outcome* o)
+{
+	clear_bar(b);
+	const char* error = NULL;
+	size_t error_length = 0;
+	static const char prefix[] = "vnconvert: error: ";
+	for (size_t i = 0; i < j->length;) {
+		const char* line = j->text + i;
+		const size_t n = strcspn(line, "\n");
+		i += n + (i + n < j->length);
+		/* The error goes into the status line (the last one, if several). */
+		if (!b->stdio && n >= sizeof prefix - 1 && !strncmp(line, prefix, sizeof prefix - 1)) {
+			error = line + sizeof prefix - 1;
+			error_length = n - (sizeof prefix - 1);
+			continue;
+		}
+		put_named(stderr, j, line, n);
+		fputc('\n', stderr);
+	}
+	const int crashed = WIFSIGNALED(status), code = WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+	if (b->stdio) {
+		if (crashed)
+			fprintf(stderr, "%s: error: %s: crashed converting it (%s)\n", prog, j->in_name, strsignal(WTERMSIG(status)));
+		b->failed = crashed || code;
+		b->ok = !b->failed;
+		return;
+	}
+	if (!crashed && code == 0) {
+		b->ok++;
+		b->triangles += o->triangles;
+		char n[32];
+		if (!b->a->quiet)
+			fprintf(stderr, "ok   %s -> %s  (%s %s, %.1f ms)\n", j->in_name, j->out_name, grouped(o->triangles, n),
+			        noun(o->triangles, "triangle", "triangles"), 1e3 * (tool_now() - j->start));
+		return;
+	}
+	b->failed++;
+	if (crashed)
+		fprintf(stderr, "FAIL %s: crashed (%s)\n", j->in_name, strsignal(WTERMSIG(status)));
+	else if (error)
+		fprintf(stderr, "FAIL %s: %.*s\n", j->in_name, (int)error_length, error);
+	else
+		fprintf(stderr, "FAIL %s: exit status %d\n", j->in_name, code);
+}
+
+static void start(batch* b, size_t i, unsigned threads, outcome* o)
+{
+	job* j = &b->jobs[i];
+	int p[2];
+	if (pipe(p) != 0)
+		die(1, "cannot start a conversion: %s", strerror(errno));
+	fflush(stdout);
+	fflush(stderr);
+	j->start = tool_now();
+	j->pid = fork();
+	if (j->pid < 0)
+		die(1, "cannot start a conversion: %s", strerror(errno));
+	if (j->pid == 0) {
+		close(p[0]);
+		if (dup2(p[1], STDERR_FILENO) < 0)
+			_exit(1);
+		close(p[1]);
+		args a = *b->a;
+		a.in = j->in;
+		a.out = j->out;
+		a.in_format = j->in_format;
+		a.out_format = j->out_format;
+		a.apply_transforms = j->apply_transforms;
+		a.threads = threads;
+		a.gltf.image_names_from_output = !b->stdio;
+		const int status = convert_one(a, &o->triangles);
+		exit(status);
+	}
+	close(p[1]);
+	j->fd = p[0];
+}
+
+/* Runs every job, a->threads at once; returns the exit status: 0, or 1
+ * when a file failed. */
+static int run(batch* b)
+{
+	outcome* outcomes = (outcome*)mmap(NULL, b->count * sizeof *outcomes, PROT_READ | PROT_WRITE,
+	                                   MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+	struct pollfd* fds = (struct pollfd*)calloc(b->a->threads, sizeof *fds);
+	size_t* slot = (size_t*)calloc(b->a->threads, sizeof *slot); /* job of each fds entry */
+	if (outcomes == MAP_FAILED || !fds || !slot)
+		die(1, "%s", "out of memory");
+	size_t next = 0, running = 0, done = 0;
+	while (done < b->count) {
+		for (; running < b->a->threads && next < b->count; ++next) {
+			/* Single-threaded conversions side by side; the cores no file
+			 * is left for go to the last ones. */
+			const unsigned free = b->a->threads - (unsigned)running;
+			const size_t left = b->count - next;
+			start(b, next, left < free ? (unsigned)(free / left) : 1, &outcomes[next]);
+			fds[running] = (struct pollfd){b->jobs[next].fd, POLLIN, 0};
+			slot[running++] = next;
+		}
+		if (poll(fds, running, 200) < 0 && errno != EINTR)
+			die(1, "cannot wait for the conversions: %s", strerror(errno));
+		for (size_t r = 0; r < running;) {
+			job* j = &b->jobs[slot[r]];
+			if (!fds[r].revents) {
+				r++;
+				continue;
+			}
+			if (j->capacity - j->length < 4096) {
+				j->capacity = 2 * j->capacity + 4096;
+				if (!(j->text = (char*)realloc(j->text, j->capacity)))
+					die(1, "%s", "out of memory");
+			}
+			const ssize_t got = read(j->fd, j->text + j->length, j->capacity - j->length);
+			if (got > 0 || (got < 0 && errno == EINTR)) {
+				j->length += got > 0 ? (size_t)got : 0;
+				r++;
+				continue;
+			}
+			/* End of its stderr: the child has exited (or is about to). */
+			close(j->fd);
+			int status;
+			while (waitpid(j->pid, &status, 0) < 0 && errno == EINTR) {
+			}
+			report(b, j, status, &outcomes[slot[r]]);
+			free(j->text);
+			j->text = NULL;
+			++done;
+			--running;
+			fds[r] = fds[running];
+			slot[r] = slot[running];
+		}
+		draw_bar(b, done);
+	}
+	clear_bar(b);
+	munmap(outcomes, b->count * sizeof *outcomes);
+	free(fds);
+	free(slot);
+	return b->failed ? 1 : 0;
+}
+
+/* A copy of text[0 .. n) + tail, or of text when n is -1 (dies when out of memory). */
+static char* joined(const char* text, size_t n, const char* tail)
+{
+	const size_t length = n == (size_t)-1 ? strlen(text) : n;
+	char* s = (char*)malloc(length + strlen(tail) + 1);
+	if (!s)
+		die(1, "%s", "out of memory");
+	memcpy(s, text, length);
+	strcpy(s + length, tail);
+	return s;
+}
+
+/* Creates folder path and its missing parents. */
+static void make_folders(const char* path)
+{
+	char* p = joined(path, (size_t)-1, "");
+	for (char* c = p + 1;; ++c)
+		if (*c == '/' || !*c) {
+			const char end = *c;
+			*c = '\0';
+			struct stat st;
+			if (mkdir(p, 0777) != 0 && errno != EEXIST)
+				die(1, "cannot create the folder '%s': %s", p, strerror(errno));
+			if (stat(p, &st) != 0 || !S_ISDIR(st.st_mode))
+				die(1, "'%s' is not a folder, so the outputs cannot go there", p);
+			if (!(*c = end))
+				break;
+		}
+	free(p);
+}
+
+/* Adds the job for file path, whose output goes to OUT_DIR/relative with
+ * the output's extension; format NULL: path's extension names it. */
+static void add_job(batch* b, const char* path, const char* relative, const vn_io_format* format)
+{
+	const args* a = b->a;
+	const char* name = strrchr(relative, '/') ? strrchr(relative, '/') + 1 : relative;
+	const char* dot = strrchr(name, '.');
+	const size_t stem = (size_t)(dot && dot != name ? dot - relative : (ptrdiff_t)strlen(relative));
+	/* The output's extension: --format's, else the input's own. */
+	char extension[64];
+	const vn_io_format* in_format = format ? format : vn_io_format_for_path(path);
+	const vn_io_format* out_format = a->out_format ? a->out_format : in_format;
+	if (a->out_format || !dot || dot == name)
+		snprintf(extension, sizeof extension, "%.*s", (int)strcspn(out_format->extensions, " "), out_format->extensions);
+	else
+		snprintf(extension, sizeof extension, "%s", dot);
+	char* under = joined(a->out_dir, (size_t)-1, "/");
+	char* relative_out = joined(relative, stem, extension);
+	job* j = &b->jobs[b->count++];
+	memset(j, 0, sizeof *j);
+	j->in = j->in_name = joined(path, (size_t)-1, "");
+	j->out = j->out_name = joined(under, (size_t)-1, relative_out);
+	j->in_format = in_format;
+	j->out_format = out_format;
+	j->apply_transforms = a->apply_transforms && transforms_apply(in_format, out_format);
+	free(under);
+	free(relative_out);
+}
+
+static int by_name(const struct dirent** x, const struct dirent** y)
+{
+	return strcmp((*x)->d_name, (*y)->d_name);
+}
+
+/* The files of folder path (relative: its place under OUT_DIR, "" or
+ * ending with '/') that vn reads, by extension, in name order; its
+ * subfolders too with --recursive. Hidden entries are passed over. */
+static void add_folder(batch* b, const char* path, const char* relative, size_t* room)
+{
+	struct dirent** entries;
+	const int n = scandir(path, &entries, NULL, by_name);
+	if (n < 0)
+		die(1, "cannot read the folder '%s': %s", path, strerror(errno));
+	for (int i = 0; i < n; ++i) {
+		const char* name = entries[i]->d_name;
+		struct stat st;
+		char* base = joined(path, (size_t)-1, path[strlen(path) - 1] == '/' ? "" : "/");
+		char* full = joined(base, (size_t)-1, name);
+		char* under = joined(relative, (size_t)-1, name);
+		if (name[0] == '.' || stat(full, &st) != 0) {
+			/* hidden, or a dangling link */
+		} else if (S_ISDIR(st.st_mode)) {
+			char* sub = joined(under, (size_t)-1, "/");
+			if (b->a->recursive)
+				add_folder(b, full, sub, room);
+			else
+				b->unentered++;
+			free(sub);
+		} else if (!vn_io_format_for_path(name)) {
+			b->skipped++;
+		} else {
+			if (b->count == *room) {
+				*room = 2 * *room + 16;
+				if (!(b->jobs = (job*)realloc(b->jobs, *room * sizeof *b->jobs)))
+					die(1, "%s", "out of memory");
+			}
+			add_job(b, full, under, NULL);
+		}
+		free(base);
+		free(full);
+		free(under);
+		free(entries[i]);
+	}
+	free(entries);
+}
+
+static int by_output(const void* x, const void* y)
+{
+	const job *p = *(const job* const*)x, *q = *(const job* const*)y;
+	const int c = strcmp(p->out, q->out);
+	return c ? c : (p < q ? -1 : p > q);
+}
+
+/* The jobs of a batch, each checked before any is run: options that apply
+ * to none, two inputs for one output, an output that is its input. */
+static void plan(batch* b)
+{
+	args* a = b->a;
+	size_t room = a->input_count;
+	b->jobs = (job*)calloc(room, sizeof *b->jobs);
+	if (!b->jobs)
+		die(1, "%s", "out of memory");
+	for (size_t i = 0; i < a->input_count; ++i) {
+		const char* in = a->inputs[i];
+		struct stat st;
+		if (!strcmp(in, "-"))
+			die(2, "%s", "'-' (standard input) is for one file: give IN OUT without --out-dir");
+		if (stat(in, &st) == 0 && S_ISDIR(st.st_mode)) {
+			add_folder(b, in, "", &room);
+			continue;
+		}
+		if (!a->in_format && !vn_io_format_for_path(in))
+			unknown_extension(in, 1);
+		if (b->count == room) {
+			room = 2 * room + 16;
+			if (!(b->jobs = (job*)realloc(b->jobs, room * sizeof *b->jobs)))
+				die(1, "%s", "out of memory");
+		}
+		const char* slash = strrchr(in, '/');
+		add_job(b, in, slash ? slash + 1 : in, a->in_format);
+	}
+	/* An option is refused only when it applies to no file of the batch. */
+	const char* misfit = NULL;
+	size_t fits = 0;
+	for (size_t i = 0; i < b->count; ++i) {
+		const char* m = option_misfit(a, b->jobs[i].in_format, b->jobs[i].out_format);
+		fits += !m;
+		misfit = m ? m : misfit;
+	}
+	if (misfit && !fits)
+		die(2, "%s, and no file of this batch is converted so: leave it out", misfit);
+	const job** sorted = (const job**)malloc((b->count ? b->count : 1) * sizeof *sorted);
+	if (!sorted)
+		die(1, "%s", "out of memory");
+	for (size_t i = 0; i < b->count; ++i)
+		sorted[i] = &b->jobs[i];
+	qsort(sorted, b->count, sizeof *sorted, by_output);
+	for (size_t i = 1; i < b->count; ++i)
+		if (!strcmp(sorted[i - 1]->out, sorted[i]->out))
+			die(2, "'%s' and '%s' would both be written to '%s': convert them into different folders",
+			    sorted[i - 1]->in, sorted[i]->in, sorted[i]->out);
+	free(sorted);
+	for (size_t i = 0; i < b->count; ++i) {
+		const job* j = &b->jobs[i];
+		if (!a->in_place && vn_io_same_file(j->in, j->out))
+			die(2, "output '%s' is the input; pass --in-place to overwrite it", j->out);
+		char* folder = joined(j->out, (size_t)(strrchr(j->out, '/') - j->out), "");
+		make_folders(folder);
+		free(folder);
+	}
+}
+
+static int convert_batch(args* a)
+{
+	batch b;
+	memset(&b, 0, sizeof b);
+	b.a = a;
+	b.start = tool_now();
+	plan(&b);
+	make_folders(a->out_dir);
+	const int status = b.count ? run(&b) : 0;
+	if (!a->quiet) {
+		char n[32];
+		fprintf(stderr, "%s: %zu %s converted", prog, b.ok, noun(b.ok, "file", "files"));
+		if (b.failed)
+			fprintf(stderr, ", %zu failed", b.failed);
+		if (b.skipped)
+			fprintf(stderr, ", %zu skipped (not a format vn reads)", b.skipped);
+		if (b.unentered)
+			fprintf(stderr, ", %zu %s not entered (--recursive)", b.unentered, noun(b.unentered, "folder", "folders"));
+		fprintf(stderr, "; %s %s in %.2f s\n", grouped(b.triangles, n), noun(b.triangles, "triangle", "triangles"),
+		        tool_now() - b.start);
+	}
+	for (size_t i = 0; i < b.count; ++i) {
+		free((char*)b.jobs[i].in);
+		free((char*)b.jobs[i].out);
+	}
+	free(b.jobs);
+	return status;
+}
+
+/* IN or OUT '-': standard input is copied into a temporary folder first,
+ * and the output goes there whole before it is copied to standard output,
+ * so that a failure writes nothing there. */
+static int convert_stdio(args* a)
+{
+	const char* tmp = getenv("TMPDIR");
+	char* folder = joined(tmp && *tmp ? tmp : "/tmp", (size_t)-1, "/vnconvert.XXXXXX");
+	if (!mkdtemp(folder))
+		die(1, "cannot create a temporary folder in %s: %s", tmp && *tmp ? tmp : "/tmp", strerror(errno));
+	job j;
+	memset(&j, 0, sizeof j);
+	j.in_format = a->in_format;
+	j.out_format = a->out_format;
+	j.apply_transforms = a->apply_transforms;
+	char extension[64];
+	snprintf(extension, sizeof extension, "/stdin%.*s", (int)strcspn(a->in_format->extensions, " "),
+	         a->in_format->extensions);
+	char* in = joined(folder, (size_t)-1, extension);
+	snprintf(extension, sizeof extension, "/stdout%.*s", (int)strcspn(a->out_format->extensions, " "),
+	         a->out_format->extensions);
+	char* out = joined(folder, (size_t)-1, extension);
+	const int from_stdin = !strcmp(a->in, "-"), to_stdout = !strcmp(a->out, "-");
+	j.in = from_stdin ? in : a->in;
+	j.out = to_stdout ? out : a->out;
+	j.in_name = from_stdin ? "<stdin>" : a->in;
+	j.out_name = to_stdout ? "<stdout>" : a->out;
+	int status = 1;
+	char buffer[1 << 16];
+	size_t n;
+	FILE* f = from_stdin ? fopen(in, "wb") : NULL;
+	if (from_stdin) {
+		while (f && (n = fread(buffer, 1, sizeof buffer, stdin)) > 0)
+			if (fwrite(buffer, 1, n, f) != n)
+				break;
+		if (!f || ferror(stdin) || ferror(f) | (fclose(f) != 0)) {
+			fprintf(stderr, "%s: error: <stdin>: cannot copy it into %s: %s\n", prog, folder, strerror(errno));
+			goto done;
+		}
+	}
+	batch b;
+	memset(&b, 0, sizeof b);
+	b.a = a;
+	b.jobs = &j;
+	b.count = 1;
+	b.stdio = 1;
+	b.start = tool_now();
+	a->threads = a->threads ? a->threads : 1;
+	status = run(&b);
+	if (status == 0 && to_stdout) {
+		signal(SIGPIPE, SIG_IGN); /* a closed pipe is an error, told */
+		f = fopen(out, "rb");
+		while (f && (n = fread(buffer, 1, sizeof buffer, f)) > 0)
+			if (fwrite(buffer, 1, n, stdout) != n)
+				break;
+		if (!f || ferror(f) || fflush(stdout) != 0 || ferror(stdout)) {
+			fprintf(stderr, "%s: error: <stdout>: cannot write: %s\n", prog, strerror(errno));
+			status = 1;
+		}
+		if (f)
+			fclose(f);
+	}
+done:
+	unlink(in);
+	unlink(out);
+	rmdir(folder);
+	free(in);
+	free(out);
+	free(folder);
+	return status;
+}
+
+int main(int argc, char** argv)
+{
+	tool_check_version(prog);
+#ifdef __GLIBC__
+	/* glibc raises its trim and mmap thresholds as large blocks are freed,
+	 * after which freed memory stays resident: a fixed trim threshold (which
+	 * keeps both) took a sixth to a quarter off the peak memory of large
+	 * Draco conversions (docs/PERFORMANCE.md). */
+	mallopt(M_TRIM_THRESHOLD, 1 << 20);
+#endif
+	/* A crash (in a library too) or an interrupt leaves no temporary file. */
+	vn_io_remove_temporaries_on_signal();
+	args a = parse(argc, argv);
+	int status;
+	if (a.out_dir)
+		status = convert_batch(&a);
+	else if (!strcmp(a.in, "-") || !strcmp(a.out, "-"))
+		status = convert_stdio(&a);
+	else {
+		a.apply_transforms = a.apply_transforms && transforms_apply(a.in_format, a.out_format);
+		size_t triangles;
+		status = convert_one(a, &triangles);
+	}
+	free(a.inputs);
+	return status;
 }
