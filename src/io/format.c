@@ -13,6 +13,7 @@
 
 #include "draco.h"
 #include "gltf.h"
+#include "obj.h"
 #include "off.h"
 
 /* What the glTF reader (both gltf and glb) brings. */
@@ -41,6 +42,19 @@ static const vn_io_format formats[] = {
       {vn_io_holds_face_colors, "face colours", "face colours (named)"},
       {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"}},
      "comments", NULL, NULL, NULL},
+    {"obj", "OBJ", "OBJ", ".obj",
+     "Wavefront OBJ (read through Draco: v/vt/vn, faces of 3 to 8 corners, usemtl, o; written with per-corner vn)",
+     vn_io_obj_read, vn_io_obj_write,
+     vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_polygons | vn_io_holds_loose_vertices |
+         vn_io_holds_face_names,
+     vn_io_path_mesh, 0, "the zero vector (`vn 0 0 0`)",
+     {{vn_io_holds_texcoords, "texture coordinates", NULL},
+      {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"},
+      {vn_io_holds_face_names, "materials (`usemtl` names, the `mtllib` line)", "materials (named)"},
+      {vn_io_holds_face_names, "object names (`o`, to the first blank)", "object names (named)"}},
+     "groups (`g`), smoothing groups (`s`), lines, points, curves, vertex colours, vertices no face uses, the .mtl "
+     "file's contents",
+     NULL, NULL, NULL},
     {"gltf", "glTF", "glTF", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)",
      vn_io_gltf_read, vn_io_gltf_write,
      vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes | vn_io_holds_loose_vertices,
@@ -69,7 +83,7 @@ static const vn_io_format formats[] = {
 static const struct {
 	const char* extension;
 	const char* what;
-} foreign[] = {{".ply", "a PLY"}, {".obj", "an OBJ"}, {".stl", "an STL"},
+} foreign[] = {{".ply", "a PLY"}, {".stl", "an STL"},
                {".fbx", "an FBX"}, {".dae", "a COLLADA"}, {".3ds", "a 3DS"}};
 
 /* ASCII only: extensions and names are ASCII, and tolower() would follow the

@@ -49,6 +49,14 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 	for (size_t i = 0; i < mesh->attribute_count; i++)
 		free(mesh->attributes[i].data);
 	free(mesh->attributes);
+	vn_io_face_names* sets[2] = {&mesh->materials, &mesh->objects};
+	for (size_t k = 0; k < 2; k++) {
+		for (size_t i = 0; i < sets[k]->count; i++)
+			free(sets[k]->names[i]);
+		free(sets[k]->names);
+		free(sets[k]->of_face);
+	}
+	free(mesh->material_library);
 	free(mesh->warnings);
 	memset(mesh, 0, sizeof *mesh);
 }
@@ -104,13 +112,16 @@ size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, cha
 	if (size)
 		text[0] = '\0';
 	const unsigned holds = format ? format->holds : 0;
-	const char* names[3] = {
+	const int names_lost = !(holds & vn_io_holds_face_names);
+	const char* names[5] = {
 	    mesh->colors && !(holds & vn_io_holds_colors) ? "vertex colours" : NULL,
 	    mesh->texcoords && !(holds & vn_io_holds_texcoords) ? "texture coordinates" : NULL,
 	    mesh->face_colors && !(holds & vn_io_holds_face_colors) ? "face colours" : NULL,
+	    mesh->materials.of_face && names_lost ? "materials" : NULL,
+	    mesh->objects.of_face && names_lost ? "object names" : NULL,
 	};
-	for (size_t i = 0; i < mesh->attribute_count + 3; i++) {
-		const char* name = i < 3 ? names[i] : !(holds & vn_io_holds_attributes) ? mesh->attributes[i - 3].name : NULL;
+	for (size_t i = 0; i < mesh->attribute_count + 5; i++) {
+		const char* name = i < 5 ? names[i] : !(holds & vn_io_holds_attributes) ? mesh->attributes[i - 5].name : NULL;
 		if (!name)
 			continue;
 		if (used < size) {

@@ -65,6 +65,17 @@ typedef struct vn_io_attribute {
 	void* data;         /* vertex_count * components values, packed, vertex by vertex */
 } vn_io_attribute;
 
+/* Names given to sets of faces: OBJ's materials (`usemtl`) and objects
+ * (`o`). */
+typedef struct vn_io_face_names {
+	size_t count;
+	char** names;      /* count NUL-terminated names */
+	uint32_t* of_face; /* NULL, or face_count entries: an index into names, or VN_IO_NO_NAME */
+} vn_io_face_names;
+
+/* A face that belongs to no named set (faces before an OBJ's first `usemtl`). */
+#define VN_IO_NO_NAME UINT32_MAX
+
 /* A polygon mesh as files carry it. Arrays are owned by the mesh and freed by
  * vn_io_mesh_free; optional arrays are NULL when the file has none. Readers
  * put the first colour set in `colors`, the first 2-component texture
@@ -90,6 +101,14 @@ typedef struct vn_io_mesh {
 
 	size_t attribute_count;
 	vn_io_attribute* attributes; /* NULL or attribute_count entries, each owning its data */
+
+	/* The material and the object of each face, and the files defining the
+	 * materials (an OBJ's `mtllib` argument: "model.mtl", or NULL), as an OBJ
+	 * names them; only the OBJ writer keeps them (vn_io_holds_face_names).
+	 * Faces are never reordered, so of_face stays valid through vn. */
+	vn_io_face_names materials;
+	vn_io_face_names objects;
+	char* material_library;
 
 	/* NULL, or what the reader read anyway but the file should not have
 	 * (bytes after a GLB's declared length): one line each, "\n"-separated,
@@ -134,7 +153,8 @@ enum {
 	vn_io_holds_attributes = 4,    /* `attributes` */
 	vn_io_holds_face_colors = 8,   /* `face_colors` */
 	vn_io_holds_polygons = 16,     /* faces of more than 3 corners (else fan-triangulated) */
-	vn_io_holds_loose_vertices = 32 /* vertices no face uses (else only the vertices faces use are written) */
+	vn_io_holds_loose_vertices = 32, /* vertices no face uses (else only the vertices faces use are written) */
+	vn_io_holds_face_names = 64      /* `materials`, `objects` and `material_library` */
 };
 
 /* How vnconvert converts between two formats of one family (both ends with

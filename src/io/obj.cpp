@@ -1,0 +1,797 @@
+/*
+ * Wavefront OBJ.
+ *
+ * Reader: Draco's ObjDecoder (1.5.5), which keeps v/vt/vn, faces of 3 to 8
+ * corners as triangle fans, the `usemtl` and `o` of each face (GENERIC
+ * "material" and "sub_obj" attributes, their names in the attribute
+ * metadata), and skips every other line. It checks neither index ranges nor
+ * that its two passes over a face line agree ("f 1 2 3 # note" counts 3
+ * triangles, then fills 1), and reads memory out of bounds when they are
+ * wrong; so a scan that reads each line as Draco does comes first, and only
+ * a file it passes goes to Draco. The scan also gives file:line errors,
+ * refuses NaN and infinite numbers, and hands Draco a copy where a comment
+ * after a face is blanked, a tab after `v` or `o` is a space and a lone CR
+ * ends a line (Draco reads those lines differently or not at all), a face
+ * of more than 8 corners is split into faces Draco takes, and `mtllib` is a
+ * comment: reading from memory, Draco would look for the .mtl in the
+ * current folder, and it only adds names, in another order, from it; the
+ * `mtllib` argument is kept instead. Polygons are put back together from
+ * the corner counts the scan saw (Draco's preserve_polygons would do it
+ * from an "added_edges" attribute, which splits points further and cannot
+ * tell the split pieces of a long face apart).
+ *
+ * A vertex is one (v, vt, vn) combination after Draco merges equal values.
+ *
+ * Writer: v (with "r g b" when the mesh has colours), vt and vn lines, each
+ * value once (a vertex split for its normal or texture coordinate shares its
+ * v line), then faces as v/vt/vn with `o` and `usemtl` where they change.
+ */
+#include "obj.h"
+
+extern "C" {
+#include "text.h"
+}
+
+#include <draco/io/obj_decoder.h>
+#include <draco/mesh/mesh.h>
+
+#include <algorithm>
+#include <array>
+#include <cfloat>
+#include <cinttypes>
+#include <cmath>
+#include <cstdarg>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace {
+
+/* isspace() in the C locale, as Draco's parser tests it. */
+bool space(char c)
+{
+	return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r';
+}
+
+/* Draco's face limit (ObjDecoder::ParseFace, kMaxCorners): longer faces
+ * are split for it (scanner::split_long_faces). */
+const int max_corners = 8;
+
+/* Reads an OBJ the way Draco's ObjDecoder does (ParseDefinition and the
+ * parser_utils it calls), line by line: a first pass counts v, vt and vn
+ * lines and triangles, a second checks every number and index against
+ * those counts. */
+struct scanner {
+	const char* name;
+	vn_io_error* error;
+	char* begin;
+	char* end;
+	bool counting = true;
+
+	/* Totals from the counting pass, and counts so far in this pass. */
+	int64_t total[3] = {0, 0, 0};
+	int64_t seen[3] = {0, 0, 0};
+	uint64_t triangles = 0, polylines = 0;
+	int64_t first_material = -1, first_object = -1; /* triangles before the first usemtl and o */
+	std::string library;
+	/* Corners of each face, in order (the checking pass). */
+	std::vector<uint32_t> face_corners;
+	/* Faces of more than max_corners corners: where their f line is, and
+	 * their corners as Draco parses them. */
+	struct long_face {
+		size_t begin, end;
+		std::vector<std::array<int32_t, 3>> corners;
+	};
+	std::vector<long_face> long_faces;
+
+	size_t line = 1;
+	const char* line_end = nullptr;
+	vn_io_result result = vn_io_success; /* of the first failure */
+
+#if defined(__GNUC__)
+	__attribute__((format(printf, 3, 4)))
+#endif
+	bool fail(vn_io_result r, const char* fmt, ...)
+	{
+		char what[400];
+		va_list args;
+		va_start(args, fmt);
+		vsnprintf(what, sizeof what, fmt, args);
+		va_end(args);
+		result = vn_io_fail(error, r, "%s:%zu: %s", name, line, what);
+		return false;
+	}
+
+	/* The token at q (to the next blank), for messages. */
+	int token_length(const char* q) const
+	{
+		const char* t = q;
+		while (t < line_end && !space(*t) && t - q < 40)
+			t++;
+		return int(t - q);
+	}
+
+	void skip_blanks(const char*& q) const
+	{
+		while (q < line_end && space(*q))
+			q++;
+	}
+
+	/* parser::ParseUnsignedInt and ParseSignedInt: uint32 arithmetic,
+	 * wrapping as Draco's does; *overflow tells when it wrapped. */
+	bool parse_signed(const char*& q, int32_t* value, bool* overflow = nullptr) const
+	{
+		int sign = 1;
+		if (q < line_end && (*q == '-' || *q == '+'))
+			sign = *q++ == '-' ? -1 : 1;
+		uint32_t v = 0;
+		uint64_t exact = 0;
+		const char* digits = q;
+		for (; q < line_end && *q >= '0' && *q <= '9'; q++) {
+			v = v * 10 + uint32_t(*q - '0');
+			exact = std::min<uint64_t>(exact * 10 + uint64_t(*q - '0'), UINT64_C(1) << 32);
+		}
+		if (q == digits)
+			return false;
+		*value = int32_t(sign < 0 ? 0u - v : v);
+		if (overflow)
+			*overflow = exact > INT32_MAX;
+		return true;
+	}
+
+	/* An index: as Draco reads it, or 0 (refused) when it wrapped. */
+	bool parse_index(const char*& q, int32_t* value) const
+	{
+		bool overflow;
+		return parse_signed(q, value, &overflow) && !overflow && *value != 0;
+	}
+
+	/* parser::ParseFloat, with the same arithmetic (so the same value); a
+	 * word it reads for "inf" or "nan" has to be on the line. */
+	bool parse_float(const char*& q, float* value) const
+	{
+		int sign = 1;
+		if (q < line_end && (*q == '-' || *q == '+'))
+			sign = *q++ == '-' ? -1 : 1;
+		bool digits = false;
+		double v = 0.0;
+		for (; q < line_end && *q >= '0' && *q <= '9'; q++, digits = true)
+			v = v * 10.0 + (*q - '0');
+		if (q < line_end && *q == '.') {
+			double fraction = 1.0;
+			for (q++; q < line_end && *q >= '0' && *q <= '9'; q++, digits = true) {
+				fraction *= 0.1;
+				v += (*q - '0') * fraction;
+			}
+		}
+		if (!digits) {
+			skip_blanks(q);
+			const int n = token_length(q);
+			const std::string word(q, size_t(n));
+			q += n;
+			if (word == "inf" || word == "Inf")
+				v = HUGE_VAL;
+			else if (word == "nan" || word == "NaN")
+				v = NAN;
+			else
+				return false;
+		} else if (q < line_end && (*q == 'e' || *q == 'E')) {
+			int32_t exponent;
+			if (!parse_signed(++q, &exponent))
+				return false;
+			v *= std::pow(10.0, exponent);
+		}
+		*value = sign < 0 ? float(-v) : float(v);
+		return true;
+	}
+
+	/* ObjDecoder::ParseVertexIndices: "v", "v/vt", "v/vt/vn" or "v//vn". */
+	bool parse_corner(const char*& q, int32_t* index) const
+	{
+		while (q < line_end && (*q == ' ' || *q == '\t'))
+			q++;
+		if (!parse_index(q, &index[0]))
+			return false;
+		index[1] = index[2] = 0;
+		if (q == line_end || *q != '/')
+			return true;
+		if (++q == line_end)
+			return false;
+		if (*q != '/' && !parse_index(q, &index[1]))
+			return false;
+		if (q == line_end || *q != '/')
+			return true;
+		return parse_index(++q, &index[2]);
+	}
+
+	/* A v, vt or vn line (kind 0, 1, 2) after its keyword. */
+	bool numbers(const char* q, int kind)
+	{
+		static const char* const kinds[3] = {"vertex", "texture coordinate", "normal"};
+		static const int needed[3] = {3, 2, 3};
+		const int64_t index = ++seen[kind];
+		if (counting)
+			return true;
+		for (int i = 0; i < needed[kind]; i++) {
+			skip_blanks(q);
+			if (q == line_end)
+				return fail(vn_io_error_parse, "%s %" PRId64 " has %d numbers; it needs %d", kinds[kind], index, i,
+				            needed[kind]);
+			const char* start = q;
+			float v;
+			if (!parse_float(q, &v))
+				return fail(vn_io_error_parse, "%s %" PRId64 ": '%.*s' is not a number", kinds[kind], index,
+				            token_length(start), start);
+			if (!std::isfinite(v))
+				return fail(vn_io_error_parse,
+				            "%s %" PRId64 " has the number '%.*s', which is not finite: fix or remove that line",
+				            kinds[kind], index, token_length(start), start);
+		}
+		return true;
+	}
+
+	/* Whether index i (1-based, or negative: counted back from the last
+	 * one so far) of a kind names a line the file has. */
+	bool check_index(int32_t i, int kind, int corner)
+	{
+		static const char* const kinds[3] = {"vertex", "texture coordinate", "normal"};
+		static const char* const plurals[3] = {"vertices (v)", "texture coordinates (vt)", "normals (vn)"};
+		if (i == 0 || (i > 0 && i <= total[kind]) || (i < 0 && seen[kind] + i >= 0))
+			return true;
+		if (i > 0)
+			return fail(vn_io_error_parse, "face corner %d refers to %s %" PRId32 ", but the file has %" PRId64 " %s",
+			            corner, kinds[kind], i, total[kind], plurals[kind]);
+		return fail(vn_io_error_parse,
+		            "face corner %d refers to %s %" PRId32 " (counting back), but only %" PRId64 " %s come before it",
+		            corner, kinds[kind], i, seen[kind], plurals[kind]);
+	}
+
+	/* An f line after the 'f'. Draco counts its blank-separated entries,
+	 * then parses up to 8 corners: both must agree. */
+	bool face(char* q)
+	{
+		char* f = q - 1;
+		int entries = 0;
+		for (const char* t = q; t < line_end;) {
+			if (space(*t)) {
+				t++;
+				continue;
+			}
+			entries++;
+			while (t < line_end && !space(*t))
+				t++;
+		}
+		if (entries < 3)
+			return fail(vn_io_error_parse, "a face (f) has %d corner%s; it needs 3 or more", entries,
+			            entries == 1 ? "" : "s");
+		triangles += uint64_t(entries - 2);
+		if (triangles > INT32_MAX / 3)
+			return fail(vn_io_error_unsupported, "more than %d triangles, more than Draco's OBJ reader holds",
+			            INT32_MAX / 3);
+		if (counting)
+			return true;
+		const bool long_face_ = entries > max_corners;
+		if (long_face_)
+			long_faces.push_back({size_t(f - begin), size_t(line_end - begin), {}});
+		const char* c = q;
+		int corners = 0;
+		for (; corners <= entries; corners++) {
+			while (c < line_end && (*c == ' ' || *c == '\t'))
+				c++;
+			const char* start = c;
+			std::array<int32_t, 3> index;
+			if (!parse_corner(c, index.data())) {
+				if (corners == entries)
+					break;
+				return fail(vn_io_error_parse,
+				            "face corner %d, '%.*s', is not v, v/vt, v/vt/vn or v//vn with indices from 1 (or -1) to 2147483647",
+				            corners + 1, token_length(start), start);
+			}
+			for (int k = 0; k < 3; k++)
+				if (!check_index(index[k], k, corners + 1))
+					return false;
+			if (long_face_)
+				long_faces.back().corners.push_back(index);
+		}
+		if (corners != entries)
+			return fail(vn_io_error_parse, "a face has %d entries, but they read as %d corners", entries, corners);
+		face_corners.push_back(uint32_t(entries));
+		return true;
+	}
+
+	/* The text with every long face written as faces of at most
+	 * max_corners corners that fan-triangulate as the whole face does: the
+	 * first corner, then the corners from the last one of the piece before. */
+	std::vector<char> split_long_faces() const
+	{
+		std::vector<char> out;
+		size_t copied = 0;
+		for (const long_face& l : long_faces) {
+			out.insert(out.end(), begin + copied, begin + l.begin);
+			copied = l.end;
+			const size_t k = l.corners.size();
+			auto corner = [](const std::array<int32_t, 3>& c) {
+				std::string t = " " + std::to_string(c[0]);
+				if (c[1] || c[2])
+					t += "/" + (c[1] ? std::to_string(c[1]) : std::string());
+				if (c[2])
+					t += "/" + std::to_string(c[2]);
+				return t;
+			};
+			for (size_t first = 1;;) {
+				const size_t last = std::min(first + size_t(max_corners) - 1, k);
+				std::string piece = (first > 1 ? "\nf" : "f") + corner(l.corners[0]);
+				for (size_t i = first; i < last; i++)
+					piece += corner(l.corners[i]);
+				out.insert(out.end(), piece.begin(), piece.end());
+				if (last == k)
+					break;
+				first = last - 1;
+			}
+		}
+		out.insert(out.end(), begin + copied, end);
+		return out;
+	}
+
+	/* The rest of a line after its keyword, from its first non-blank to
+	 * its end (without a CR). */
+	std::string rest(const char* q) const
+	{
+		skip_blanks(q);
+		const char* e = line_end;
+		while (e > q && (e[-1] == '\r' || e[-1] == ' ' || e[-1] == '\t'))
+			e--;
+		return std::string(q, size_t(e - q));
+	}
+
+	/* One line, at its first non-blank, as ObjDecoder::ParseDefinition
+	 * tells what it is. */
+	bool definition(char* p)
+	{
+		const size_t left = size_t(end - p);
+		auto starts = [&](const char* s) { return left >= std::strlen(s) && !std::memcmp(p, s, std::strlen(s)); };
+		if (left >= 2 && (p[0] == 'v' || p[0] == 'o') && p[1] == '\t')
+			p[1] = ' ';
+		if (*p == '#')
+			return true;
+		if (starts("v "))
+			return numbers(p + 2, 0);
+		if (starts("vn"))
+			return numbers(p + 2, 2);
+		if (starts("vt"))
+			return numbers(p + 2, 1);
+		if (*p == 'f') {
+			char* hash = static_cast<char*>(std::memchr(p, '#', size_t(line_end - p)));
+			if (hash)
+				std::memset(hash, ' ', size_t(line_end - hash));
+			return face(p + 1);
+		}
+		if (starts("usemtl")) {
+			if (first_material < 0 && !rest(p + 6).empty())
+				first_material = int64_t(triangles);
+			return true;
+		}
+		if (starts("mtllib")) {
+			const std::string files = rest(p + 6);
+			if (!files.empty())
+				library += (library.empty() ? "" : " ") + files;
+			*p = '#';
+			return true;
+		}
+		if (starts("o ")) {
+			if (first_object < 0 && !rest(p + 1).empty())
+				first_object = int64_t(triangles);
+			return true;
+		}
+		if (*p == 'l' && (left == 1 || space(p[1])))
+			polylines++;
+		return true;
+	}
+
+	bool pass(bool count)
+	{
+		counting = count;
+		seen[0] = seen[1] = seen[2] = 0;
+		triangles = polylines = 0;
+		first_material = first_object = -1;
+		face_corners.clear();
+		long_faces.clear();
+		line = 1;
+		for (char* p = begin;;) {
+			while (p < end && space(*p))
+				line += *p++ == '\n';
+			if (p == end)
+				return true;
+			char* stop = static_cast<char*>(std::memchr(p, '\n', size_t(end - p)));
+			line_end = stop ? stop : end;
+			if (!definition(p))
+				return false;
+			p = const_cast<char*>(line_end);
+		}
+	}
+};
+
+/* The attribute ObjDecoder named `label` in its metadata, or null. */
+const draco::PointAttribute* named(const draco::Mesh& m, const char* label)
+{
+	const draco::AttributeMetadata* metadata = m.GetAttributeMetadataByStringEntry("name", label);
+	return metadata ? m.GetAttributeByUniqueId(metadata->att_unique_id()) : nullptr;
+}
+
+template <typename T>
+T* copy_out(const std::vector<T>& v)
+{
+	T* out = static_cast<T*>(std::malloc(sizeof(T) * v.size() + 1));
+	if (out && !v.empty())
+		std::memcpy(out, v.data(), sizeof(T) * v.size());
+	return out;
+}
+
+char* copy_string(const std::string& s)
+{
+	char* out = static_cast<char*>(std::malloc(s.size() + 1));
+	if (out)
+		std::memcpy(out, s.c_str(), s.size() + 1);
+	return out;
+}
+
+/* The names of ObjDecoder's `label` attribute ("material", "sub_obj") and
+ * the one of each face (of its first triangle); faces from before the
+ * first triangle that had one (`first`) have none, where Draco gives them
+ * the first name. False when out of memory. */
+bool face_names(const draco::Mesh& m, const char* label, const std::vector<uint32_t>& first_triangle, int64_t first,
+                vn_io_face_names* out)
+{
+	const draco::PointAttribute* a = named(m, label);
+	if (!a || a->size() == 0)
+		return true;
+	std::vector<std::string> names(a->size());
+	for (const auto& entry : m.GetAttributeMetadataByStringEntry("name", label)->entries()) {
+		int id;
+		if (entry.second.GetValue(&id) && id >= 0 && size_t(id) < names.size())
+			names[size_t(id)] = entry.first;
+	}
+	out->names = static_cast<char**>(std::calloc(names.size(), sizeof(char*)));
+	out->of_face = static_cast<uint32_t*>(std::malloc(sizeof(uint32_t) * first_triangle.size() + 1));
+	if (!out->names || !out->of_face)
+		return false;
+	for (const std::string& n : names)
+		if (!(out->names[out->count++] = copy_string(n)))
+			return false;
+	for (size_t f = 0; f < first_triangle.size(); f++) {
+		int id = 0;
+		const draco::FaceIndex t(first_triangle[f]);
+		out->of_face[f] = int64_t(first_triangle[f]) < first || !a->ConvertValue<int>(a->mapped_index(m.face(t)[0]), &id) ||
+		                          id < 0 || size_t(id) >= names.size()
+		                      ? VN_IO_NO_NAME
+		                      : uint32_t(id);
+	}
+	return true;
+}
+
+struct corner_key {
+	uint32_t v[3];
+	bool operator==(const corner_key& o) const { return v[0] == o.v[0] && v[1] == o.v[1] && v[2] == o.v[2]; }
+};
+
+template <size_t N>
+struct array_hash {
+	template <typename T>
+	size_t operator()(const std::array<T, N>& a) const
+	{
+		uint64_t h = 0;
+		for (T x : a)
+			h = (h ^ uint64_t(x)) * 0x100000001b3ull + (h >> 31);
+		return size_t(h);
+	}
+};
+
+struct corner_hash {
+	size_t operator()(const corner_key& k) const
+	{
+		return array_hash<3>()(std::array<uint32_t, 3>{k.v[0], k.v[1], k.v[2]});
+	}
+};
+
+vn_io_result out_of_memory(const char* name, vn_io_error* error)
+{
+	return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+}
+
+/* Draco's mesh into *mesh: a vertex per (v, vt, vn), polygons as the file
+ * had them. */
+vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
+{
+	using draco::GeometryAttribute;
+	const draco::PointAttribute* pos = m.GetNamedAttribute(GeometryAttribute::POSITION);
+	const draco::PointAttribute* tex = m.GetNamedAttribute(GeometryAttribute::TEX_COORD);
+	const draco::PointAttribute* nrm = m.GetNamedAttribute(GeometryAttribute::NORMAL);
+	if (!pos || m.num_faces() == 0)
+		return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader found no faces", s.name);
+
+	std::vector<uint32_t> vertex_of_point(m.num_points(), UINT32_MAX);
+	std::unordered_map<corner_key, uint32_t, corner_hash> vertex_of;
+	std::vector<corner_key> vertices;
+	auto vertex = [&](draco::PointIndex p) {
+		uint32_t& v = vertex_of_point[p.value()];
+		if (v == UINT32_MAX) {
+			const corner_key k = {{pos->mapped_index(p).value(), tex ? tex->mapped_index(p).value() : 0,
+			                       nrm ? nrm->mapped_index(p).value() : 0}};
+			v = vertex_of.emplace(k, uint32_t(vertices.size())).first->second;
+			if (v == vertices.size())
+				vertices.push_back(k);
+		}
+		return v;
+	};
+	/* Draco fans a face of k corners into k - 2 triangles, in file order:
+	 * the first one's corners, then the last corner of each other one. */
+	std::vector<uint32_t> offsets{0}, indices, first_triangle;
+	uint32_t t = 0;
+	for (uint32_t k : s.face_corners) {
+		if (t + (k - 2) > m.num_faces())
+			return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader found fewer faces than the file has",
+			                  s.name);
+		const draco::Mesh::Face& f = m.face(draco::FaceIndex(t));
+		first_triangle.push_back(t);
+		indices.insert(indices.end(), {vertex(f[0]), vertex(f[1]), vertex(f[2])});
+		for (uint32_t j = 1; j < k - 2; j++)
+			indices.push_back(vertex(m.face(draco::FaceIndex(t + j))[2]));
+		offsets.push_back(uint32_t(indices.size()));
+		t += k - 2;
+	}
+
+	const size_t n = vertices.size();
+	std::vector<double> positions(3 * n), normals(nrm ? 3 * n : 0);
+	std::vector<float> texcoords(tex ? 2 * n : 0);
+	for (size_t i = 0; i < n; i++) {
+		float v[3];
+		pos->ConvertValue<float, 3>(draco::AttributeValueIndex(vertices[i].v[0]), v);
+		positions[3 * i] = v[0], positions[3 * i + 1] = v[1], positions[3 * i + 2] = v[2];
+		if (tex)
+			tex->ConvertValue<float, 2>(draco::AttributeValueIndex(vertices[i].v[1]), &texcoords[2 * i]);
+		if (nrm) {
+			nrm->ConvertValue<float, 3>(draco::AttributeValueIndex(vertices[i].v[2]), v);
+			normals[3 * i] = v[0], normals[3 * i + 1] = v[1], normals[3 * i + 2] = v[2];
+		}
+	}
+	mesh->vertex_count = n;
+	mesh->face_count = first_triangle.size();
+	if (!(mesh->positions = copy_out(positions)) || !(mesh->face_offsets = copy_out(offsets)) ||
+	    !(mesh->indices = copy_out(indices)) || (nrm && !(mesh->normals = copy_out(normals))) ||
+	    (tex && !(mesh->texcoords = copy_out(texcoords))) ||
+	    !face_names(m, "material", first_triangle, s.first_material, &mesh->materials) ||
+	    !face_names(m, "sub_obj", first_triangle, s.first_object, &mesh->objects) ||
+	    (!s.library.empty() && !(mesh->material_library = copy_string(s.library))))
+		return out_of_memory(s.name, error);
+	return vn_io_success;
+}
+
+vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* mesh, vn_io_error* error)
+{
+	std::vector<char> text(data, data + size);
+	/* A lone CR ends a line, as a LF (Draco would read on to the next LF). */
+	for (size_t i = 0; i < size; i++)
+		if (text[i] == '\r' && (i + 1 == size || text[i + 1] != '\n'))
+			text[i] = '\n';
+	scanner s;
+	s.name = name;
+	s.error = error;
+	s.begin = text.data();
+	s.end = text.data() + size;
+	if (!s.pass(true))
+		return s.result;
+	std::memcpy(s.total, s.seen, sizeof s.total);
+	if (!s.pass(false))
+		return s.result;
+	if (!s.long_faces.empty()) {
+		std::vector<char> split = s.split_long_faces();
+		text.swap(split);
+	}
+	if (s.triangles == 0) {
+		if (s.total[0] == 0)
+			return vn_io_fail(error, vn_io_error_parse, "%s: no vertices (v) and no faces (f): not an OBJ mesh", name);
+		if (s.polylines)
+			return vn_io_fail(error, vn_io_error_unsupported,
+			                  "%s: %" PRId64 " vertices and %" PRIu64 " lines (l), but no faces (f): vn computes the "
+			                  "normals of faces",
+			                  name, s.total[0], s.polylines);
+		return vn_io_fail(error, vn_io_error_unsupported,
+		                  "%s: %" PRId64 " vertices and no faces (f), a point cloud: vn computes the normals of faces",
+		                  name, s.total[0]);
+	}
+	draco::DecoderBuffer buffer;
+	buffer.Init(text.data(), text.size());
+	draco::ObjDecoder decoder;
+	decoder.set_use_metadata(true);
+	draco::Mesh m;
+	const draco::Status status = decoder.DecodeFromBuffer(&buffer, &m);
+	if (!status.ok())
+		return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader: %s", name, status.error_msg());
+	return to_mesh(m, s, mesh, error);
+}
+
+/* ------------------------------------------------------------------ writer */
+
+uint64_t bits(double x)
+{
+	uint64_t b;
+	std::memcpy(&b, &x, sizeof b);
+	return b;
+}
+
+/* A value read from a float (OBJ, glTF, Draco) as the shortest text that
+ * reads back as that float, which a float reader (every OBJ reader) gets
+ * exactly; any other double in full. */
+void put_coordinate(vn_io_text_out* w, double x)
+{
+	if (std::fabs(x) <= FLT_MAX && double(float(x)) == x)
+		vn_io_put_float(w, float(x));
+	else
+		vn_io_put_exact(w, " ", x);
+}
+
+/* 1-based numbers for values, equal values (bit for bit) sharing one. */
+template <size_t N>
+struct numbering {
+	std::unordered_map<std::array<uint64_t, N>, uint32_t, array_hash<N>> index;
+	/* The value's number; *fresh when it is new (its line is due). */
+	uint32_t of(const std::array<uint64_t, N>& key, bool* fresh)
+	{
+		const auto r = index.emplace(key, uint32_t(index.size() + 1));
+		*fresh = r.second;
+		return r.first->second;
+	}
+};
+
+/* "o NAME" or "usemtl NAME" before face f when its name differs from the
+ * face before. */
+void put_name(vn_io_text_out* w, const char* keyword, const vn_io_face_names& names, size_t f)
+{
+	if (!names.of_face)
+		return;
+	const uint32_t id = names.of_face[f];
+	if (id == VN_IO_NO_NAME || id >= names.count || (f > 0 && names.of_face[f - 1] == id))
+		return;
+	vn_io_put(w, keyword);
+	vn_io_put(w, names.names[id]);
+	vn_io_put(w, "\n");
+}
+
+vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error)
+{
+	if (mesh->face_count == 0)
+		return vn_io_fail(error, vn_io_error_unsupported,
+		                  "%s: the mesh has no faces, and vn reads an OBJ without faces as an error: write OFF for a "
+		                  "point cloud",
+		                  path);
+	const size_t n = mesh->vertex_count;
+	std::vector<char> used(n, 0);
+	for (uint32_t c = 0; c < mesh->face_offsets[mesh->face_count]; c++)
+		used[mesh->indices[c]] = 1;
+	vn_io_text_out w = {out, 0, 0};
+	if (mesh->material_library) {
+		vn_io_put(&w, "mtllib ");
+		vn_io_put(&w, mesh->material_library);
+		vn_io_put(&w, "\n");
+	}
+	/* Every vertex's position, loose ones too; texture coordinates and
+	 * normals of the vertices faces use. */
+	std::vector<uint32_t> v(n), vt(mesh->texcoords ? n : 0), vn(mesh->normals ? n : 0);
+	numbering<6> positions;
+	for (size_t i = 0; i < n && !w.failed; i++) {
+		const double* p = mesh->positions + 3 * i;
+		const float* rgb = mesh->colors ? mesh->colors + 4 * i : nullptr;
+		bool fresh;
+		v[i] = positions.of({bits(p[0]), bits(p[1]), bits(p[2]), rgb ? bits(rgb[0]) : 0, rgb ? bits(rgb[1]) : 0,
+		                     rgb ? bits(rgb[2]) : 0},
+		                    &fresh);
+		if (!fresh)
+			continue;
+		vn_io_put(&w, "v");
+		for (int k = 0; k < 3; k++)
+			put_coordinate(&w, p[k]);
+		for (int k = 0; rgb && k < 3; k++)
+			vn_io_put_float(&w, rgb[k]);
+		vn_io_put(&w, "\n");
+	}
+	numbering<2> texcoords;
+	for (size_t i = 0; mesh->texcoords && i < n && !w.failed; i++) {
+		const float* t = mesh->texcoords + 2 * i;
+		bool fresh;
+		if (!used[i] || (vt[i] = texcoords.of({bits(t[0]), bits(t[1])}, &fresh), !fresh))
+			continue;
+		vn_io_put(&w, "vt");
+		vn_io_put_float(&w, t[0]);
+		vn_io_put_float(&w, t[1]);
+		vn_io_put(&w, "\n");
+	}
+	numbering<3> normals;
+	for (size_t i = 0; mesh->normals && i < n && !w.failed; i++) {
+		const double* d = mesh->normals + 3 * i;
+		bool fresh;
+		if (!used[i] || (vn[i] = normals.of({bits(d[0]), bits(d[1]), bits(d[2])}, &fresh), !fresh))
+			continue;
+		vn_io_put(&w, "vn");
+		for (int k = 0; k < 3; k++)
+			vn_io_put_float9(&w, d[k]);
+		vn_io_put(&w, "\n");
+	}
+	for (size_t f = 0; f < mesh->face_count && !w.failed; f++) {
+		put_name(&w, "o ", mesh->objects, f);
+		put_name(&w, "usemtl ", mesh->materials, f);
+		vn_io_put(&w, "f");
+		for (uint32_t c = mesh->face_offsets[f]; c < mesh->face_offsets[f + 1]; c++) {
+			const uint32_t i = mesh->indices[c];
+			char corner[48];
+			int k = std::snprintf(corner, sizeof corner, " %" PRIu32, v[i]);
+			if (mesh->texcoords)
+				k += std::snprintf(corner + k, sizeof corner - size_t(k), "/%" PRIu32, vt[i]);
+			if (mesh->normals)
+				std::snprintf(corner + k, sizeof corner - size_t(k), "%s%" PRIu32, mesh->texcoords ? "/" : "//", vn[i]);
+			vn_io_put(&w, corner);
+		}
+		vn_io_put(&w, "\n");
+	}
+	if (w.failed)
+		return vn_io_fail(error, vn_io_error_write, "%s: cannot write: %s", path, std::strerror(w.error_number));
+	return vn_io_success;
+}
+
+} // namespace
+
+extern "C" {
+
+vn_io_result vn_io_obj_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
+                                   vn_io_error* error)
+{
+	std::memset(mesh, 0, sizeof *mesh);
+	vn_io_c_locale locale;
+	if (!vn_io_c_locale_enter(&locale))
+		return out_of_memory(name, error);
+	vn_io_result r;
+	try {
+		r = read(data ? data : "", data ? size : 0, name, mesh, error);
+	} catch (const std::bad_alloc&) {
+		r = out_of_memory(name, error);
+	}
+	vn_io_c_locale_leave(&locale);
+	if (r != vn_io_success)
+		vn_io_mesh_free(mesh);
+	return r;
+}
+
+vn_io_result vn_io_obj_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)
+{
+	std::memset(mesh, 0, sizeof *mesh);
+	char* data;
+	size_t size;
+	vn_io_result r = vn_io_read_all(path, &data, &size, error);
+	if (r != vn_io_success)
+		return r;
+	r = vn_io_obj_read_memory(data, size, path, mesh, error);
+	std::free(data);
+	return r;
+}
+
+vn_io_result vn_io_obj_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings,
+                             vn_io_error* error)
+{
+	(void)settings; /* OBJ has none */
+	vn_io_c_locale locale;
+	if (!vn_io_c_locale_enter(&locale))
+		return out_of_memory(path, error);
+	vn_io_result r;
+	try {
+		r = write(out, path, mesh, error);
+	} catch (const std::bad_alloc&) {
+		r = out_of_memory(path, error);
+	}
+	vn_io_c_locale_leave(&locale);
+	return r;
+}
+
+} // extern "C"

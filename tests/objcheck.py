@@ -1,0 +1,58 @@
+"""OBJ facts for tests/test_obj.sh, read independently of Draco and vn.
+
+    objcheck.py faces FILE      one line per face: "object|material|corners: ..." with the corners'
+                                positions and texture coordinates as float32
+    objcheck.py triangles FILE  the number of triangles the faces fan into
+    objcheck.py corners FILE    the number of distinct v/vt/vn references of the faces
+    objcheck.py unit FILE       exit status 1 unless every vn is a unit vector (1e-6)
+"""
+import math
+import struct
+import sys
+
+
+def f32(text):
+    return struct.unpack("<f", struct.pack("<f", float(text)))[0]
+
+
+def read(path):
+    v, vt, vn, faces = [], [], [], []
+    material = obj = "-"
+    for line in open(path, encoding="utf-8"):
+        words = line.split("#")[0].split()
+        if not words:
+            continue
+        key, rest = words[0], words[1:]
+        if key in ("v", "vt", "vn"):
+            {"v": v, "vt": vt, "vn": vn}[key].append([f32(x) for x in rest[: 2 if key == "vt" else 3]])
+        elif key == "usemtl":
+            material = line.split(None, 1)[1].strip()
+        elif key == "o":
+            obj = rest[0]
+        elif key == "f":
+            corners = []
+            for word in rest:
+                refs = (word.split("/") + ["", ""])[:3]
+                corners.append(tuple(int(r) + (len(a) + 1 if int(r) < 0 else 0) if r else 0
+                                     for r, a in zip(refs, (v, vt, vn))))
+            faces.append((obj, material, corners))
+    return v, vt, vn, faces
+
+
+def main():
+    what, path = sys.argv[1], sys.argv[2]
+    v, vt, vn, faces = read(path)
+    if what == "faces":
+        for obj, material, corners in faces:
+            text = " ".join(",".join(repr(x) for x in v[p - 1] + (vt[t - 1] if t else []))
+                            for p, t, _ in corners)
+            print(f"{obj}|{material}|{len(corners)}: {text}")
+    elif what == "triangles":
+        print(sum(len(c) - 2 for _, _, c in faces))
+    elif what == "corners":
+        print(len({c for _, _, cs in faces for c in cs}))
+    elif what == "unit":
+        sys.exit(0 if vn and all(abs(math.hypot(*n) - 1) < 1e-6 for n in vn) else 1)
+
+
+main()

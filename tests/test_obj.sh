@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# OBJ through vnconvert: files from Draco's testdata and Blender 3.4's
+# exporter (tests/data/obj), read through Draco's ObjDecoder and written by vn.
+#   test_obj.sh PATH/TO/vnconvert NODE_MODULES_DIR
+# Checks: the triangle count Draco's own tools see, OBJ -> OBJ keeping every
+# face's corners (positions, texture coordinates), polygons, materials and
+# object names exactly (and a second round trip changing no byte), unit
+# normals, one v line per position with corners told apart by vn, OBJ -> OFF
+# -> OBJ, OBJ -> GLB through the Khronos validator, and one-line errors for
+# invalid files. objcheck.py reads OBJ independently of Draco and vn.
+set -u
+VNC=$1
+MODULES=$2
+HERE=$(cd "$(dirname "$0")" && pwd)
+DATA=$HERE/data/obj
+. "$HERE/lib.sh"
+objcheck() { python3 "$HERE/objcheck.py" "$@"; }
+# stat NAME: the value of --stats line NAME in $out.
+stat() { echo "$out" | sed -n "s/^$1: *\([0-9]*\).*/\1/p"; }
+
+meshes="blender_cube blender_cylinder blender_sphere cube_att cube_att_sub_o cube_quads deg_faces extra_vertex
+        mat_test multiple_isolated_triangles octagon point_cloud_test_pos sphere test_nm"
+for m in $meshes; do
+  in=$DATA/$m.obj
+  run "$VNC" "$in" "$T/$m.obj" --stats -q
+  check "$m: converts" [ $rc -eq 0 ]
+  # Draco's own reader (draco_encoder, then draco_decoder's triangles); it
+  # takes at most 8 corners a face, so the cylinder's 12-corner caps are
+  # counted from the file; its encoder drops deg_faces' "f 1 1 3", which its
+  # reader keeps (as vn does).
+  if [ $m = blender_cylinder ]; then
+    want=$(objcheck triangles "$in")
+  elif [ $m = deg_faces ]; then
+    want=4
+  else
+    draco_encoder -i "$in" -o "$T/$m.drc" >/dev/null && draco_decoder -i "$T/$m.drc" -o "$T/$m-draco.obj" >/dev/null
+    want=$(grep -c '^f ' "$T/$m-draco.obj")
+  fi
+  check "$m: $want triangles as Draco reads it" [ "$(objcheck triangles "$T/$m.obj")" = "$want" ]
+  check "$m: --stats counts the file's faces" [ "$(stat faces)" = "$(grep -c '^f' "$in")" ]
+  objcheck faces "$in" >"$T/$m.in-faces"
+  objcheck faces "$T/$m.obj" >"$T/$m.out-faces"
+  check "$m: OBJ -> OBJ keeps every face, its corners, material and object" cmp -s "$T/$m.in-faces" "$T/$m.out-faces"
+  check "$m: unit normals" objcheck unit "$T/$m.obj"
+  check "$m: one v line per position" [ "$(grep '^v ' "$T/$m.obj" | sort | uniq -d)" = "" ]
+  # Every vertex vn read (a v/vt/vn combination) is one combination written.
+  check "$m: a reference per vertex" [ "$(objcheck corners "$T/$m.obj")" = "$(stat vertices)" ]
+  "$VNC" "$T/$m.obj" "$T/$m.2.obj" -q
+  check "$m: a second OBJ -> OBJ changes no byte" cmp -s "$T/$m.obj" "$T/$m.2.obj"
+  run "$VNC" "$in" "$T/$m.off" -q
+  "$VNC" "$T/$m.off" "$T/$m.3.obj" -q
+  objcheck faces "$T/$m.3.obj" | sed 's/^[^|]*|[^|]*|/-|-|/' >"$T/$m.off-faces"
+  sed 's/^[^|]*|[^|]*|/-|-|/' "$T/$m.in-faces" >"$T/$m.in-plain"
+  check "$m: OBJ -> OFF -> OBJ keeps every face and its corners" cmp -s "$T/$m.in-plain" "$T/$m.off-faces"
+  "$VNC" "$in" "$T/$m.glb" -q
+  check "$m: OBJ -> GLB passes the Khronos validator" \
+    python3 -c 'import json, sys; r = json.loads(sys.stdin.read()); sys.exit(bool(r["errors"] or r["warnings"]))' \
+    < <(node "$HERE/gltf/validate.mjs" "$MODULES" "$T/$m.glb")
+done
+
+# What the files hold, as written.
+check "cube: mtllib kept" [ "$(grep '^mtllib' "$T/blender_cube.obj")" = "mtllib blender_cube.mtl" ]
+check "cube: 4 Blue faces, then 2 Red" [ "$(grep -E '^(usemtl|o) ' "$T/blender_cube.obj" | tr '\n' ,)" = "o Cube,usemtl Blue,usemtl Red," ]
+check "cube: 4 corners a face" [ "$(grep '^f' "$T/blender_cube.obj" | awk '{print NF - 1}' | sort -u)" = 4 ]
+check "cylinder: two 12-corner caps" [ "$(grep '^f' "$T/blender_cylinder.obj" | awk 'NF == 13' | wc -l)" = 2 ]
+check "sub_o: three objects" [ "$(grep '^o ' "$T/cube_att_sub_o.obj" | tr '\n' ,)" = "o obj0,o obj1,o obj2," ]
+check "mat_test: 7 material changes" [ "$(grep -c '^usemtl' "$T/mat_test.obj")" = 7 ]
+# cube_att splits each corner of the cube by its face's normal and texture
+# coordinate: 8 positions, each vertex a v/vt/vn of its own.
+check "cube_att: 8 v lines" [ "$(grep -c '^v ' "$T/cube_att.obj")" = 8 ]
+# Faces before the first usemtl stay without a material (Draco gives them the first one).
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nusemtl B\nf 2 4 3\n' >"$T/late.obj"
+"$VNC" "$T/late.obj" "$T/late-out.obj" -q
+check "faces before usemtl keep none" [ "$(grep -E '^(usemtl|f)' "$T/late-out.obj" | cut -c1-6 | tr '\n' ,)" = "f 1//1,usemtl,f 2//1," ]
+# Lines Draco reads otherwise: a comment after a face, a tab after v, CR line ends.
+printf 'v\t0 0 0\r\nv 1 0 0\rv 0 1 0\nf 1 2 3 # a comment\n' >"$T/odd.obj"
+run "$VNC" "$T/odd.obj" "$T/odd-out.obj" --stats -q
+check "comment, tab, CR: 3 vertices, 1 face" [ "$(stat vertices) $(stat faces)" = "3 1" ]
+# A 10-corner face with relative indices stays one face.
+printf 'v 0 0 0\nv 2 0 0\nv 3 1 0\nv 3 2 0\nv 2 3 0\nv 1 3 0\nv 0 3 0\nv -1 2 0\nv -1 1 0\nv -0.5 0.2 0\nf -10 -9 -8 -7 -6 -5 -4 -3 -2 -1\n' >"$T/ten.obj"
+"$VNC" "$T/ten.obj" "$T/ten-out.obj" -q
+check "10-corner face kept" [ "$(grep '^f' "$T/ten-out.obj" | sed 's#//1##g')" = "f 1 2 3 4 5 6 7 8 9 10" ]
+# OFF -> OBJ: loose vertices and vertex colours ("v x y z r g b").
+printf 'COFF\n4 1 0\n0 0 0 1 0 0\n1 0 0 0 1 0\n0 1 0 0 0 1\n5 5 5 1 1 1\n3 0 1 2\n' >"$T/c.off"
+"$VNC" "$T/c.off" "$T/c.obj" -q
+check "OFF -> OBJ: colours and the loose vertex" [ "$(grep '^v ' "$T/c.obj" | tr '\n' ,)" = "v 0 0 0 1 0 0,v 1 0 0 0 1 0,v 0 1 0 0 0 1,v 5 5 5 1 1 1," ]
+run "$VNC" "$T/c.obj" "$T/c2.off" -q
+check "OBJ colours are not read back (Draco 1.5.5 skips them)" [ "$(head -1 "$T/c2.off")" = NOFF ]
+
+# Invalid files: one line naming the file, exit 1, no output.
+check_rejected "$VNC" "$DATA/inf_nan.obj" "$T/none.obj" "$T/keep.obj"
+check "inf_nan: names line and number" grep -q "inf_nan.obj:1: vertex 1 has the number 'inf', which is not finite" "$T/stderr"
+check_rejected "$VNC" "$DATA/test_lines.obj" "$T/none.glb" "$T/keep.glb"
+check "lines: says so" grep -q "484 vertices and 242 lines (l), but no faces" "$T/stderr"
+grep '^v ' "$DATA/point_cloud_test_pos.obj" >"$T/points.obj"
+check_rejected "$VNC" "$T/points.obj" "$T/none.off" "$T/keep.off"
+check "point cloud: says so" grep -q "points.obj: 4 vertices and no faces (f), a point cloud" "$T/stderr"
+bad() { printf "$2" >"$T/$1.obj"; check_rejected "$VNC" "$T/$1.obj" "$T/none.obj" "$T/keep.obj"; check "$1: $3" grep -qF "$3" "$T/stderr"; }
+tri='v 0 0 0\nv 1 0 0\nv 0 1 0\n'
+bad range "${tri}f 1 2 9\n" "range.obj:4: face corner 3 refers to vertex 9, but the file has 3 vertices (v)"
+bad back "${tri}f -1 -2 -4\n" "back.obj:4: face corner 3 refers to vertex -4 (counting back), but only 3 vertices (v) come before it"
+bad notex "${tri}f 1/1 2/1 3/1\n" "notex.obj:4: face corner 1 refers to texture coordinate 1, but the file has 0"
+bad two "${tri}f 1 2\n" "two.obj:4: a face (f) has 2 corners; it needs 3 or more"
+bad zero "${tri}f 0 1 2\n" "zero.obj:4: face corner 1, '0', is not v, v/vt, v/vt/vn or v//vn"
+bad huge "${tri}f 1 2 4294967295\n" "huge.obj:4: face corner 3, '4294967295', is not"
+bad short 'v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "short.obj:1: vertex 1 has 2 numbers; it needs 3"
+bad word 'v 0 0 x\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "word.obj:1: vertex 1: 'x' is not a number"
+bad big "${tri}vn 0 0 1e40\nf 1//1 2//1 3//1\n" "big.obj:4: normal 1 has the number '1e40', which is not finite"
+bad glued "${tri}f 1 2 3/1/2-4\n" "glued.obj:4: face corner 3 refers to texture coordinate 1"
+bad empty "" "empty.obj: no vertices (v) and no faces (f)"
+finish
