@@ -114,7 +114,7 @@ expect_usage "--format is one of off, obj, gltf, glb, drc, not 'ply'" "$SAMPLES/
 expect_usage "--input-format is one of off, obj, gltf, glb, drc, not 'stl'" "$SAMPLES/torus.off" "$T/u.off" --input-format stl
 expect_usage "--draco-qp applies to Draco (.drc) output and to glTF to glTF conversions, and this one is off to off: leave it out" "$SAMPLES/torus.off" "$T/u.off" --draco-qp 12
 # glTF-only options are refused for other conversions rather than ignored.
-for option in --no-weld "--weld-epsilon 0.1" "--weld-scope mesh" "--tangents drop" "--crease-angle 30" "--draco off"; do
+for option in "--weld-scope mesh" "--tangents drop" "--draco off"; do
   expect_usage "${option%% *} applies only to glTF to glTF conversions (.gltf or .glb in and out), and this one is off to glb: leave it out" "$SAMPLES/torus.off" "$T/u.glb" $option
   expect_usage "${option%% *} applies only to glTF to glTF conversions (.gltf or .glb in and out), and this one is glb to off: leave it out" "$GLTF/Duck.glb" "$T/u.off" $option
 done
@@ -159,6 +159,41 @@ EOF
 run "$VNC" "$T/meta/BoxMetaDraco.gltf" "$T/meta-out.glb"
 check "unknown extension: exits 0" [ $rc -eq 0 ]
 check "unknown extension: one clear warning" [ "$(cat "$T/stderr")" = "vnconvert: warning: $T/meta-out.glb uses EXT_vn_test_unknown, an extension vn does not know that may refer to accessors or bufferViews by their index, so the data vn replaced stay in the file, unused, rather than being removed and the rest renumbered; the file is otherwise complete and correct" ]
+
+# ---- welding, hard edges and creases apply to every conversion
+# Two quads meeting at x = 0, the left one flat, the right one rising at 45
+# degrees; the file splits the seam's vertices (1 = 4, 2 = 7). Welded, the
+# copies get one normal (MWE: the two faces' sum, (-sin 22.5, 0, cos 22.5));
+# --no-weld leaves each copy its own face's.
+printf 'OFF\n8 2 0\n-1 0 0\n0 0 0\n0 1 0\n-1 1 0\n0 0 0\n1 0 1\n1 1 1\n0 1 0\n4 0 1 2 3\n4 4 5 6 7\n' >"$T/seam.off"
+normal() { sed -n "$(($2 + 3))p" "$1" | cut -d' ' -f4-6; }  # normal FILE VERTEX
+run "$VNC" "$T/seam.off" "$T/seam-welded.off" -m mwe --stats
+check "seam: welded 2" grep -q "^welded vertices: *2$" "$T/stdout"
+check "seam: equal normals across the seam" [ "$(normal "$T/seam-welded.off" 1)" = "$(normal "$T/seam-welded.off" 4)" ]
+check "seam: the faces' sum" [ "$(normal "$T/seam-welded.off" 2) $(normal "$T/seam-welded.off" 7)" = "-0.382683432 0 0.923879533 -0.382683432 0 0.923879533" ]
+run "$VNC" "$T/seam.off" "$T/seam-split.off" -m mwe --no-weld --stats
+check "--no-weld: welded 0" grep -q "^welded vertices: *0$" "$T/stdout"
+check "--no-weld: each copy its face's normal" [ "$(normal "$T/seam-split.off" 1) $(normal "$T/seam-split.off" 4)" = "0 0 1 -0.707106781 0 0.707106781" ]
+# The seam's copies with their faces' normals (as an exporter writes a hard
+# edge) keep the edge hard, welded or not.
+awk 'NR == 1 { print "NOFF"; next } NR >= 3 && NR <= 6 { print $0, "0 0 1"; next }
+  NR >= 7 && NR <= 10 { print $0, "-0.707106781 0 0.707106781"; next } { print }' "$T/seam.off" >"$T/seam-hard.off"
+run "$VNC" "$T/seam-hard.off" "$T/seam-hard-out.off" -m mwe --stats
+check "hard seam: 1 hard edge" grep -q "^hard edges kept: *1$" "$T/stdout"
+check "hard seam: each copy keeps its face's normal" [ "$(normal "$T/seam-hard-out.off" 1) $(normal "$T/seam-hard-out.off" 4)" = "0 0 1 -0.707106781 0 0.707106781" ]
+# --crease-angle: the cube's corners split into one vertex per face, each
+# with the face's normal (24 vertices); without it, 8 smooth ones.
+CUBE=$(cd "$(dirname "$0")/data/off" && pwd)/cube.off
+run "$VNC" "$CUBE" "$T/cube-crease.off" --crease-angle 30 --stats
+check "--crease-angle on OFF: 16 split" grep -q "^split vertices: *16$" "$T/stdout"
+check "--crease-angle on OFF: 24 vertices with face normals" [ "$(sed -n 2p "$T/cube-crease.off")" = "24 6 0" ] &&
+  check "--crease-angle on OFF: every normal a face's" awk 'NR > 2 && NR <= 26 { if (($4*$4 != 1 && $5*$5 != 1 && $6*$6 != 1) || $4*$5 || $5*$6 || $4*$6) bad = 1; n++ } END { exit bad || n != 24 }' "$T/cube-crease.off"
+check "--crease-angle on OFF: still quads" [ "$(awk 'NR > 26 && $1 == 4' "$T/cube-crease.off" | wc -l)" -eq 6 ]
+run "$VNC" "$CUBE" "$T/cube-smooth.off"
+check "no --crease-angle: 8 vertices" [ "$(sed -n 2p "$T/cube-smooth.off")" = "8 6 0" ]
+check "no --crease-angle: smooth corners" [ "$(normal "$T/cube-smooth.off" 6)" = "0.577350269 0.577350269 0.577350269" ]
+run "$VNC" "$CUBE" "$T/cube-crease.glb" --crease-angle 30
+check "--crease-angle to .glb: 24 vertices" [ "$(q "$T/cube-crease.glb" 'd["accessors"][d["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]["count"]')" = 24 ]
 
 # ---- vnbench
 run "$VNB" "$SAMPLES/torus.off" --csv --repeat 3

@@ -2,16 +2,14 @@
  * The normals plan (gltf_primitive.h): the triangle primitives read from
  * the document (TRIANGLES, strips and fans as triangle lists, indices,
  * morph targets, Draco data through gltf_draco.cpp), grouped (one
- * primitive, or a whole mesh with --weld-mesh), welded, their hard edges
- * found, split at a crease angle, and their normals and morph targets'
- * NORMAL displacements computed with libvn.
+ * primitive, or a whole mesh with --weld-mesh), and their normals and
+ * morph targets' NORMAL displacements computed by the plan of
+ * split_normals.h (welded, hard edges kept, split at a crease angle).
  */
 #include "gltf_primitive.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <map>
 
 namespace vn_gltf {
 
@@ -225,104 +223,22 @@ static void check(vn_result r)
 		fail(r == vn_result_out_of_memory ? vn_io_error_memory : vn_io_error_parse, vn_result_string(r));
 }
 
-/* Without --crease-angle, split copies whose input normals differ by more
- * than this keep a hard edge between them. Small on purpose: exporters give
- * the copies along UV seams the same normal, and converting vn's output
- * again must find its hard edges again (a larger angle would smooth those
- * whose two sides' normals came out closer than it). See README.md, "glTF". */
-const double default_hard_edge_angle = 0.1 * M_PI / 180;
-
-namespace {
-
-/* How a group of primitives (one primitive, or a whole mesh) gets its
- * normals: the same plan serves the base shape and every morph target. A
- * group of one primitive uses its data where they lie; a larger group
- * joins copies. */
-struct group_plan {
-	std::vector<primitive*> prims;
-	std::vector<size_t> first;          /* first input vertex of each primitive */
-	std::vector<size_t> extra_first;    /* first split vertex of each primitive, counted from n */
-	size_t n = 0;                       /* input vertices */
-	size_t corners = 0;                 /* 3 per triangle */
-	std::vector<uint32_t> remap;        /* input vertex -> welded representative */
-	const uint32_t* corner_input = nullptr; /* input vertex of each corner */
-	const uint32_t* triangles = nullptr;    /* corners on welded vertices */
-	std::vector<uint32_t> joined_corners, welded_corners; /* what those point at, when not a primitive's */
-	vec3s input_normals;                /* one per input vertex, or empty */
-	bool corner_normals = false;        /* per-corner normals (sharp edges or a crease angle) */
-	double crease = M_PI;               /* radians; pi: no crease */
-	std::vector<uint8_t> sharp;         /* per corner: edges whose input normals differ */
-	std::vector<uint32_t> corner_output; /* per corner: output vertex, when splitting */
-	std::vector<uint32_t> extra_source; /* output vertex n + k -> input vertex */
-	vn_method method = vn_method_mwa;
-	vn_options options;
-};
-
-} // namespace
-
-/* The plan's normals for input positions q: one unit vector per output
- * vertex (input vertices, then split ones), 3 floats each. A vertex no face
- * contributes to gets its input normal when that is a unit vector, else +Z;
- * *zeros counts them. computed: q's corner normals when the caller has
- * them (splitting needed them first), else null. */
-static std::vector<float> plan_normals(const group_plan& g, const vn_positions& q, size_t* zeros,
+/* The plan's normals for input positions q, as vn_split::normals gives
+ * them, but a vertex no face contributes to gets its input normal when that
+ * is a unit vector, else +Z; *zeros counts them. */
+static std::vector<float> plan_normals(const vn_split::plan& g, const vn_positions& q, size_t* zeros,
                                        const std::vector<float>* computed)
 {
-	const size_t n = g.n, outputs = n + g.extra_source.size();
-	std::vector<float> out(3 * outputs, 0.0f);
-	/* Welded vertex normals into v, then copied to every vertex of each
-	 * group (the representative is the group's lowest index, so it is
-	 * final by the time the others copy it). */
-	auto vertex_normals = [&](float* v) {
-		const vn_vectors vv = {v, 0, vn_scalar_float32};
-		check(vn_triangle_normals(&vv, &q, g.triangles, g.corners, g.method, &g.options, nullptr));
-		for (size_t i = 0; i < n; ++i)
-			if (g.remap[i] != i)
-				std::copy_n(&v[3 * g.remap[i]], 3, &v[3 * i]);
-	};
-	if (!g.corner_normals) {
-		vertex_normals(out.data());
-	} else {
-		std::vector<float> own;
-		if (!computed) {
-			own.resize(3 * g.corners);
-			const vn_vectors cv = {own.data(), 0, vn_scalar_float32};
-			check(vn_corner_normals(&cv, &q, g.triangles, g.corners, g.method, g.crease,
-			                        g.sharp.empty() ? nullptr : g.sharp.data(), &g.options, nullptr));
-		}
-		const std::vector<float>& c = computed ? *computed : own;
-		if (!g.corner_output.empty()) {
-			for (size_t k = 0; k < g.corners; ++k)
-				std::copy_n(&c[3 * k], 3, &out[3 * g.corner_output[k]]);
-		} else {
-			/* No splitting: a vertex whose corners disagree (its fans are
-			 * not separated in the file) gets the smooth normal. */
-			std::vector<uint32_t> seen(n, UINT32_MAX);
-			std::vector<uint8_t> conflict(n, 0);
-			for (size_t k = 0; k < g.corners; ++k) {
-				const uint32_t i = g.corner_input[k];
-				if (seen[i] == UINT32_MAX)
-					seen[i] = (uint32_t)k, std::copy_n(&c[3 * k], 3, &out[3 * i]);
-				else if (!std::equal(&c[3 * k], &c[3 * k] + 3, &c[3 * seen[i]]))
-					conflict[i] = 1;
-			}
-			if (std::find(conflict.begin(), conflict.end(), 1) != conflict.end()) {
-				std::vector<float> v(3 * n);
-				vertex_normals(v.data());
-				for (size_t i = 0; i < n; ++i)
-					if (conflict[i])
-						std::copy_n(&v[3 * i], 3, &out[3 * i]);
-			}
-		}
-	}
-	for (size_t k = 0; k < outputs; ++k) {
+	std::vector<float> out;
+	check(vn_split::normals(g, q, out, computed, nullptr));
+	for (size_t k = 0; k < g.outputs(); ++k) {
 		float* v = &out[3 * k];
 		if (v[0] != 0 || v[1] != 0 || v[2] != 0)
 			continue;
 		++*zeros;
 		double w[3] = {0, 0, 0};
-		if (!g.input_normals.empty())
-			g.input_normals.load(k < n ? k : g.extra_source[k - n], w);
+		if (g.input_normals.count)
+			vn_split::load(g.input_normals, g.source(k), w);
 		double l = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
 		if (std::isfinite(l) && std::fabs(l - 1) < 1e-3)
 			v[0] = (float)(w[0] / l), v[1] = (float)(w[1] / l), v[2] = (float)(w[2] / l);
@@ -332,117 +248,31 @@ static std::vector<float> plan_normals(const group_plan& g, const vn_positions& 
 	return out;
 }
 
-/* Flags the corners whose edge joins split copies with input normals more
- * than `angle` apart at either end; returns how many edges that makes (an
- * edge is flagged from both sides). */
-static size_t flag_hard_edges(group_plan& g, double angle)
-{
-	if (g.input_normals.empty())
-		return 0;
-	const double limit = std::cos(angle);
-	auto differ = [&](uint32_t a, uint32_t b) {
-		double x[3], y[3];
-		g.input_normals.load(a, x);
-		g.input_normals.load(b, y);
-		double lx = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-		double ly = std::sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
-		return a != b && lx > 0 && ly > 0 && (x[0] * y[0] + x[1] * y[1] + x[2] * y[2]) < limit * lx * ly;
-	};
-	auto next = [](size_t k) { return k - k % 3 + (k + 1) % 3; };
-	/* Only an edge with an end where welding merged copies can join copies
-	 * with different input normals: the others need no search (on a file
-	 * without split vertices, that is every edge). */
-	std::vector<uint8_t> merged(g.n, 0);
-	for (size_t i = 0; i < g.n; ++i)
-		if (g.remap[i] != i)
-			merged[g.remap[i]] = 1;
-	auto candidate = [&](size_t k) { return merged[g.triangles[k]] || merged[g.triangles[next(k)]]; };
-	std::vector<std::pair<uint64_t, uint32_t>> edges;
-	for (size_t k = 0; k < g.corners; ++k)
-		if (candidate(k))
-			edges.push_back({(uint64_t)g.triangles[k] << 32 | g.triangles[next(k)], (uint32_t)k});
-	std::sort(edges.begin(), edges.end());
-	g.sharp.assign(g.corners, 0);
-	size_t flagged = 0;
-	for (size_t k = 0; k < g.corners; ++k) {
-		if (!candidate(k) || g.triangles[k] == g.triangles[next(k)])
-			continue; /* no merged end, or a degenerate triangle (no edges) */
-		const uint64_t opposite = (uint64_t)g.triangles[next(k)] << 32 | g.triangles[k];
-		auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(opposite, (uint32_t)0));
-		for (; it != edges.end() && it->first == opposite && !g.sharp[k]; ++it) {
-			const size_t j = it->second;
-			g.sharp[k] = differ(g.corner_input[k], g.corner_input[next(j)]) ||
-			             differ(g.corner_input[next(k)], g.corner_input[j]);
-		}
-		flagged += g.sharp[k] && g.triangles[k] < g.triangles[next(k)];
-	}
-	return flagged;
-}
-
-/* Split vertices for per-corner normals c: a corner whose normal differs
- * from the first one of its input vertex gets a new vertex, shared by the
- * vertex's corners with the same normal. */
-static void split_corners(group_plan& g, const std::vector<float>& c)
-{
-	std::vector<uint32_t> owner(g.n, UINT32_MAX);
-	g.extra_first.assign(1, 0);
-	std::map<uint32_t, std::vector<uint32_t>> extras; /* input vertex -> its split vertices' first corner */
-	g.corner_output.assign(g.corners, 0);
-	size_t p = 0;
-	for (size_t k = 0; k < g.corners; ++k) {
-		const uint32_t i = g.corner_input[k];
-		while (p + 1 < g.prims.size() && i >= g.first[p + 1])
-			g.extra_first.push_back(g.extra_source.size()), ++p;
-		if (owner[i] == UINT32_MAX || std::equal(&c[3 * k], &c[3 * k] + 3, &c[3 * owner[i]])) {
-			if (owner[i] == UINT32_MAX)
-				owner[i] = (uint32_t)k;
-			g.corner_output[k] = i;
-			continue;
-		}
-		std::vector<uint32_t>& mine = extras[i];
-		size_t e = 0;
-		while (e < mine.size() && !std::equal(&c[3 * k], &c[3 * k] + 3, &c[3 * mine[e]]))
-			++e;
-		if (e == mine.size()) {
-			mine.push_back((uint32_t)k);
-			g.extra_source.push_back(i);
-			g.corner_output[k] = (uint32_t)(g.n + g.extra_source.size() - 1);
-		} else {
-			g.corner_output[k] = g.corner_output[mine[e]];
-		}
-	}
-	while (g.extra_first.size() < g.prims.size())
-		g.extra_first.push_back(g.extra_source.size());
-}
-
 /* Normals of a group of primitives computed together (one primitive, or a
  * whole mesh): welded, computed (per corner where edges are hard), copied
  * back to every split vertex; then every morph target's NORMAL
  * displacement, by the same computation on the morphed positions. */
 void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_gltf_stats& st)
 {
-	group_plan g;
-	g.prims = prims;
-	g.method = o.method;
-	memset(&g.options, 0, sizeof g.options);
-	g.options.threads = o.threads;
-	std::vector<double> joined;
+	std::vector<size_t> first; /* first input vertex of each primitive */
+	size_t n = 0;
+	std::vector<double> joined, joined_normals;
+	std::vector<uint32_t> joined_corners;
 	vn_positions pos = prims[0]->positions.view;
+	vn_positions input_normals = prims[0]->input_normals.view;
+	vn_split::faces f;
 	bool any_normals = false;
 	for (primitive* p : prims) {
-		g.first.push_back(g.n);
-		if (g.n + p->vertices() > UINT32_MAX)
+		first.push_back(n);
+		if (n + p->vertices() > UINT32_MAX)
 			fail(vn_io_error_unsupported, "a mesh has more than 2^32 vertices");
-		g.n += p->vertices();
-		g.corners += p->triangles.size();
+		n += p->vertices();
+		f.corner_count += p->triangles.size();
 		any_normals = any_normals || !p->input_normals.empty();
 	}
 	if (prims.size() == 1) {
-		g.corner_input = prims[0]->triangles.data();
-		g.input_normals = vec3s(prims[0]->input_normals.view.data, prims[0]->input_normals.size(),
-		                        prims[0]->input_normals.view.stride, prims[0]->input_normals.view.type);
+		f.corners = prims[0]->triangles.data();
 	} else {
-		std::vector<double> joined_normals;
 		for (size_t k = 0; k < prims.size(); ++k) {
 			const primitive* p = prims[k];
 			p->positions.append_to(joined);
@@ -451,49 +281,35 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 			else if (any_normals)
 				p->input_normals.append_to(joined_normals);
 			for (uint32_t v : p->triangles)
-				g.joined_corners.push_back((uint32_t)(g.first[k] + v));
+				joined_corners.push_back((uint32_t)(first[k] + v));
 		}
-		pos = {joined.data(), g.n, 0, vn_scalar_float64};
-		g.corner_input = g.joined_corners.data();
-		g.input_normals = vec3s(std::move(joined_normals));
+		pos = {joined.data(), n, 0, vn_scalar_float64};
+		f.corners = joined_corners.data();
+		input_normals = {joined_normals.data(), joined_normals.size() / 3, 0, vn_scalar_float64};
 	}
-	g.remap.resize(g.n);
-	for (size_t i = 0; i < g.n; ++i)
-		g.remap[i] = (uint32_t)i;
-	size_t welded = 0;
-	if (!o.no_weld) {
-		check(vn_weld_positions(g.remap.data(), &pos, o.weld_epsilon, &g.options));
-		for (size_t i = 0; i < g.n; ++i)
-			welded += g.remap[i] != i;
-		st.welded_vertices += welded;
-	}
-	g.triangles = g.corner_input;
-	if (welded) {
-		g.welded_corners.resize(g.corners);
-		for (size_t k = 0; k < g.corners; ++k)
-			g.welded_corners[k] = g.remap[g.corner_input[k]];
-		g.triangles = g.welded_corners.data();
-	}
-	/* Hard edges join welded copies: none without welding. */
-	const size_t hard = welded ? flag_hard_edges(g, o.crease ? o.crease_angle : default_hard_edge_angle) : 0;
-	if (!hard)
-		g.sharp.clear();
-	st.hard_edges += hard;
-	g.corner_normals = o.crease || !g.sharp.empty();
+	vn_split::settings s;
+	s.method = o.method;
+	s.threads = o.threads;
+	s.weld = !o.no_weld;
+	s.weld_epsilon = o.weld_epsilon;
+	s.crease = o.crease;
+	s.crease_angle = o.crease_angle;
+	vn_split::plan g;
 	std::vector<float> c; /* with a crease angle, the corner normals the split follows */
-	if (o.crease) {
-		g.crease = o.crease_angle;
-		c.resize(3 * g.corners);
-		const vn_vectors cv = {c.data(), 0, vn_scalar_float32};
-		check(vn_corner_normals(&cv, &pos, g.triangles, g.corners, g.method, g.crease,
-		                        g.sharp.empty() ? nullptr : g.sharp.data(), &g.options, nullptr));
-		split_corners(g, c);
-		st.split_vertices += g.extra_source.size();
-	}
+	check(vn_split::make_plan(g, pos, f, input_normals, s, c, nullptr));
+	st.welded_vertices += g.welded_vertices;
+	st.hard_edges += g.hard_edges;
+	st.split_vertices += g.extra_source.size();
 	size_t zeros = 0;
 	std::vector<float> base = plan_normals(g, pos, &zeros, o.crease ? &c : nullptr);
 	std::vector<float>().swap(c);
 	st.zero_normals += zeros;
+	/* First split vertex of each primitive, counted from n: the split
+	 * vertices follow the corners, so each primitive's come together. */
+	std::vector<size_t> extra_first;
+	for (size_t p = 0; p < prims.size(); ++p)
+		extra_first.push_back((size_t)(std::lower_bound(g.extra_source.begin(), g.extra_source.end(), first[p]) -
+		                               g.extra_source.begin()));
 
 	/* Each primitive's output vertices: its input ones, then its split ones
 	 * (a group of one primitive is laid out so already). */
@@ -501,23 +317,23 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 		const primitive& pr = *prims[p];
 		out.resize(3 * pr.output_vertices());
 		for (size_t i = 0; i < out.size(); ++i) {
-			const size_t k = i < 3 * pr.vertices() ? 3 * g.first[p] + i : 3 * (g.n + g.extra_first[p]) + i - 3 * pr.vertices();
+			const size_t k = i < 3 * pr.vertices() ? 3 * first[p] + i : 3 * (n + extra_first[p]) + i - 3 * pr.vertices();
 			out[i] = minus ? all[k] - (*minus)[k] : all[k];
 		}
 	};
 	size_t corner_first = 0;
 	for (size_t p = 0; p < prims.size(); ++p) {
 		primitive& pr = *prims[p];
-		const size_t end = g.extra_source.empty() ? 0 : p + 1 < prims.size() ? g.extra_first[p + 1] : g.extra_source.size();
-		if (end > (g.extra_source.empty() ? 0 : g.extra_first[p])) {
-			pr.split_source.reserve(end - g.extra_first[p]);
+		const size_t end = g.extra_source.empty() ? 0 : p + 1 < prims.size() ? extra_first[p + 1] : g.extra_source.size();
+		if (end > (g.extra_source.empty() ? 0 : extra_first[p])) {
+			pr.split_source.reserve(end - extra_first[p]);
 			pr.split_triangles.reserve(pr.triangles.size());
-			for (size_t e = g.extra_first[p]; e < end; ++e)
-				pr.split_source.push_back((uint32_t)(g.extra_source[e] - g.first[p]));
+			for (size_t e = extra_first[p]; e < end; ++e)
+				pr.split_source.push_back((uint32_t)(g.extra_source[e] - first[p]));
 			for (size_t k = 0; k < pr.triangles.size(); ++k) {
 				const uint32_t v = g.corner_output[corner_first + k];
-				pr.split_triangles.push_back(v < g.n ? (uint32_t)(v - g.first[p])
-				                                     : (uint32_t)(pr.vertices() + v - g.n - g.extra_first[p]));
+				pr.split_triangles.push_back(v < g.n ? (uint32_t)(v - first[p])
+				                                     : (uint32_t)(pr.vertices() + v - g.n - extra_first[p]));
 			}
 		}
 		corner_first += pr.triangles.size();

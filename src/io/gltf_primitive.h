@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "gltf_document.h"
+#include "split_normals.h"
 
 namespace vn_gltf {
 
@@ -51,18 +52,7 @@ struct vec3s {
 	vec3s(const void* data, size_t count, size_t stride, vn_scalar type) : view{data, count, stride, type} {}
 	size_t size() const { return view.count; }
 	bool empty() const { return view.count == 0; }
-	void load(size_t i, double out[3]) const
-	{
-		const size_t stride = view.stride ? view.stride : view.type == vn_scalar_float32 ? 12 : 24;
-		const unsigned char* p = (const unsigned char*)view.data + i * stride;
-		if (view.type == vn_scalar_float32) {
-			float f[3];
-			memcpy(f, p, sizeof f);
-			out[0] = f[0], out[1] = f[1], out[2] = f[2];
-		} else {
-			memcpy(out, p, 3 * sizeof(double));
-		}
-	}
+	void load(size_t i, double out[3]) const { vn_split::load(view, i, out); }
 	void append_to(std::vector<double>& to) const
 	{
 		const size_t first = to.size();

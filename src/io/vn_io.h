@@ -136,6 +136,45 @@ size_t vn_io_component_size(int component_type);
  * format vn writes can hold NaN or infinite positions. */
 size_t vn_io_mesh_first_nonfinite(const vn_io_mesh* mesh);
 
+/* ------------------------------------------------------------------ normals
+ *
+ * The normals of a vn_io_mesh as vnconvert computes them for every format
+ * (mesh_normals.cpp; glTF to glTF follows the same plan on its primitives):
+ * vertices at one position are welded so that the copies a file splits
+ * along UV seams get one normal; welded copies whose input normals differ
+ * by more than 0.1 degree (with a crease angle: by more than it) keep a
+ * hard edge between them, each copy the normal of its own side; with a
+ * crease angle, faces meeting at more than it are hard too and a vertex
+ * whose corners need different normals is split. */
+
+typedef struct vn_io_normals_options {
+	vn_method method;
+	unsigned threads;    /* results do not depend on it */
+	int no_weld;         /* compute on the vertices as the file splits them */
+	double weld_epsilon; /* vn_weld_positions' epsilon; 0: exactly equal positions */
+	int crease;          /* hard edges at crease_angle (radians), vertices split */
+	double crease_angle;
+} vn_io_normals_options;
+
+typedef struct vn_io_normals_stats {
+	size_t vertices;         /* input vertices */
+	size_t faces;
+	size_t welded_vertices;  /* vertices merged into another one by position */
+	size_t hard_edges;       /* edges kept hard because the input normals of their welded copies differ */
+	size_t split_vertices;   /* vertices appended by crease splitting */
+	size_t zero_normals;     /* output vertices no face contributes to (isolated, only degenerate faces) */
+	size_t degenerate_faces; /* faces that contributed nothing (vn_stats) */
+} vn_io_normals_stats;
+
+/* Computes mesh->normals (allocated when the mesh has none). A vertex no
+ * face contributes to keeps the input's normal bit for bit, else gets
+ * (0, 0, 0). Split vertices are appended after the mesh's, copying every
+ * per-vertex array (positions, colors, texcoords, attributes), and the
+ * indices rewritten; polygons stay polygons. stats may be NULL; path only
+ * names the mesh in errors. On failure the mesh is as it was. */
+vn_io_result vn_io_mesh_normals(vn_io_mesh* mesh, const char* path, const vn_io_normals_options* options,
+                                vn_io_normals_stats* stats, vn_io_error* error);
+
 /* ------------------------------------------------------------------ formats
  *
  * One table (format.c) holds every fact about a file format: its names and

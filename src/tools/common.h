@@ -73,37 +73,4 @@ static inline void tool_list_methods(FILE* out)
 		        vn_method_reference((vn_method)m));
 }
 
-/* Computes normals of mesh into mesh->normals, choosing the triangle or
- * polygon entry point. A vertex the computation gives no normal (no face
- * contributed: isolated, only degenerate faces, or contributions that
- * cancel) keeps the input's normal bit for bit when the input had normals,
- * else gets (0, 0, 0); mesh->normals is allocated here when the input had
- * none. stats->zero_normals counts those vertices either way. */
-static inline vn_result tool_compute(vn_io_mesh* mesh, vn_method method, unsigned threads, vn_stats* stats)
-{
-	const int had_normals = mesh->normals != NULL;
-	if (!had_normals) {
-		mesh->normals = (double*)malloc(3 * sizeof(double) * (mesh->vertex_count ? mesh->vertex_count : 1));
-		if (!mesh->normals)
-			return vn_result_out_of_memory;
-	}
-	const vn_positions pos = {mesh->positions, mesh->vertex_count, 0, vn_scalar_float64};
-	const vn_vectors out = {mesh->normals, 0, vn_scalar_float64};
-	vn_options opt;
-	memset(&opt, 0, sizeof(opt));
-	opt.threads = threads;
-	opt.keep_existing = had_normals; /* vn writes nothing on error either */
-	static const uint32_t no_faces[1] = {0};
-	const vn_result r =
-	    vn_io_mesh_is_triangles(mesh)
-	        ? vn_triangle_normals(&out, &pos, mesh->indices, 3 * mesh->face_count, method, &opt, stats)
-	        : vn_polygon_normals(&out, &pos, mesh->indices, mesh->face_count ? mesh->face_offsets : no_faces,
-	                             mesh->face_count, method, &opt, stats);
-	if (r != vn_result_success && !had_normals) {
-		free(mesh->normals);
-		mesh->normals = NULL;
-	}
-	return r;
-}
-
 #endif /* VN_TOOLS_COMMON_H */

@@ -69,16 +69,20 @@ static void usage(FILE* out)
 	        "\n",
 	        tool_cpu_count());
 	fprintf(out,
-	        "glTF to glTF only (.gltf/.glb in and out):\n"
+	        "Every conversion welds vertices at one position (glTF to glTF: within a primitive),\n"
+	        "so the copies a file splits along seams get one normal; copies whose input normals\n"
+	        "differ keep the hard edge between them:\n"
 	        "      --no-weld          compute on the vertices as the file splits them (seams show)\n"
 	        "      --weld-epsilon E   weld vertices whose coordinates all differ by at most E\n"
 	        "                         (default 0: exactly equal positions only)\n"
+	        "      --crease-angle DEG hard edges where faces meet at more than DEG degrees (0 to 180):\n"
+	        "                         per-corner normals, vertices split where they differ\n"
+	        "\n"
+	        "glTF to glTF only (.gltf/.glb in and out):\n"
 	        "      --weld-scope S     primitive (default) or mesh: weld across a mesh's primitives\n"
 	        "      --tangents T       keep (default: left as they are, with a warning) or drop\n"
 	        "                         (TANGENT removed from primitives and morph targets, and\n"
 	        "                         its data with them)\n"
-	        "      --crease-angle DEG hard edges where faces meet at more than DEG degrees (0 to 180):\n"
-	        "                         per-corner normals, vertices split where they differ\n"
 	        "      --draco D          KHR_draco_mesh_compression: keep (default: compressed primitives\n"
 	        "                         are re-encoded with their own attributes and bits), off\n"
 	        "                         (written uncompressed) or on (every triangle primitive\n"
@@ -273,14 +277,12 @@ static args parse(int argc, char** argv)
 			a.threads = (unsigned)n;
 		} else if (!strcmp(s, "--no-weld")) {
 			a.gltf.no_weld = 1;
-			gltf_only = gltf_only ? gltf_only : s;
 		} else if (!strcmp(s, "--weld-epsilon")) {
 			const char* v = need_value(argc, argv, &i);
 			char* end;
 			a.gltf.weld_epsilon = strtod(v, &end);
 			if (!*v || *end || !(a.gltf.weld_epsilon >= 0) || a.gltf.weld_epsilon > 1e300)
 				die(2, "--weld-epsilon needs a finite number >= 0, not '%s'", v);
-			gltf_only = gltf_only ? gltf_only : s;
 		} else if (!strcmp(s, "--weld-scope")) {
 			const char* v = need_value(argc, argv, &i);
 			if (strcmp(v, "primitive") && strcmp(v, "mesh"))
@@ -301,7 +303,6 @@ static args parse(int argc, char** argv)
 				die(2, "--crease-angle needs a number of degrees from 0 to 180, not '%s'", v);
 			a.gltf.crease = 1;
 			a.gltf.crease_angle = degrees * 3.14159265358979323846 / 180;
-			gltf_only = gltf_only ? gltf_only : s;
 		} else if (!strcmp(s, "--draco")) {
 			const char* v = need_value(argc, argv, &i);
 			if (strcmp(v, "keep") && strcmp(v, "off") && strcmp(v, "on"))
@@ -585,11 +586,12 @@ static int convert_one(args a, size_t* triangles)
 			*used[i] = *given[i];
 
 	const double t1 = tool_now();
-	vn_stats st;
+	const vn_io_normals_options no = {a.method, a.threads, a.gltf.no_weld, a.gltf.weld_epsilon, a.gltf.crease,
+	                                  a.gltf.crease_angle};
+	vn_io_normals_stats st;
 	const int had_normals = mesh.normals != NULL;
-	const vn_result r = tool_compute(&mesh, a.method, a.threads, &st);
-	if (r != vn_result_success) {
-		fprintf(stderr, "%s: error: %s: %s\n", prog, a.in, vn_result_string(r));
+	if (vn_io_mesh_normals(&mesh, a.in, &no, &st, &err) != vn_io_success) {
+		fprintf(stderr, "%s: error: %s\n", prog, err.message);
 		vn_io_mesh_free(&mesh);
 		return 1;
 	}
@@ -628,12 +630,14 @@ static int convert_one(args a, size_t* triangles)
 		printf("input:              %s (%s)\n", a.in, a.in_format->name);
 		printf("output:             %s (%s)\n", a.out, a.out_format->name);
 		printf("method:             %s\n", vn_method_name(a.method));
-		printf("vertices:           %zu\n", mesh.vertex_count);
+		printf("vertices:           %zu\n", st.vertices);
 		printf("faces:              %zu (%s)\n", st.faces,
 		       vn_io_mesh_is_triangles(&mesh) ? "triangles" : "polygons");
 		printf("degenerate faces:   %zu\n", st.degenerate_faces);
+		printf("welded vertices:    %zu\n", st.welded_vertices);
+		printf("hard edges kept:    %zu\n", st.hard_edges);
+		printf("split vertices:     %zu\n", st.split_vertices);
 		printf("zero normals:       %zu\n", st.zero_normals);
-		printf("non-finite vertices: %zu\n", st.nonfinite_vertices);
 		printf("threads:            %u\n", a.threads);
 		printf("time read:          %.3f ms\n", 1e3 * (t1 - t0));
 		printf("time normals:       %.3f ms\n", 1e3 * (t2 - t1));

@@ -435,7 +435,7 @@ def close(a, b, tolerance):
 
 
 def vnconvert_normals(vnconvert, method, positions, corners):
-    """Normals vnconvert computes for an OFF mesh (no welding on that path)."""
+    """Normals vnconvert computes for an OFF mesh, on its vertices as given (--no-weld)."""
     import subprocess
     import tempfile
     with tempfile.TemporaryDirectory() as folder:
@@ -444,7 +444,7 @@ def vnconvert_normals(vnconvert, method, positions, corners):
             f.write("OFF\n%d %d 0\n" % (len(positions), len(corners) // 3))
             f.writelines("%.17g %.17g %.17g\n" % tuple(p) for p in positions)
             f.writelines("3 %d %d %d\n" % tuple(corners[i:i + 3]) for i in range(0, len(corners), 3))
-        subprocess.run([vnconvert, src, dst, "-m", method, "-q"], check=True)
+        subprocess.run([vnconvert, src, dst, "-m", method, "-q", "--no-weld"], check=True)
         rows = [l.split() for l in open(dst) if l.strip()]
         return [list(map(float, r[3:6])) for r in rows[2:2 + len(positions)]]
 

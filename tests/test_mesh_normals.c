@@ -1,0 +1,363 @@
+/*
+ * vn_io_mesh_normals, the normals plan every vnconvert conversion follows
+ * (split_normals.h): welding, hard edges from input normals, crease
+ * splitting, on triangles and polygons. Small meshes with hand-computed
+ * normals: a cube split per face, the same cube smooth, a quad strip with a
+ * seam, a folded quad strip.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vn_io.h"
+
+#define PI 3.14159265358979323846
+
+/* ------------------------------------------------------------------ helpers */
+
+/* A mesh owning copies of the literals: n vertices, faces of sizes[f]
+ * corners (indices in order), normals optional (NULL). */
+static vn_io_mesh make_mesh(const double* positions, size_t n, const uint32_t* sizes, size_t faces,
+                            const uint32_t* indices, const double* normals)
+{
+	vn_io_mesh m;
+	memset(&m, 0, sizeof m);
+	m.vertex_count = n;
+	m.positions = malloc(3 * sizeof(double) * n);
+	memcpy(m.positions, positions, 3 * sizeof(double) * n);
+	if (normals) {
+		m.normals = malloc(3 * sizeof(double) * n);
+		memcpy(m.normals, normals, 3 * sizeof(double) * n);
+	}
+	m.face_count = faces;
+	m.face_offsets = malloc(sizeof(uint32_t) * (faces + 1));
+	m.face_offsets[0] = 0;
+	for (size_t f = 0; f < faces; ++f)
+		m.face_offsets[f + 1] = m.face_offsets[f] + sizes[f];
+	m.indices = malloc(sizeof(uint32_t) * m.face_offsets[faces]);
+	memcpy(m.indices, indices, sizeof(uint32_t) * m.face_offsets[faces]);
+	return m;
+}
+
+static vn_io_normals_options options(vn_method method)
+{
+	vn_io_normals_options o;
+	memset(&o, 0, sizeof o);
+	o.method = method;
+	o.threads = 1;
+	return o;
+}
+
+static vn_io_normals_stats compute(vn_io_mesh* m, const vn_io_normals_options* o)
+{
+	vn_io_normals_stats st;
+	vn_io_error e;
+	assert_int_equal(vn_io_mesh_normals(m, "test", o, &st, &e), vn_io_success);
+	return st;
+}
+
+/* Normal of vertex i is (x, y, z) to 1e-15. */
+static void assert_normal(const vn_io_mesh* m, size_t i, double x, double y, double z)
+{
+	const double* n = m->normals + 3 * i;
+	if (fabs(n[0] - x) > 1e-15 || fabs(n[1] - y) > 1e-15 || fabs(n[2] - z) > 1e-15)
+		fail_msg("vertex %zu: normal (%.17g, %.17g, %.17g), expected (%.17g, %.17g, %.17g)", i, n[0], n[1], n[2], x, y,
+		         z);
+}
+
+/* ------------------------------------------------------------------ the cube */
+
+/* Corners of the cube [-1, 1]^3, and its faces counter-clockwise from outside. */
+static const double corner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                    {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+static const uint32_t cube_quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                          {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+static const double face_normal[6][3] = {{0, 0, -1}, {0, 0, 1}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}};
+
+/* The cube as files split it for flat shading: vertex 4f + k is corner k of
+ * face f, with the face's normal when with_normals; quads, or two
+ * triangles a face. */
+static vn_io_mesh split_cube(int triangles, int with_normals)
+{
+	double positions[24][3], normals[24][3];
+	uint32_t sizes[12], indices[36];
+	for (size_t f = 0; f < 6; ++f)
+		for (size_t k = 0; k < 4; ++k) {
+			memcpy(positions[4 * f + k], corner[cube_quads[f][k]], sizeof positions[0]);
+			memcpy(normals[4 * f + k], face_normal[f], sizeof normals[0]);
+		}
+	size_t faces = 0, used = 0;
+	for (uint32_t f = 0; f < 6; ++f) {
+		const uint32_t v = 4 * f;
+		const uint32_t quad[4] = {v, v + 1, v + 2, v + 3}, pair[6] = {v, v + 1, v + 2, v, v + 2, v + 3};
+		if (triangles) {
+			memcpy(indices + used, pair, sizeof pair), used += 6;
+			sizes[faces++] = 3, sizes[faces++] = 3;
+		} else {
+			memcpy(indices + used, quad, sizeof quad), used += 4;
+			sizes[faces++] = 4;
+		}
+	}
+	return make_mesh(&positions[0][0], 24, sizes, faces, indices, with_normals ? &normals[0][0] : NULL);
+}
+
+/* Split copies whose input normals differ keep the hard edge between them:
+ * every vertex keeps its face's normal (nothing split). */
+static void test_cube_hard_edges(void** state)
+{
+	(void)state;
+	for (int triangles = 0; triangles < 2; ++triangles)
+		for (int method = vn_method_mwe; method <= vn_method_mwselr; ++method) {
+			vn_io_mesh m = split_cube(triangles, 1);
+			const vn_io_normals_options o = options((vn_method)method);
+			const vn_io_normals_stats st = compute(&m, &o);
+			assert_int_equal(st.vertices, 24);
+			assert_int_equal(st.faces, triangles ? 12 : 6);
+			assert_int_equal(st.welded_vertices, 16);
+			assert_int_equal(st.hard_edges, 12);
+			assert_int_equal(st.split_vertices, 0);
+			assert_int_equal(st.zero_normals, 0);
+			assert_int_equal(m.vertex_count, 24);
+			for (size_t i = 0; i < 24; ++i)
+				assert_normal(&m, i, face_normal[i / 4][0], face_normal[i / 4][1], face_normal[i / 4][2]);
+			vn_io_mesh_free(&m);
+		}
+}
+
+/* Without input normals the welded cube is smooth: with MWE, three equal
+ * faces at each corner give the corner's direction, (+-1, +-1, +-1)/sqrt 3,
+ * to all three of its copies. */
+static void test_cube_welded_smooth(void** state)
+{
+	(void)state;
+	vn_io_mesh m = split_cube(0, 0);
+	const vn_io_normals_options o = options(vn_method_mwe);
+	const vn_io_normals_stats st = compute(&m, &o);
+	assert_int_equal(st.welded_vertices, 16);
+	assert_int_equal(st.hard_edges, 0);
+	assert_int_equal(st.split_vertices, 0);
+	const double s = 1 / sqrt(3.0);
+	for (size_t i = 0; i < 24; ++i) {
+		const double* p = m.positions + 3 * i;
+		assert_normal(&m, i, s * p[0], s * p[1], s * p[2]);
+	}
+	vn_io_mesh_free(&m);
+
+	/* --no-weld: each copy sees its own face only. */
+	m = split_cube(0, 0);
+	vn_io_normals_options unwelded = options(vn_method_mwe);
+	unwelded.no_weld = 1;
+	assert_int_equal(compute(&m, &unwelded).welded_vertices, 0);
+	for (size_t i = 0; i < 24; ++i)
+		assert_normal(&m, i, face_normal[i / 4][0], face_normal[i / 4][1], face_normal[i / 4][2]);
+	vn_io_mesh_free(&m);
+}
+
+/* --crease-angle 30 on the smooth 8-vertex cube: every corner's three faces
+ * meet at 90 degrees, so each corner becomes three vertices (16 appended),
+ * each with its face's normal; every per-vertex array is copied along. */
+static void test_cube_crease_split(void** state)
+{
+	(void)state;
+	const uint32_t sizes[6] = {4, 4, 4, 4, 4, 4};
+	for (unsigned threads = 1; threads <= 4; threads += 3) {
+		vn_io_mesh m = make_mesh(&corner[0][0], 8, sizes, 6, &cube_quads[0][0], NULL);
+		m.texcoords = malloc(2 * sizeof(float) * 8);
+		m.colors = malloc(4 * sizeof(float) * 8);
+		for (size_t i = 0; i < 8; ++i) {
+			m.texcoords[2 * i] = (float)i, m.texcoords[2 * i + 1] = (float)(10 * i);
+			for (size_t c = 0; c < 4; ++c)
+				m.colors[4 * i + c] = (float)(i + c) / 16;
+		}
+		vn_io_attribute* a = vn_io_mesh_add_attribute(&m, "_ID", vn_io_semantic_generic, 5123, 1, 0);
+		assert_non_null(a);
+		for (size_t i = 0; i < 8; ++i)
+			((uint16_t*)a->data)[i] = (uint16_t)(1000 + i);
+		vn_io_normals_options o = options(vn_method_mwa);
+		o.threads = threads;
+		o.crease = 1;
+		o.crease_angle = 30 * PI / 180;
+		const vn_io_normals_stats st = compute(&m, &o);
+		assert_int_equal(st.vertices, 8);
+		assert_int_equal(st.welded_vertices, 0);
+		assert_int_equal(st.hard_edges, 0);
+		assert_int_equal(st.split_vertices, 16);
+		assert_int_equal(m.vertex_count, 24);
+		uint32_t uses[24] = {0};
+		for (size_t f = 0; f < 6; ++f)
+			for (size_t k = 0; k < 4; ++k) {
+				const uint32_t v = m.indices[4 * f + k], source = cube_quads[f][k];
+				assert_true(v < 24);
+				++uses[v];
+				assert_normal(&m, v, face_normal[f][0], face_normal[f][1], face_normal[f][2]);
+				assert_memory_equal(m.positions + 3 * v, corner[source], 3 * sizeof(double));
+				assert_true(m.texcoords[2 * v] == (float)source && m.texcoords[2 * v + 1] == (float)(10 * source));
+				assert_true(m.colors[4 * v + 3] == (float)(source + 3) / 16);
+				assert_int_equal(((uint16_t*)m.attributes[0].data)[v], 1000 + source);
+			}
+		for (size_t v = 0; v < 24; ++v)
+			assert_int_equal(uses[v], 1);
+		vn_io_mesh_free(&m);
+	}
+}
+
+/* ------------------------------------------------------------------ quad strips */
+
+/* Two unit quads meeting at x = 0, the left one flat (normal +Z), the right
+ * one rising at 45 degrees (normal (-1, 0, 1)/sqrt 2); the seam's vertices
+ * are split: 1 and 4 at (0, 0, 0), 2 and 7 at (0, 1, 0). */
+static const double seam_positions[8][3] = {{-1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 1, 0},
+                                            {0, 0, 0},  {1, 0, 1}, {1, 1, 1}, {0, 1, 0}};
+static const uint32_t seam_sizes[2] = {4, 4};
+static const uint32_t seam_quads[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+#define R 0.70710678118654752 /* 1/sqrt 2 */
+static const double seam_normals[8][3] = {{0, 0, 1},  {0, 0, 1},  {0, 0, 1},  {0, 0, 1},
+                                          {-R, 0, R}, {-R, 0, R}, {-R, 0, R}, {-R, 0, R}};
+
+/* Welded, the seam's copies get one normal: with MWE the sum of the two
+ * faces', (-sin 22.5, 0, cos 22.5); --no-weld leaves each its own face's. */
+static void test_seam_welded(void** state)
+{
+	(void)state;
+	const double sx = -0.38268343236508977, cz = 0.92387953251128676;
+	vn_io_mesh m = make_mesh(&seam_positions[0][0], 8, seam_sizes, 2, seam_quads, NULL);
+	vn_io_normals_options o = options(vn_method_mwe);
+	vn_io_normals_stats st = compute(&m, &o);
+	assert_int_equal(st.welded_vertices, 2);
+	assert_int_equal(st.hard_edges, 0);
+	const size_t seam[4] = {1, 4, 2, 7};
+	for (size_t k = 0; k < 4; ++k)
+		assert_normal(&m, seam[k], sx, 0, cz);
+	assert_normal(&m, 0, 0, 0, 1);
+	assert_normal(&m, 3, 0, 0, 1);
+	assert_normal(&m, 5, -R, 0, R);
+	assert_normal(&m, 6, -R, 0, R);
+	vn_io_mesh_free(&m);
+
+	m = make_mesh(&seam_positions[0][0], 8, seam_sizes, 2, seam_quads, NULL);
+	o.no_weld = 1;
+	st = compute(&m, &o);
+	assert_int_equal(st.welded_vertices, 0);
+	for (size_t i = 0; i < 8; ++i)
+		assert_normal(&m, i, seam_normals[i][0], seam_normals[i][1], seam_normals[i][2]);
+	vn_io_mesh_free(&m);
+}
+
+/* The seam's copies 1e-9 apart weld only with an epsilon that covers it. */
+static void test_seam_epsilon(void** state)
+{
+	(void)state;
+	double moved[8][3];
+	memcpy(moved, seam_positions, sizeof moved);
+	moved[4][0] = moved[7][0] = 1e-9;
+	vn_io_mesh m = make_mesh(&moved[0][0], 8, seam_sizes, 2, seam_quads, NULL);
+	vn_io_normals_options o = options(vn_method_mwe);
+	assert_int_equal(compute(&m, &o).welded_vertices, 0);
+	vn_io_mesh_free(&m);
+	m = make_mesh(&moved[0][0], 8, seam_sizes, 2, seam_quads, NULL);
+	o.weld_epsilon = 1e-6;
+	assert_int_equal(compute(&m, &o).welded_vertices, 2);
+	assert_memory_equal(m.normals + 3 * 1, m.normals + 3 * 4, 3 * sizeof(double));
+	vn_io_mesh_free(&m);
+}
+
+/* Input normals that differ across the seam make it a hard edge: each copy
+ * keeps its face's normal, though welded. */
+static void test_seam_hard_edge(void** state)
+{
+	(void)state;
+	for (int method = 0; method < vn_method_count; ++method) {
+		if (method == vn_method_mewcsa)
+			continue; /* its boundary corners point along the surface */
+		vn_io_mesh m = make_mesh(&seam_positions[0][0], 8, seam_sizes, 2, seam_quads, &seam_normals[0][0]);
+		const vn_io_normals_options o = options((vn_method)method);
+		const vn_io_normals_stats st = compute(&m, &o);
+		assert_int_equal(st.welded_vertices, 2);
+		assert_int_equal(st.hard_edges, 1);
+		assert_int_equal(st.split_vertices, 0);
+		for (size_t i = 0; i < 8; ++i)
+			assert_normal(&m, i, seam_normals[i][0], seam_normals[i][1], seam_normals[i][2]);
+		vn_io_mesh_free(&m);
+	}
+}
+
+/* A strip of four unit quads folded along y: the bends between them are
+ * 20, 45 and 10 degrees. A crease angle splits the vertices of the bends
+ * sharper than it, two a bend; the input is smooth (nothing welded). */
+static size_t folded_strip_splits(double degrees)
+{
+	const double turn[4] = {0, 20, 65, 75}; /* each quad's slope, degrees */
+	double positions[10][3], x = 0, z = 0;
+	for (size_t i = 0; i < 5; ++i) {
+		positions[2 * i][0] = positions[2 * i + 1][0] = x;
+		positions[2 * i][1] = 0, positions[2 * i + 1][1] = 1;
+		positions[2 * i][2] = positions[2 * i + 1][2] = z;
+		if (i < 4)
+			x += cos(turn[i] * PI / 180), z += sin(turn[i] * PI / 180);
+	}
+	const uint32_t sizes[4] = {4, 4, 4, 4};
+	const uint32_t quads[16] = {0, 2, 3, 1, 2, 4, 5, 3, 4, 6, 7, 5, 6, 8, 9, 7};
+	vn_io_mesh m = make_mesh(&positions[0][0], 10, sizes, 4, quads, NULL);
+	vn_io_normals_options o = options(vn_method_mwa);
+	o.crease = 1;
+	o.crease_angle = degrees * PI / 180;
+	const vn_io_normals_stats st = compute(&m, &o);
+	assert_int_equal(st.welded_vertices, 0);
+	assert_int_equal(m.vertex_count, 10 + st.split_vertices);
+	assert_int_equal(m.face_offsets[4], 16); /* still quads */
+	vn_io_mesh_free(&m);
+	return st.split_vertices;
+}
+
+static void test_folded_strip_crease(void** state)
+{
+	(void)state;
+	assert_int_equal(folded_strip_splits(50), 0);
+	assert_int_equal(folded_strip_splits(30), 2);
+	assert_int_equal(folded_strip_splits(15), 4);
+	assert_int_equal(folded_strip_splits(5), 6);
+}
+
+/* A vertex no face contributes to keeps its input normal bit for bit (any
+ * length), or gets (0, 0, 0) without one; a degenerate face is counted. */
+static void test_zero_normals(void** state)
+{
+	(void)state;
+	double positions[9][3], normals[9][3];
+	memcpy(positions, seam_positions, sizeof seam_positions);
+	memcpy(normals, seam_normals, sizeof seam_normals);
+	const double isolated[3] = {5, 5, 5}, own[3] = {0.3, 0.4, 12.000000000000002};
+	memcpy(positions[8], isolated, sizeof isolated);
+	memcpy(normals[8], own, sizeof own);
+	const uint32_t sizes[3] = {4, 4, 3};
+	const uint32_t indices[11] = {0, 1, 2, 3, 4, 5, 6, 7, 0, 0, 3};
+	for (int with = 0; with < 2; ++with) {
+		vn_io_mesh m = make_mesh(&positions[0][0], 9, sizes, 3, indices, with ? &normals[0][0] : NULL);
+		const vn_io_normals_options o = options(vn_method_mwa);
+		const vn_io_normals_stats st = compute(&m, &o);
+		assert_int_equal(st.zero_normals, 1);
+		assert_int_equal(st.degenerate_faces, 1);
+		if (with)
+			assert_memory_equal(m.normals + 3 * 8, own, sizeof own);
+		else
+			assert_normal(&m, 8, 0, 0, 0);
+		vn_io_mesh_free(&m);
+	}
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+	    cmocka_unit_test(test_cube_hard_edges),  cmocka_unit_test(test_cube_welded_smooth),
+	    cmocka_unit_test(test_cube_crease_split), cmocka_unit_test(test_seam_welded),
+	    cmocka_unit_test(test_seam_epsilon),      cmocka_unit_test(test_seam_hard_edge),
+	    cmocka_unit_test(test_folded_strip_crease), cmocka_unit_test(test_zero_normals),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
