@@ -104,13 +104,14 @@ size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, cha
 	if (size)
 		text[0] = '\0';
 	const unsigned holds = format ? format->holds : 0;
-	const char* names[3] = {
+	const char* names[4] = {
+	    mesh->normals && format && !format->no_normal ? "vertex normals" : NULL,
 	    mesh->colors && !(holds & vn_io_holds_colors) ? "vertex colours" : NULL,
 	    mesh->texcoords && !(holds & vn_io_holds_texcoords) ? "texture coordinates" : NULL,
 	    mesh->face_colors && !(holds & vn_io_holds_face_colors) ? "face colours" : NULL,
 	};
-	for (size_t i = 0; i < mesh->attribute_count + 3; i++) {
-		const char* name = i < 3 ? names[i] : !(holds & vn_io_holds_attributes) ? mesh->attributes[i - 3].name : NULL;
+	for (size_t i = 0; i < mesh->attribute_count + 4; i++) {
+		const char* name = i < 4 ? names[i] : !(holds & vn_io_holds_attributes) ? mesh->attributes[i - 4].name : NULL;
 		if (!name)
 			continue;
 		if (used < size) {
