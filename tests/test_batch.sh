@@ -108,10 +108,10 @@ check "two inputs, one output: one line naming both" [ "$err" = "vnconvert: erro
 check "two inputs, one output: nothing written" [ ! -e same ]
 run "$VNC" --out-dir in in/torus.off
 check "an output that is its input: exit 2" [ $rc -eq 2 ]
-run "$VNC" --out-dir x in/torus.off --crease-angle 30
+run "$VNC" --out-dir x in/torus.off --tangents drop
 check "an option for no file of the batch: exit 2" [ $rc -eq 2 ]
-check "an option for no file of the batch: says so" grep -q "crease-angle applies only to glTF to glTF.*no file of this batch" "$T/stderr"
-run "$VNC" --out-dir x in/torus.off in/shapes.glb --crease-angle 30 -q
+check "an option for no file of the batch: says so" grep -q "tangents applies only to glTF to glTF.*no file of this batch" "$T/stderr"
+run "$VNC" --out-dir x in/torus.off in/shapes.glb --tangents drop -q
 check "an option for some files of the batch: applied to those" [ $rc -eq 0 ]
 run "$VNC" --out-dir x in/readme.txt
 check "an unknown extension given by name: exit 2" [ $rc -eq 2 ]

@@ -1258,7 +1258,7 @@ static void test_write_unknown_extension(void** state)
 	vn_io_mesh m = {0};
 	vn_io_error error;
 	assert_int_equal(vn_io_write_file("out.xyz", NULL, &m, NULL, &error), vn_io_error_format);
-	assert_string_equal(error.message, "out.xyz: unknown file extension (vn knows .off .obj .gltf .glb .drc)");
+	assert_string_equal(error.message, "out.xyz: unknown file extension (vn knows .off .obj .ply .stl .gltf .glb .drc)");
 }
 
 /* ------------------------------------------------------------------ files and formats */
@@ -1278,8 +1278,8 @@ static void test_read_unknown_extension(void** state)
 	(void)state;
 	vn_io_mesh m;
 	vn_io_error error;
-	assert_int_equal(vn_io_read_file("data/off/cube.stl", NULL, &m, &error), vn_io_error_format);
-	assert_string_equal(error.message, "data/off/cube.stl: unknown file extension (vn knows .off .obj .gltf .glb .drc)");
+	assert_int_equal(vn_io_read_file("data/off/cube.fbx", NULL, &m, &error), vn_io_error_format);
+	assert_string_equal(error.message, "data/off/cube.fbx: unknown file extension (vn knows .off .obj .ply .stl .gltf .glb .drc)");
 }
 
 static void test_read_with_explicit_format(void** state)
@@ -1360,13 +1360,16 @@ static void test_format_lookup(void** state)
 	assert_string_equal(off->name, "off");
 	assert_string_equal(off->extensions, ".off");
 	assert_string_equal(vn_io_format_at(1)->name, "obj");
-	assert_string_equal(vn_io_format_at(2)->name, "gltf");
-	assert_string_equal(vn_io_format_at(3)->name, "glb");
-	assert_string_equal(vn_io_format_at(4)->name, "drc");
-	assert_null(vn_io_format_at(5));
-	assert_ptr_equal(vn_io_format_for_path("scene.GLB"), vn_io_format_at(3));
-	assert_ptr_equal(vn_io_format_for_path("scene.gltf"), vn_io_format_at(2));
+	assert_string_equal(vn_io_format_at(2)->name, "ply");
+	assert_string_equal(vn_io_format_at(3)->name, "stl");
+	assert_string_equal(vn_io_format_at(4)->name, "gltf");
+	assert_string_equal(vn_io_format_at(5)->name, "glb");
+	assert_string_equal(vn_io_format_at(6)->name, "drc");
+	assert_null(vn_io_format_at(7));
+	assert_ptr_equal(vn_io_format_for_path("scene.GLB"), vn_io_format_at(5));
+	assert_ptr_equal(vn_io_format_for_path("scene.gltf"), vn_io_format_at(4));
 	assert_ptr_equal(vn_io_format_for_path("Mesh.OBJ"), vn_io_format_at(1));
+	assert_ptr_equal(vn_io_format_for_path("scan.PLY"), vn_io_format_at(2));
 	assert_ptr_equal(vn_io_format_for_path("dir.d/mesh.OFF"), off);
 	assert_ptr_equal(vn_io_format_for_path("mesh.off"), off);
 	assert_null(vn_io_format_for_path("mesh.off.gz"));

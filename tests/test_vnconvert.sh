@@ -84,18 +84,18 @@ check "--in-place works" [ $rc -eq 0 ] && check "--in-place rewrote the file as 
 # ---- messages: each one line that names what is wrong and what to do.
 GLTF=$(cd "$(dirname "$0")/data/models/gltf" && pwd)
 # Formats vn does not read or write: --input-format/--format cannot help.
-for ext in ply stl; do
+for ext in fbx dae; do
   touch "$T/mesh.$ext"
   run "$VNC" "$T/mesh.$ext" "$T/x.off"
   check ".$ext input exits 2" [ $rc -eq 2 ]; check ".$ext input: one line" one_line_err
-  check ".$ext input: what vn reads, and to convert" grep -q "mesh.$ext' is an\? [A-Z]* file, and vn reads only OFF, OBJ, glTF, GLB and Draco files: convert it to one of these first (e.g. with meshlabserver or Blender)" "$T/stderr"
+  check ".$ext input: what vn reads, and to convert" grep -q "mesh.$ext' is an\? [A-Z]* file, and vn reads only OFF, OBJ, PLY, STL, glTF, GLB and Draco files: convert it to one of these first (e.g. with meshlabserver or Blender)" "$T/stderr"
   check ".$ext input: no --input-format advice" not grep -q -- "--input-format" "$T/stderr"
   run "$VNC" "$SAMPLES/torus.off" "$T/out.$ext"
   check ".$ext output exits 2" [ $rc -eq 2 ]
-  check ".$ext output: what vn writes" grep -q "vn writes only OFF, OBJ, glTF, GLB and Draco files: write one of these and convert that" "$T/stderr"
+  check ".$ext output: what vn writes" grep -q "vn writes only OFF, OBJ, PLY, STL, glTF, GLB and Draco files: write one of these and convert that" "$T/stderr"
 done
 run "$VNC" "$T/mesh.xyz" "$T/x.off"
-check "unknown extension: names --input-format" grep -q "cannot tell the format of '$T/mesh.xyz' from its extension: vn reads OFF (.off), OBJ (.obj), glTF (.gltf, .glb) and Draco (.drc); name the format with --input-format" "$T/stderr"
+check "unknown extension: names --input-format" grep -q "cannot tell the format of '$T/mesh.xyz' from its extension: vn reads OFF (.off), OBJ (.obj), PLY (.ply), STL (.stl), glTF (.gltf, .glb) and Draco (.drc); name the format with --input-format" "$T/stderr"
 # Option errors name the option and what it accepts.
 expect_usage() {  # expect_usage MESSAGE ARGS...: exit 2, one line, MESSAGE in it
   local message=$1; shift
@@ -110,8 +110,8 @@ expect_usage "--draco-qn needs a whole number of bits from 2 to 30, not '1'" "$S
 expect_usage "--draco-cl needs a whole number from 0 to 10, not '11'" "$SAMPLES/torus.off" "$T/u.drc" --draco-cl 11
 expect_usage "--threads needs a whole number from 1 to 256, not '0'" "$SAMPLES/torus.off" "$T/u.off" --threads 0
 expect_usage "--method is one of mwe, mwa, mwselr, mwaat, mwelr, mwrelr, mewcsa, not 'nope'" "$SAMPLES/torus.off" "$T/u.off" --method nope
-expect_usage "--format is one of off, obj, gltf, glb, drc, not 'ply'" "$SAMPLES/torus.off" "$T/u.off" --format ply
-expect_usage "--input-format is one of off, obj, gltf, glb, drc, not 'stl'" "$SAMPLES/torus.off" "$T/u.off" --input-format stl
+expect_usage "--format is one of off, obj, ply, stl, gltf, glb, drc, not 'fbx'" "$SAMPLES/torus.off" "$T/u.off" --format fbx
+expect_usage "--input-format is one of off, obj, ply, stl, gltf, glb, drc, not 'dae'" "$SAMPLES/torus.off" "$T/u.off" --input-format dae
 expect_usage "--draco-qp applies to Draco (.drc) output and to glTF to glTF conversions, and this one is off to off: leave it out" "$SAMPLES/torus.off" "$T/u.off" --draco-qp 12
 # glTF-only options are refused for other conversions rather than ignored.
 for option in "--weld-scope mesh" "--tangents drop" "--draco off"; do

@@ -69,6 +69,19 @@ vn_io_result vn_io_read_all(const char* path, char** data, size_t* size, vn_io_e
 	return vn_io_success;
 }
 
+vn_io_result vn_io_read_with(const char* path, vn_io_memory_reader parse, vn_io_mesh* mesh, vn_io_error* error)
+{
+	char* data;
+	size_t size;
+	memset(mesh, 0, sizeof *mesh);
+	vn_io_result result = vn_io_read_all(path, &data, &size, error);
+	if (result != vn_io_success)
+		return result;
+	result = parse(data, size, path, mesh, error);
+	free(data);
+	return result;
+}
+
 static vn_io_result unknown_extension(const char* path, vn_io_error* error)
 {
 	char known[256];

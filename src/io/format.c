@@ -15,6 +15,8 @@
 #include "gltf.h"
 #include "obj.h"
 #include "off.h"
+#include "ply.h"
+#include "stl.h"
 
 /* What the glTF reader (both gltf and glb) brings. */
 #define GLTF_READS                                                                                               \
@@ -55,6 +57,27 @@ static const vn_io_format formats[] = {
      "groups (`g`), smoothing groups (`s`), lines, points, curves, vertex colours, vertices no face uses, the .mtl "
      "file's contents",
      NULL, NULL, NULL},
+    {"ply", "PLY", "PLY", ".ply",
+     "Stanford polygon file (reads ASCII and binary, either byte order; writes binary little-endian)",
+     vn_io_ply_read, vn_io_ply_write,
+     vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes | vn_io_holds_face_colors |
+         vn_io_holds_polygons | vn_io_holds_loose_vertices,
+     vn_io_path_mesh, 0, "the zero vector",
+     {{vn_io_holds_colors, "vertex colours (red green blue [alpha])", NULL},
+      {vn_io_holds_texcoords, "texture coordinates (s t, u v or texture_u texture_v)", NULL},
+      {vn_io_holds_attributes, "every other vertex property in its type, as `_NAME` (double as float)",
+       "other vertex properties (named)"},
+      {vn_io_holds_face_colors, "face colours", "face colours (named)"},
+      {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"}},
+     "other elements (edges, materials), vertex list properties, other face properties (per-corner texture "
+     "coordinates, flags), comments",
+     NULL, NULL, NULL},
+    {"stl", "STL", "STL", ".stl",
+     "stereolithography (reads binary and ASCII, corners welded by position; writes binary; no vertex normals)",
+     vn_io_stl_read, vn_io_stl_write, 0, vn_io_path_mesh, 0, NULL, {{0, NULL, NULL}},
+     "facet normals (one per triangle, recomputed on writing), the header, attribute bytes (a colour in some "
+     "exporters); corners with equal positions become one vertex",
+     NULL, NULL, NULL},
     {"gltf", "glTF", "glTF", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)",
      vn_io_gltf_read, vn_io_gltf_write,
      vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes | vn_io_holds_loose_vertices,
@@ -83,8 +106,7 @@ static const vn_io_format formats[] = {
 static const struct {
 	const char* extension;
 	const char* what;
-} foreign[] = {{".ply", "a PLY"}, {".stl", "an STL"},
-               {".fbx", "an FBX"}, {".dae", "a COLLADA"}, {".3ds", "a 3DS"}};
+} foreign[] = {{".fbx", "an FBX"}, {".dae", "a COLLADA"}, {".3ds", "a 3DS"}};
 
 /* ASCII only: extensions and names are ASCII, and tolower() would follow the
  * program's locale. */
@@ -316,6 +338,13 @@ void vn_io_conversions_table(FILE* out)
 			} else {
 				items(a, b, 1, kept, sizeof kept);
 				items(a, b, 0, lost, sizeof lost);
+				if (!b->no_normal) {
+					const int none = !strcmp(lost, "nothing");
+					char rest[sizeof lost];
+					snprintf(rest, sizeof rest, "%s", none ? "" : lost);
+					snprintf(lost, sizeof lost, "the vertex normals (%s holds none)", b->title);
+					append(lost, sizeof lost, "%s%s", none ? "" : ", ", rest);
+				}
 			}
 			fprintf(out, "| %s → %s | %s | %s |\n", a->family, b->family, kept, lost);
 		}

@@ -113,15 +113,17 @@ size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, cha
 		text[0] = '\0';
 	const unsigned holds = format ? format->holds : 0;
 	const int names_lost = !(holds & vn_io_holds_face_names);
-	const char* names[5] = {
+	const char* names[] = {
+	    mesh->normals && format && !format->no_normal ? "vertex normals" : NULL,
 	    mesh->colors && !(holds & vn_io_holds_colors) ? "vertex colours" : NULL,
 	    mesh->texcoords && !(holds & vn_io_holds_texcoords) ? "texture coordinates" : NULL,
 	    mesh->face_colors && !(holds & vn_io_holds_face_colors) ? "face colours" : NULL,
 	    mesh->materials.of_face && names_lost ? "materials" : NULL,
 	    mesh->objects.of_face && names_lost ? "object names" : NULL,
 	};
-	for (size_t i = 0; i < mesh->attribute_count + 5; i++) {
-		const char* name = i < 5 ? names[i] : !(holds & vn_io_holds_attributes) ? mesh->attributes[i - 5].name : NULL;
+	const size_t fixed = sizeof names / sizeof names[0];
+	for (size_t i = 0; i < mesh->attribute_count + fixed; i++) {
+		const char* name = i < fixed ? names[i] : !(holds & vn_io_holds_attributes) ? mesh->attributes[i - fixed].name : NULL;
 		if (!name)
 			continue;
 		if (used < size) {

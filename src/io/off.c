@@ -27,8 +27,6 @@
 /* A colour component the file did not give (a missing alpha, or a whole face
  * colour), until all colours of the file are known to be bytes or fractions. */
 #define OFF_UNSET (-1.0f)
-/* The longest number token; longer ones are an error rather than cut short. */
-#define OFF_TOKEN_MAX 255
 /* Numbers on a vertex line: x y z w, nx ny nz, r g b a, s t. */
 #define OFF_VERTEX_MAX 13
 
@@ -77,14 +75,11 @@ __attribute__((format(printf, 3, 4)))
 #endif
 static vn_io_result fail(off_reader* r, vn_io_result result, const char* fmt, ...)
 {
-	char what[384];
 	va_list args;
 	va_start(args, fmt);
-	vsnprintf(what, sizeof what, fmt, args);
+	vn_io_fail_at(r->error, result, r->name, r->binary, r->where, fmt, args);
 	va_end(args);
-	if (r->binary)
-		return vn_io_fail(r->error, result, "%s: byte %zu: %s", r->name, r->where, what);
-	return vn_io_fail(r->error, result, "%s:%zu: %s", r->name, r->where, what);
+	return result;
 }
 
 static vn_io_result out_of_memory(off_reader* r)
@@ -92,21 +87,9 @@ static vn_io_result out_of_memory(off_reader* r)
 	return vn_io_fail(r->error, vn_io_error_memory, "%s: out of memory", r->name);
 }
 
-/* A token fit for a message: at most 24 characters, unprintable bytes as '?'
- * (the input may be any binary garbage). Used as quote(t).text within one
- * expression. */
-typedef struct quoted {
-	char text[32];
-} quoted;
-
-static quoted quote(token t)
+static vn_io_quoted quote(token t)
 {
-	quoted q;
-	size_t n = t.n > 24 ? 24 : t.n;
-	for (size_t i = 0; i < n; i++)
-		q.text[i] = t.p[i] >= 0x20 && t.p[i] < 0x7f ? (char)t.p[i] : '?';
-	strcpy(q.text + n, t.n > n ? "..." : "");
-	return q;
+	return vn_io_quote(t.p, t.n);
 }
 
 static void* alloc_array(size_t count, size_t size)
@@ -176,14 +159,7 @@ static size_t count_tokens(off_line line)
  * core library handles as degenerate input. */
 static int parse_real(token t, double* out)
 {
-	char text[OFF_TOKEN_MAX + 1];
-	char* stop;
-	if (t.n > OFF_TOKEN_MAX)
-		return 0;
-	memcpy(text, t.p, t.n);
-	text[t.n] = '\0';
-	*out = strtod(text, &stop);
-	return stop == text + t.n;
+	return vn_io_parse_real(t.p, t.n, out);
 }
 
 /* Decimal digits only, saturating at UINT64_MAX: callers compare against
@@ -208,7 +184,7 @@ static vn_io_result line_real(off_reader* r, off_line* line, const char* kind, s
 	next_token(line, &t);
 	if (parse_real(t, out))
 		return vn_io_success;
-	if (t.n > OFF_TOKEN_MAX)
+	if (t.n > VN_IO_TOKEN_MAX)
 		return fail(r, vn_io_error_parse, "%s %zu: '%s' is too long for a number", kind, index, quote(t).text);
 	return fail(r, vn_io_error_parse, "%s %zu: '%s' is not a number", kind, index, quote(t).text);
 }
@@ -758,15 +734,7 @@ vn_io_result vn_io_off_read_memory(const char* data, size_t size, const char* na
 
 vn_io_result vn_io_off_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)
 {
-	char* data;
-	size_t size;
-	memset(mesh, 0, sizeof *mesh);
-	vn_io_result result = vn_io_read_all(path, &data, &size, error);
-	if (result != vn_io_success)
-		return result;
-	result = vn_io_off_read_memory(data, size, path, mesh, error);
-	free(data);
-	return result;
+	return vn_io_read_with(path, vn_io_off_read_memory, mesh, error);
 }
 
 /* ------------------------------------------------------------------ writer */

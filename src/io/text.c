@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <locale.h>
 #include <stdlib.h>
+#include <string.h>
 
 int vn_io_c_locale_enter(vn_io_c_locale* l)
 {
@@ -58,4 +59,36 @@ void vn_io_put_exact(vn_io_text_out* w, const char* separator, double v)
 			break;
 	}
 	vn_io_put(w, text);
+}
+
+int vn_io_parse_real(const unsigned char* p, size_t n, double* out)
+{
+	char text[VN_IO_TOKEN_MAX + 1];
+	char* stop;
+	if (n == 0 || n > VN_IO_TOKEN_MAX)
+		return 0;
+	memcpy(text, p, n);
+	text[n] = '\0';
+	*out = strtod(text, &stop);
+	return stop == text + n;
+}
+
+vn_io_quoted vn_io_quote(const unsigned char* p, size_t n)
+{
+	vn_io_quoted q;
+	const size_t k = n > 24 ? 24 : n;
+	for (size_t i = 0; i < k; i++)
+		q.text[i] = p[i] >= 0x20 && p[i] < 0x7f ? (char)p[i] : '?';
+	strcpy(q.text + k, n > k ? "..." : "");
+	return q;
+}
+
+vn_io_result vn_io_fail_at(vn_io_error* error, vn_io_result r, const char* name, int byte, size_t where,
+                           const char* fmt, va_list args)
+{
+	char what[384];
+	vsnprintf(what, sizeof what, fmt, args);
+	if (byte)
+		return vn_io_fail(error, r, "%s: byte %zu: %s", name, where, what);
+	return vn_io_fail(error, r, "%s:%zu: %s", name, where, what);
 }

@@ -6,7 +6,11 @@
 #ifndef VN_IO_TEXT_H
 #define VN_IO_TEXT_H
 
+#include <stdarg.h>
+#include <stddef.h>
 #include <stdio.h>
+
+#include "vn_io.h"
 
 /* strtod and printf follow LC_NUMERIC: in a program that called
  * setlocale(LC_ALL, "") under, say, de_DE, "0.5" would read as 0 and print
@@ -40,5 +44,27 @@ void vn_io_put_float(vn_io_text_out* w, float v);
  * reads back as the same double, so that 0.1 stays "0.1" and every double
  * survives a round trip exactly. */
 void vn_io_put_exact(vn_io_text_out* w, const char* separator, double v);
+
+/* The longest number token the readers take; longer ones are an error
+ * rather than cut short. */
+#define VN_IO_TOKEN_MAX 255
+
+/* The n bytes at p, all of them, as a number (strtod: "nan" and "inf" too);
+ * 0 when they are not one or are longer than VN_IO_TOKEN_MAX. Call it in
+ * the C locale (vn_io_c_locale_enter). */
+int vn_io_parse_real(const unsigned char* p, size_t n, double* out);
+
+/* Input text fit for a message: at most 24 characters, unprintable bytes as
+ * '?' (the input may be any binary garbage). Used as
+ * vn_io_quote(p, n).text within one expression. */
+typedef struct vn_io_quoted {
+	char text[32];
+} vn_io_quoted;
+vn_io_quoted vn_io_quote(const unsigned char* p, size_t n);
+
+/* A reader's error at a place in the file: "name:where: what" (a line), or
+ * "name: byte where: what" when `byte`; what is fmt with args. Returns r. */
+vn_io_result vn_io_fail_at(vn_io_error* error, vn_io_result r, const char* name, int byte, size_t where,
+                           const char* fmt, va_list args);
 
 #endif /* VN_IO_TEXT_H */

@@ -240,7 +240,10 @@ typedef struct vn_io_format {
 	unsigned holds;        /* vn_io_holds_* bits */
 	vn_io_path path;       /* between two formats of this path */
 	unsigned draco;        /* vn_io_draco_* bits */
-	const char* no_normal; /* what the writer gives a vertex without a normal: "the zero vector" */
+	/* What the writer gives a vertex without a normal: "the zero vector";
+	 * NULL when the format holds no vertex normals at all (STL: one normal
+	 * per facet, made from positions). */
+	const char* no_normal;
 	/* What the reader brings (text NULL ends the list), and what reading
 	 * always leaves out (NULL: nothing). */
 	vn_io_item reads[VN_IO_MAX_ITEMS];
@@ -255,8 +258,8 @@ typedef struct vn_io_format {
 	const char* companions;
 } vn_io_format;
 
-/* Names what writing mesh as `format` leaves out ("face colours, TEXCOORD_1,
- * _ID"), comma-separated, into text (truncated to size); returns how many
+/* Names what writing mesh as `format` leaves out ("vertex normals, face
+ * colours, TEXCOORD_1, _ID"), comma-separated, into text (truncated to size); returns how many
  * things that is (0: nothing is lost, text ""). */
 size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, char* text, size_t size);
 
@@ -374,6 +377,14 @@ void vn_io_remove_temporaries_on_signal(void);
 
 /* Reads a whole file into a NUL-terminated buffer the caller frees. */
 vn_io_result vn_io_read_all(const char* path, char** data, size_t* size, vn_io_error* error);
+
+/* A format's reader of bytes in memory (data need not be NUL-terminated):
+ * fills *mesh (zeroed first and again on failure); `name` starts messages. */
+typedef vn_io_result (*vn_io_memory_reader)(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
+                                            vn_io_error* error);
+
+/* Reads the whole file path and parses it with parse, named as path. */
+vn_io_result vn_io_read_with(const char* path, vn_io_memory_reader parse, vn_io_mesh* mesh, vn_io_error* error);
 
 /* True when a and b name the same existing file (same device and inode). */
 int vn_io_same_file(const char* a, const char* b);

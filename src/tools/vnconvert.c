@@ -574,9 +574,6 @@ static int convert_one(args a, size_t* triangles)
 		vn_io_mesh_free(&mesh);
 		return 1;
 	}
-	char lost[512];
-	if (vn_io_mesh_losses(&mesh, a.out_format, lost, sizeof lost) && !a.quiet)
-		fprintf(stderr, "%s: warning: %s cannot hold %s: not written\n", prog, a.out, lost);
 	int* given[] = {&a.drc.position_bits, &a.drc.normal_bits, &a.drc.texcoord_bits, &a.drc.color_bits,
 	                &a.drc.compression_level};
 	int* used[] = {&drc.position_bits, &drc.normal_bits, &drc.texcoord_bits, &drc.color_bits,
@@ -597,7 +594,11 @@ static int convert_one(args a, size_t* triangles)
 	}
 	const double t2 = tool_now();
 
-	if (st.zero_normals && !a.quiet)
+	/* After the normals are computed: a format without vertex normals loses them. */
+	char lost[512];
+	if (vn_io_mesh_losses(&mesh, a.out_format, lost, sizeof lost) && !a.quiet)
+		fprintf(stderr, "%s: warning: %s cannot hold %s: not written\n", prog, a.out, lost);
+	if (st.zero_normals && a.out_format->no_normal && !a.quiet)
 		fprintf(stderr,
 		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); "
 		        "%s%s\n",

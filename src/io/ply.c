@@ -1,0 +1,964 @@
+/*
+ * PLY, the Stanford polygon file format.
+ *
+ * Reader: ASCII, binary_little_endian and binary_big_endian, every property
+ * type (char ... double, or int8 ... float64). The "vertex" element gives
+ * positions (x y z), normals (nx ny nz), colours (red green blue [alpha],
+ * uchar or float in [0, 1]), texture coordinates (the first pair of s t,
+ * u v, texture_u texture_v, texture_s texture_t) and, for every other
+ * scalar property, an attribute "_NAME" in the property's own type (double
+ * as float32: vn_io attributes, like glTF, have no double; a warning says
+ * when that rounds a value). The "face" element gives polygons
+ * (vertex_indices or vertex_index) and face colours. Other elements (edges,
+ * materials), vertex list properties and other face properties are read
+ * past, not kept.
+ *
+ * Not Draco's PlyReader (1.5.5): it refuses big endian, copies past the end
+ * of a truncated binary file (no bounds check), and parses ASCII values as
+ * float or int32 (doubles rounded, uint32 above 2^31 refused), without line
+ * numbers for errors.
+ *
+ * Writer: binary_little_endian 1.0, what Blender and MeshLab read: x y z as
+ * float, or double when a coordinate is not a float (so PLY to PLY keeps
+ * positions exactly), nx ny nz float, colours red green blue alpha, uchar
+ * when the source had bytes (else float), s t float, every attribute as properties of its type,
+ * faces as "list uchar int vertex_indices" (uint when needed), face colours.
+ */
+#include "ply.h"
+#include "text.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ------------------------------------------------------------------ property types */
+
+enum { PLY_INT8, PLY_UINT8, PLY_INT16, PLY_UINT16, PLY_INT32, PLY_UINT32, PLY_FLOAT32, PLY_FLOAT64, PLY_TYPES };
+
+static const struct {
+	const char* name;  /* as the PLY paper names it */
+	const char* sized; /* the other spelling */
+	size_t size;
+	int gltf; /* vn_io_attribute component type */
+	double min, max;
+} types[PLY_TYPES] = {
+    {"char", "int8", 1, 5120, -128.0, 127.0},
+    {"uchar", "uint8", 1, 5121, 0.0, 255.0},
+    {"short", "int16", 2, 5122, -32768.0, 32767.0},
+    {"ushort", "uint16", 2, 5123, 0.0, 65535.0},
+    {"int", "int32", 4, 5124, -2147483648.0, 2147483647.0},
+    {"uint", "uint32", 4, 5125, 0.0, 4294967295.0},
+    {"float", "float32", 4, 5126, -HUGE_VAL, HUGE_VAL},
+    {"double", "float64", 8, 5126, -HUGE_VAL, HUGE_VAL},
+};
+
+static int is_real(int type)
+{
+	return type == PLY_FLOAT32 || type == PLY_FLOAT64;
+}
+
+/* A value in host byte order as a double (exact for every type). */
+static double get_value(int type, const unsigned char* p)
+{
+	switch (type) {
+	case PLY_INT8: { int8_t v; memcpy(&v, p, 1); return v; }
+	case PLY_UINT8: return *p;
+	case PLY_INT16: { int16_t v; memcpy(&v, p, 2); return v; }
+	case PLY_UINT16: { uint16_t v; memcpy(&v, p, 2); return v; }
+	case PLY_INT32: { int32_t v; memcpy(&v, p, 4); return v; }
+	case PLY_UINT32: { uint32_t v; memcpy(&v, p, 4); return v; }
+	case PLY_FLOAT32: { float v; memcpy(&v, p, 4); return v; }
+	default: { double v; memcpy(&v, p, 8); return v; }
+	}
+}
+
+/* v, in range for type (integral for integers), in host byte order. */
+static void put_value(int type, double v, unsigned char* p)
+{
+	switch (type) {
+	case PLY_INT8: { int8_t x = (int8_t)v; memcpy(p, &x, 1); break; }
+	case PLY_UINT8: *p = (unsigned char)v; break;
+	case PLY_INT16: { int16_t x = (int16_t)v; memcpy(p, &x, 2); break; }
+	case PLY_UINT16: { uint16_t x = (uint16_t)v; memcpy(p, &x, 2); break; }
+	case PLY_INT32: { int32_t x = (int32_t)v; memcpy(p, &x, 4); break; }
+	case PLY_UINT32: { uint32_t x = (uint32_t)v; memcpy(p, &x, 4); break; }
+	case PLY_FLOAT32: { float x = (float)v; memcpy(p, &x, 4); break; }
+	default: memcpy(p, &v, 8); break;
+	}
+}
+
+static int host_is_little_endian(void)
+{
+	const uint16_t one = 1;
+	unsigned char first;
+	memcpy(&first, &one, 1);
+	return first == 1;
+}
+
+static void reverse(unsigned char* p, size_t n)
+{
+	for (size_t i = 0; i < n / 2; i++) {
+		unsigned char t = p[i];
+		p[i] = p[n - 1 - i];
+		p[n - 1 - i] = t;
+	}
+}
+
+/* ------------------------------------------------------------------ reader state */
+
+typedef struct ply_property {
+	char name[64];
+	int type;              /* of the values */
+	int count_type;        /* of a list's length; -1: not a list */
+	unsigned char* column; /* kept scalars: the element's values in host byte order; else NULL */
+} ply_property;
+
+typedef struct ply_element {
+	char name[64];
+	uint64_t count;
+	ply_property* properties;
+	size_t property_count;
+} ply_element;
+
+enum { PLY_ASCII, PLY_LITTLE, PLY_BIG };
+
+typedef struct ply_reader {
+	const char* name;
+	vn_io_error* error;
+	const unsigned char* begin;
+	const unsigned char* p;
+	const unsigned char* end;
+	size_t line; /* of p, in the header and in ASCII data */
+	unsigned char newline; /* what ends a line: '\n' ("\r\n" too), or '\r' in old Mac files */
+	int format;  /* PLY_ASCII, PLY_LITTLE or PLY_BIG */
+	int swap;    /* binary data in the other byte order than the host's */
+	int in_data; /* messages name a byte offset for binary data */
+
+	ply_element* elements;
+	size_t element_count;
+	ply_element* vertex;
+	ply_element* face;
+	ply_property* indices; /* the face element's vertex_indices list */
+	size_t index_capacity;
+
+	char* warnings;
+} ply_reader;
+
+typedef struct token {
+	const unsigned char* p;
+	size_t n;
+} token;
+
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 4)))
+#endif
+static vn_io_result fail(ply_reader* r, vn_io_result result, const char* fmt, ...)
+{
+	const int byte = r->in_data && r->format != PLY_ASCII;
+	va_list args;
+	va_start(args, fmt);
+	vn_io_fail_at(r->error, result, r->name, byte, byte ? (size_t)(r->p - r->begin) : r->line, fmt, args);
+	va_end(args);
+	return result;
+}
+
+static vn_io_result out_of_memory(ply_reader* r)
+{
+	return vn_io_fail(r->error, vn_io_error_memory, "%s: out of memory", r->name);
+}
+
+static int token_is(token t, const char* word)
+{
+	return t.n == strlen(word) && memcmp(t.p, word, t.n) == 0;
+}
+
+static vn_io_quoted quote(token t)
+{
+	return vn_io_quote(t.p, t.n);
+}
+
+/* Appends one line to the mesh's warnings; 0 when out of memory. */
+static int warn(ply_reader* r, const char* text)
+{
+	const size_t used = r->warnings ? strlen(r->warnings) : 0, n = strlen(text);
+	char* grown = realloc(r->warnings, used + n + 2);
+	if (!grown)
+		return 0;
+	r->warnings = grown;
+	snprintf(grown + used, n + 2, "%s%s", used ? "\n" : "", text);
+	return 1;
+}
+
+/* ------------------------------------------------------------------ header */
+
+/* Blanks within a line; '\r' too, before the '\n' of "\r\n". */
+static int is_space(unsigned char c)
+{
+	return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+/* The next header line's first words (at most 6; *count is how many the
+ * line has); 0 at the end of the input. r->line is that line's number. */
+static int header_line(ply_reader* r, token words[6], size_t* count)
+{
+	if (r->p >= r->end)
+		return 0;
+	r->line++;
+	const unsigned char* stop = memchr(r->p, r->newline, (size_t)(r->end - r->p));
+	const unsigned char* line_end = stop ? stop : r->end;
+	*count = 0;
+	for (const unsigned char* q = r->p; q < line_end;) {
+		while (q < line_end && is_space(*q))
+			q++;
+		if (q == line_end)
+			break;
+		const unsigned char* w = q;
+		while (q < line_end && !is_space(*q))
+			q++;
+		if (*count < 6)
+			words[*count] = (token){w, (size_t)(q - w)};
+		++*count;
+	}
+	r->p = stop ? stop + 1 : r->end;
+	return 1;
+}
+
+static int parse_type(token t)
+{
+	for (int i = 0; i < PLY_TYPES; i++)
+		if (token_is(t, types[i].name) || token_is(t, types[i].sized))
+			return i;
+	return -1;
+}
+
+static int parse_count(token t, uint64_t* out)
+{
+	uint64_t v = 0;
+	if (t.n == 0)
+		return 0;
+	for (size_t i = 0; i < t.n; i++) {
+		const unsigned digit = (unsigned)t.p[i] - '0';
+		if (digit > 9)
+			return 0;
+		v = v > (UINT64_MAX - digit) / 10 ? UINT64_MAX : v * 10 + digit;
+	}
+	*out = v;
+	return 1;
+}
+
+static void copy_name(char name[64], token t)
+{
+	const size_t n = t.n < 63 ? t.n : 63;
+	memcpy(name, t.p, n);
+	name[n] = '\0';
+}
+
+static vn_io_result add_property(ply_reader* r, token* w, size_t count)
+{
+	if (!r->element_count)
+		return fail(r, vn_io_error_parse, "a property line before the first element line");
+	ply_element* e = &r->elements[r->element_count - 1];
+	const int list = count >= 2 && token_is(w[1], "list");
+	if (count != (list ? 5u : 3u))
+		return fail(r, vn_io_error_parse, "expected 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME'");
+	const int type = parse_type(w[list ? 3 : 1]);
+	const int count_type = list ? parse_type(w[2]) : -1;
+	if (type < 0)
+		return fail(r, vn_io_error_parse, "unknown property type '%s'", quote(w[list ? 3 : 1]).text);
+	if (list && (count_type < 0 || is_real(count_type)))
+		return fail(r, vn_io_error_parse, "'%s' is not an integer type for a list's length", quote(w[2]).text);
+	ply_property* grown = realloc(e->properties, (e->property_count + 1) * sizeof *grown);
+	if (!grown)
+		return out_of_memory(r);
+	e->properties = grown;
+	ply_property* p = &grown[e->property_count++];
+	memset(p, 0, sizeof *p);
+	copy_name(p->name, w[list ? 4 : 2]);
+	p->type = type;
+	p->count_type = count_type;
+	return vn_io_success;
+}
+
+static vn_io_result add_element(ply_reader* r, token* w, size_t count)
+{
+	uint64_t n;
+	if (count != 3)
+		return fail(r, vn_io_error_parse, "expected 'element NAME COUNT'");
+	if (!parse_count(w[2], &n))
+		return fail(r, vn_io_error_parse, "the count of element '%s' is '%s', not a non-negative integer",
+		            quote(w[1]).text, quote(w[2]).text);
+	ply_element* grown = realloc(r->elements, (r->element_count + 1) * sizeof *grown);
+	if (!grown)
+		return out_of_memory(r);
+	r->elements = grown;
+	ply_element* e = &grown[r->element_count++];
+	memset(e, 0, sizeof *e);
+	copy_name(e->name, w[1]);
+	e->count = n;
+	return vn_io_success;
+}
+
+static vn_io_result read_header(ply_reader* r)
+{
+	token w[6];
+	size_t count;
+	const unsigned char* first = r->p;
+	while (first < r->end && *first != '\n' && *first != '\r')
+		first++;
+	r->newline = first + 1 < r->end && first[0] == '\r' && first[1] != '\n' ? '\r' : '\n';
+	if (!header_line(r, w, &count) || count != 1 || !token_is(w[0], "ply"))
+		return vn_io_fail(r->error, vn_io_error_parse, "%s: not a PLY file: it does not start with a 'ply' line",
+		                  r->name);
+	int format = -1;
+	while (header_line(r, w, &count)) {
+		vn_io_result result = vn_io_success;
+		if (count == 0 || token_is(w[0], "comment") || token_is(w[0], "obj_info"))
+			continue;
+		if (token_is(w[0], "end_header")) {
+			if (format < 0)
+				return fail(r, vn_io_error_parse, "end_header before a format line");
+			r->format = format;
+			r->swap = format != PLY_ASCII && (format == PLY_LITTLE) != host_is_little_endian();
+			r->line++; /* the data's first line */
+			r->in_data = 1;
+			return vn_io_success;
+		}
+		if (token_is(w[0], "format")) {
+			static const char* const names[3] = {"ascii", "binary_little_endian", "binary_big_endian"};
+			for (int i = 0; i < 3 && count == 3; i++)
+				if (token_is(w[1], names[i]))
+					format = i;
+			if (count != 3 || format < 0)
+				return fail(r, vn_io_error_parse,
+				            "expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
+			if (!token_is(w[2], "1.0"))
+				return fail(r, vn_io_error_unsupported, "PLY version '%s' is not supported: vn reads 1.0",
+				            quote(w[2]).text);
+		} else if (token_is(w[0], "element")) {
+			result = add_element(r, w, count);
+		} else if (token_is(w[0], "property")) {
+			result = add_property(r, w, count);
+		} else {
+			result = fail(r, vn_io_error_parse,
+			              "unexpected '%s' in the header: lines are format, comment, obj_info, element, property "
+			              "or end_header",
+			              quote(w[0]).text);
+		}
+		if (result != vn_io_success)
+			return result;
+	}
+	return fail(r, vn_io_error_parse, "the file ends in the header, before end_header");
+}
+
+/* ------------------------------------------------------------------ data */
+
+/* Where a value is, for messages. */
+typedef struct place {
+	const ply_element* element;
+	size_t entry;
+	const ply_property* property;
+} place;
+
+static const char* type_name(int type)
+{
+	return types[type].name;
+}
+
+/* The next ASCII token, counting lines; empty at the end. */
+static token next_token(ply_reader* r)
+{
+	while (r->p < r->end && (is_space(*r->p) || *r->p == '\n'))
+		r->line += *r->p++ == r->newline;
+	token t = {r->p, 0};
+	while (r->p < r->end && !is_space(*r->p) && *r->p != '\n')
+		r->p++;
+	t.n = (size_t)(r->p - t.p);
+	return t;
+}
+
+/* One value of `type` into out (host byte order). */
+static vn_io_result read_value(ply_reader* r, int type, const place* at, unsigned char* out)
+{
+	const size_t size = types[type].size;
+	if (r->format != PLY_ASCII) {
+		if ((size_t)(r->end - r->p) < size)
+			return fail(r, vn_io_error_parse, "the file ends in %s %zu of %llu (property '%s')", at->element->name,
+			            at->entry, (unsigned long long)at->element->count, at->property->name);
+		memcpy(out, r->p, size);
+		if (r->swap)
+			reverse(out, size);
+		r->p += size;
+		return vn_io_success;
+	}
+	token t = next_token(r);
+	double v;
+	if (t.n == 0)
+		return fail(r, vn_io_error_parse, "the file ends in %s %zu of %llu (property '%s')", at->element->name,
+		            at->entry, (unsigned long long)at->element->count, at->property->name);
+	if (!vn_io_parse_real(t.p, t.n, &v))
+		return fail(r, vn_io_error_parse, "%s %zu, property '%s': '%s' is not a number", at->element->name, at->entry,
+		            at->property->name, quote(t).text);
+	if (!is_real(type) && !(v >= types[type].min && v <= types[type].max && v == floor(v)))
+		return fail(r, vn_io_error_parse, "%s %zu, property '%s': '%s' is not a %s (%.0f to %.0f)", at->element->name,
+		            at->entry, at->property->name, quote(t).text, type_name(type), types[type].min, types[type].max);
+	put_value(type, v, out);
+	return vn_io_success;
+}
+
+static vn_io_result reserve_indices(ply_reader* r, vn_io_mesh* m, size_t used, uint64_t corners, size_t face)
+{
+	if (corners > UINT32_MAX - used)
+		return fail(r, vn_io_error_unsupported, "face %zu brings the corner count past 4294967295, the 32-bit limit",
+		            face);
+	const size_t needed = used + (size_t)corners;
+	if (needed <= r->index_capacity)
+		return vn_io_success;
+	size_t capacity = r->index_capacity > UINT32_MAX / 2 ? UINT32_MAX : 2 * r->index_capacity;
+	if (capacity < needed)
+		capacity = needed;
+	uint32_t* grown = realloc(m->indices, capacity * sizeof *grown);
+	if (!grown)
+		return out_of_memory(r);
+	m->indices = grown;
+	r->index_capacity = capacity;
+	return vn_io_success;
+}
+
+/* A list property of entry i: its length, then its values (kept when it is
+ * the face's vertex_indices). */
+static vn_io_result read_list(ply_reader* r, vn_io_mesh* m, const place* at)
+{
+	const ply_property* p = at->property;
+	unsigned char v[8];
+	vn_io_result result = read_value(r, p->count_type, at, v);
+	if (result != vn_io_success)
+		return result;
+	const double length = get_value(p->count_type, v);
+	if (length < 0)
+		return fail(r, vn_io_error_parse, "%s %zu, list '%s' has length %.0f", at->element->name, at->entry, p->name,
+		            length);
+	/* Checked before anything is reserved: the length alone must not allocate. */
+	const size_t least = r->format == PLY_ASCII ? 2 : types[p->type].size;
+	if (length > (double)((size_t)(r->end - r->p) + 1) / (double)least)
+		return fail(r, vn_io_error_parse, "%s %zu, list '%s' has %.0f values, more than the rest of the file holds",
+		            at->element->name, at->entry, p->name, length);
+	const int kept = p == r->indices;
+	const size_t used = kept ? m->face_offsets[at->entry] : 0;
+	if (kept && length == 0)
+		return fail(r, vn_io_error_parse, "face %zu has no corners", at->entry);
+	if (kept && (result = reserve_indices(r, m, used, (uint64_t)length, at->entry)) != vn_io_success)
+		return result;
+	for (size_t k = 0; k < (size_t)length; k++) {
+		if ((result = read_value(r, p->type, at, v)) != vn_io_success)
+			return result;
+		if (!kept)
+			continue;
+		const double index = get_value(p->type, v);
+		if (!(index >= 0 && index < (double)r->vertex->count && index == floor(index)))
+			return fail(r, vn_io_error_parse, "face %zu has index %.17g, but the file has %llu vertices", at->entry,
+			            index, (unsigned long long)r->vertex->count);
+		m->indices[used + k] = (uint32_t)index;
+	}
+	if (kept)
+		m->face_offsets[at->entry + 1] = (uint32_t)(used + (size_t)length);
+	return vn_io_success;
+}
+
+static vn_io_result read_element(ply_reader* r, vn_io_mesh* m, ply_element* e)
+{
+	place at = {e, 0, NULL};
+	unsigned char scratch[8];
+	if (e->property_count == 0)
+		return vn_io_success;
+	for (at.entry = 0; at.entry < e->count; at.entry++)
+		for (size_t k = 0; k < e->property_count; k++) {
+			ply_property* p = &e->properties[k];
+			at.property = p;
+			vn_io_result result =
+			    p->count_type >= 0
+			        ? read_list(r, m, &at)
+			        : read_value(r, p->type, &at, p->column ? p->column + at.entry * types[p->type].size : scratch);
+			if (result != vn_io_success)
+				return result;
+		}
+	return vn_io_success;
+}
+
+static ply_property* find(ply_element* e, const char* name)
+{
+	for (size_t k = 0; e && k < e->property_count; k++)
+		if (!strcmp(e->properties[k].name, name))
+			return &e->properties[k];
+	return NULL;
+}
+
+static ply_property* find_scalar(ply_element* e, const char* name)
+{
+	ply_property* p = find(e, name);
+	return p && p->count_type < 0 ? p : NULL;
+}
+
+/* Checks the counts against the bytes that follow (so that no count alone
+ * allocates much), finds the vertex and face elements and their columns. */
+static vn_io_result prepare(ply_reader* r, vn_io_mesh* m)
+{
+	/* An ASCII value takes at least a character and a separator (the last
+	 * one's may be missing), a binary one its size; a list its length. */
+	uint64_t available = (uint64_t)(r->end - r->p) + (r->format == PLY_ASCII);
+	for (size_t i = 0; i < r->element_count; i++) {
+		ply_element* e = &r->elements[i];
+		uint64_t least = 0;
+		for (size_t k = 0; k < e->property_count; k++) {
+			const ply_property* p = &e->properties[k];
+			least += r->format == PLY_ASCII ? 2 : types[p->count_type >= 0 ? p->count_type : p->type].size;
+		}
+		if (least && e->count > available / least)
+			return fail(r, vn_io_error_parse,
+			            "element '%s' announces %llu entries, more than the %zu bytes after the header can hold",
+			            e->name, (unsigned long long)e->count, (size_t)(r->end - r->p));
+		available -= least * e->count;
+		if (!r->vertex && !strcmp(e->name, "vertex"))
+			r->vertex = e;
+		if (!r->face && !strcmp(e->name, "face"))
+			r->face = e;
+	}
+	if (!r->vertex)
+		return vn_io_fail(r->error, vn_io_error_parse, "%s: has no vertex element", r->name);
+	static const char* const xyz[3] = {"x", "y", "z"};
+	for (int k = 0; k < 3; k++)
+		if (!find_scalar(r->vertex, xyz[k]))
+			return vn_io_fail(r->error, vn_io_error_parse, "%s: the vertex element has no '%s' property", r->name,
+			                  xyz[k]);
+	if (!r->face || r->face->count == 0)
+		return vn_io_fail(r->error, vn_io_error_unsupported,
+		                  "%s: has %llu vertices and no faces: a mesh is needed",
+		                  r->name, (unsigned long long)r->vertex->count);
+	r->indices = find(r->face, "vertex_indices");
+	if (!r->indices)
+		r->indices = find(r->face, "vertex_index");
+	if (!r->indices || r->indices->count_type < 0)
+		return vn_io_fail(r->error, vn_io_error_parse,
+		                  "%s: the face element has no vertex_indices (or vertex_index) list", r->name);
+	if (r->vertex->count > UINT32_MAX || r->face->count > UINT32_MAX)
+		return vn_io_fail(r->error, vn_io_error_unsupported, "%s: %llu vertices and %llu faces: vn reads up to %u",
+		                  r->name, (unsigned long long)r->vertex->count, (unsigned long long)r->face->count,
+		                  UINT32_MAX);
+
+	const size_t vertices = (size_t)r->vertex->count, faces = (size_t)r->face->count;
+	for (size_t k = 0; k < r->vertex->property_count; k++) {
+		ply_property* p = &r->vertex->properties[k];
+		if (p->count_type < 0 && !(p->column = malloc(vertices * types[p->type].size + 1)))
+			return out_of_memory(r);
+	}
+	static const char* const rgba[4] = {"red", "green", "blue", "alpha"};
+	for (int k = 0; k < 4; k++) {
+		ply_property* p = find_scalar(r->face, rgba[k]);
+		if (p && !(p->column = malloc(faces * types[p->type].size + 1)))
+			return out_of_memory(r);
+	}
+	m->face_offsets = malloc((faces + 1) * sizeof *m->face_offsets);
+	/* Most meshes are triangles; the list values need at least this many bytes. */
+	const size_t least = r->format == PLY_ASCII ? 2 : types[r->indices->type].size;
+	const size_t bound = (size_t)(r->end - r->p) / least + 1;
+	r->index_capacity = faces < bound / 3 ? 3 * faces : bound;
+	m->indices = malloc(r->index_capacity * sizeof *m->indices);
+	if (!m->face_offsets || !m->indices)
+		return out_of_memory(r);
+	m->face_offsets[0] = 0;
+	return vn_io_success;
+}
+
+/* ------------------------------------------------------------------ the mesh from the columns */
+
+static double value_at(const ply_property* p, size_t i)
+{
+	return get_value(p->type, p->column + i * types[p->type].size);
+}
+
+/* Colours of `count` entries: 1 when red, green, blue (and alpha when
+ * given) are all uchar, 2 when they are all float or double in [0, 1], 0
+ * otherwise (they are then not colours). */
+static int colour_kind(ply_property* const c[4], size_t count)
+{
+	const size_t n = c[3] ? 4 : 3;
+	int bytes = 1, reals = 1;
+	for (size_t k = 0; k < n; k++) {
+		bytes &= c[k]->type == PLY_UINT8;
+		reals &= is_real(c[k]->type);
+	}
+	for (size_t k = 0; k < n && reals; k++)
+		for (size_t i = 0; i < count && reals; i++) {
+			const double v = value_at(c[k], i);
+			reals = v >= 0.0 && v <= 1.0;
+		}
+	return bytes ? 1 : reals ? 2 : 0;
+}
+
+/* red green blue [alpha] of `element` into *out (RGBA per entry) when they
+ * are colours; the properties used are marked in `used` (NULL: not marked). */
+static vn_io_result read_colours(ply_reader* r, ply_element* e, float** out, int* are_bytes, unsigned char* used)
+{
+	ply_property* c[4] = {find_scalar(e, "red"), find_scalar(e, "green"), find_scalar(e, "blue"),
+	                      find_scalar(e, "alpha")};
+	if (!c[0] || !c[1] || !c[2])
+		return vn_io_success;
+	/* An alpha of another kind than the rest is left as it is. */
+	int kind = colour_kind(c, (size_t)e->count);
+	if (c[3] && !kind) {
+		c[3] = NULL;
+		kind = colour_kind(c, (size_t)e->count);
+	}
+	if (!kind)
+		return vn_io_success;
+	const size_t count = (size_t)e->count;
+	if (!(*out = malloc(4 * sizeof(float) * count + 1)))
+		return out_of_memory(r);
+	for (size_t i = 0; i < count; i++)
+		for (int k = 0; k < 4; k++)
+			(*out)[4 * i + k] = !c[k] ? 1.0f : (float)(kind == 1 ? value_at(c[k], i) / 255.0 : value_at(c[k], i));
+	*are_bytes = kind == 1;
+	for (int k = 0; k < 4 && used; k++)
+		if (c[k])
+			used[c[k] - e->properties] = 1;
+	return vn_io_success;
+}
+
+/* "_" and the property's name in upper case, other characters than letters
+ * and digits as '_', unique among the mesh's attributes. */
+static void attribute_name(const vn_io_mesh* m, const ply_property* p, size_t index, char name[64])
+{
+	size_t n = 0;
+	name[n++] = '_';
+	for (const char* s = p->name; *s && n < 63; s++) {
+		const unsigned char c = (unsigned char)*s;
+		name[n++] = c >= 'a' && c <= 'z' ? (char)(c - 'a' + 'A') : (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ? (char)c : '_';
+	}
+	name[n] = '\0';
+	for (size_t a = 0; a < m->attribute_count; a++)
+		if (!strcmp(m->attributes[a].name, name)) {
+			char suffix[24];
+			const size_t k = (size_t)snprintf(suffix, sizeof suffix, "_%zu", index);
+			memcpy(name + (n + k > 63 ? 63 - k : n), suffix, k + 1);
+			return;
+		}
+}
+
+static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
+{
+	ply_element* v = r->vertex;
+	const size_t n = (size_t)v->count;
+	unsigned char* used = calloc(v->property_count + 1, 1);
+	if (!used)
+		return out_of_memory(r);
+	vn_io_result result = vn_io_success;
+	m->vertex_count = n;
+	m->face_count = (size_t)r->face->count;
+
+	/* Positions and normals: three properties each into doubles. */
+	static const char* const names[2][3] = {{"x", "y", "z"}, {"nx", "ny", "nz"}};
+	for (int group = 0; group < 2 && result == vn_io_success; group++) {
+		ply_property* p[3] = {find_scalar(v, names[group][0]), find_scalar(v, names[group][1]),
+		                      find_scalar(v, names[group][2])};
+		if (!p[0] || !p[1] || !p[2])
+			continue;
+		double* values = malloc(3 * sizeof(double) * n + 1);
+		if (!values) {
+			result = out_of_memory(r);
+			break;
+		}
+		for (size_t i = 0; i < n; i++)
+			for (int k = 0; k < 3; k++)
+				values[3 * i + k] = value_at(p[k], i);
+		*(group ? &m->normals : &m->positions) = values;
+		for (int k = 0; k < 3; k++)
+			used[p[k] - v->properties] = 1;
+	}
+	if (result == vn_io_success)
+		result = read_colours(r, v, &m->colors, &m->colors_are_bytes, used);
+	static const char* const pairs[4][2] = {{"s", "t"}, {"u", "v"}, {"texture_u", "texture_v"}, {"texture_s", "texture_t"}};
+	for (int k = 0; k < 4 && result == vn_io_success && !m->texcoords; k++) {
+		ply_property* s = find_scalar(v, pairs[k][0]);
+		ply_property* t = find_scalar(v, pairs[k][1]);
+		if (!s || !t || !is_real(s->type) || !is_real(t->type))
+			continue;
+		if (!(m->texcoords = malloc(2 * sizeof(float) * n + 1))) {
+			result = out_of_memory(r);
+			break;
+		}
+		for (size_t i = 0; i < n; i++) {
+			m->texcoords[2 * i] = (float)value_at(s, i);
+			m->texcoords[2 * i + 1] = (float)value_at(t, i);
+		}
+		used[s - v->properties] = used[t - v->properties] = 1;
+	}
+	/* Every other scalar vertex property as an attribute of its type. */
+	for (size_t k = 0; k < v->property_count && result == vn_io_success; k++) {
+		const ply_property* p = &v->properties[k];
+		if (used[k] || p->count_type >= 0)
+			continue;
+		char name[64];
+		attribute_name(m, p, k, name);
+		vn_io_attribute* a = vn_io_mesh_add_attribute(m, name, vn_io_semantic_generic, types[p->type].gltf, 1, 0);
+		if (!a) {
+			result = out_of_memory(r);
+			break;
+		}
+		if (p->type != PLY_FLOAT64) {
+			memcpy(a->data, p->column, n * types[p->type].size);
+			continue;
+		}
+		size_t rounded = 0;
+		for (size_t i = 0; i < n; i++) {
+			const double x = value_at(p, i);
+			const float f = (float)x;
+			rounded += (double)f != x && x == x;
+			((float*)a->data)[i] = f;
+		}
+		char text[160];
+		snprintf(text, sizeof text, "vertex property '%s' is double, kept as float: %zu of its %zu values rounded",
+		         p->name, rounded, n);
+		if (rounded && !warn(r, text))
+			result = out_of_memory(r);
+	}
+	free(used);
+	if (result == vn_io_success)
+		result = read_colours(r, r->face, &m->face_colors, &m->face_colors_are_bytes, NULL);
+	return result;
+}
+
+/* ------------------------------------------------------------------ entry points */
+
+static vn_io_result read_ply(ply_reader* r, vn_io_mesh* m)
+{
+	vn_io_result result = read_header(r);
+	if (result == vn_io_success)
+		result = prepare(r, m);
+	for (size_t i = 0; i < r->element_count && result == vn_io_success; i++)
+		result = read_element(r, m, &r->elements[i]);
+	if (result != vn_io_success)
+		return result;
+	if (r->format == PLY_ASCII)
+		next_token(r); /* up to the next token, if any */
+	if (r->p < r->end) {
+		char text[96];
+		snprintf(text, sizeof text, "%zu bytes after the last element, not read", (size_t)(r->end - r->p));
+		if (!warn(r, text))
+			return out_of_memory(r);
+	}
+	return to_mesh(r, m);
+}
+
+vn_io_result vn_io_ply_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
+                                   vn_io_error* error)
+{
+	memset(mesh, 0, sizeof *mesh);
+	ply_reader r;
+	memset(&r, 0, sizeof r);
+	r.name = name;
+	r.error = error;
+	r.begin = (const unsigned char*)(data ? data : "");
+	r.p = r.begin;
+	r.end = r.begin + (data ? size : 0);
+	vn_io_c_locale locale;
+	if (!vn_io_c_locale_enter(&locale))
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+	vn_io_result result = read_ply(&r, mesh);
+	vn_io_c_locale_leave(&locale);
+	for (size_t i = 0; i < r.element_count; i++) {
+		for (size_t k = 0; k < r.elements[i].property_count; k++)
+			free(r.elements[i].properties[k].column);
+		free(r.elements[i].properties);
+	}
+	free(r.elements);
+	mesh->warnings = r.warnings;
+	if (result != vn_io_success)
+		vn_io_mesh_free(mesh);
+	return result;
+}
+
+vn_io_result vn_io_ply_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)
+{
+	return vn_io_read_with(path, vn_io_ply_read_memory, mesh, error);
+}
+
+/* ------------------------------------------------------------------ writer */
+
+/* A record being built: values in little-endian order. */
+typedef struct record {
+	unsigned char* bytes;
+	size_t used;
+} record;
+
+/* size bytes of one value in host byte order, as they are (a float NaN
+ * keeps its payload, which a trip through double would change). */
+static void put_bytes(record* b, const unsigned char* value, size_t size)
+{
+	unsigned char* p = b->bytes + b->used;
+	memcpy(p, value, size);
+	if (!host_is_little_endian())
+		reverse(p, size);
+	b->used += size;
+}
+
+static void put(record* b, int type, double v)
+{
+	unsigned char value[8];
+	put_value(type, v, value);
+	put_bytes(b, value, types[type].size);
+}
+
+static int colour_byte(float c)
+{
+	return !(c > 0.0f) ? 0 : c >= 1.0f ? 255 : (int)(c * 255.0f + 0.5f);
+}
+
+/* Always RGBA, as OFF: vn_io_mesh does not tell whether the source had
+ * alpha, and readers take an opaque alpha as well as none. */
+static void put_colour(record* b, const float* rgba, int bytes)
+{
+	for (int k = 0; k < 4; k++)
+		put(b, bytes ? PLY_UINT8 : PLY_FLOAT32, bytes ? colour_byte(rgba[k]) : rgba[k]);
+}
+
+static void header_colour(FILE* out, int bytes)
+{
+	static const char* const names[4] = {"red", "green", "blue", "alpha"};
+	for (int k = 0; k < 4; k++)
+		fprintf(out, "property %s %s\n", bytes ? "uchar" : "float", names[k]);
+}
+
+/* The PLY type of a vn_io_attribute component type (int32 included). */
+static int ply_type_of(int component_type)
+{
+	for (int t = 0; t < PLY_FLOAT64; t++)
+		if (types[t].gltf == component_type)
+			return t;
+	return -1;
+}
+
+/* Names a reader gives a meaning; an attribute is not written under one. */
+static int reserved(const char* name)
+{
+	static const char* const names[] = {"x",     "y",     "z",         "nx",        "ny",        "nz",
+	                                    "red",   "green", "blue",      "alpha",     "s",         "t",
+	                                    "u",     "v",     "texture_u", "texture_v", "texture_s", "texture_t"};
+	for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+		if (!strcmp(name, names[i]))
+			return 1;
+	return 0;
+}
+
+/* Attribute a's property name for component c: its name in lower case
+ * without the leading '_' ("_CONFIDENCE" is "confidence"), "_c" after it for
+ * more than one component, and "_<a>" after that if the name is taken. */
+static void property_name(const vn_io_mesh* m, size_t a, int c, char* name, size_t size)
+{
+	const vn_io_attribute* at = &m->attributes[a];
+	const char* s = at->name[0] == '_' && at->name[1] ? at->name + 1 : at->name;
+	size_t n = 0;
+	for (; *s && n + 1 < size; s++)
+		name[n++] = *s >= 'A' && *s <= 'Z' ? (char)(*s - 'A' + 'a') : *s;
+	name[n] = '\0';
+	if (at->components > 1)
+		snprintf(name + n, size - n, "_%d", c);
+	int taken = reserved(name);
+	for (size_t b = 0; b < a && !taken; b++)
+		for (int k = 0; k < m->attributes[b].components && !taken; k++) {
+			char other[96];
+			property_name(m, b, k, other, sizeof other);
+			taken = !strcmp(other, name);
+		}
+	if (taken)
+		snprintf(name + strlen(name), size - strlen(name), "_%zu", a);
+}
+
+vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings,
+                             vn_io_error* error)
+{
+	(void)settings; /* PLY has none */
+	const size_t n = mesh->vertex_count;
+	int doubles = 0;
+	for (size_t i = 0; i < 3 * n && !doubles; i++)
+		doubles = (double)(float)mesh->positions[i] != mesh->positions[i];
+	uint32_t largest = 0;
+	for (size_t f = 0; f < mesh->face_count; f++)
+		if (mesh->face_offsets[f + 1] - mesh->face_offsets[f] > largest)
+			largest = mesh->face_offsets[f + 1] - mesh->face_offsets[f];
+	const int count_type = largest > 255 ? PLY_UINT32 : PLY_UINT8;
+	const int index_type = n > INT32_MAX ? PLY_UINT32 : PLY_INT32;
+
+	fprintf(out, "ply\nformat binary_little_endian 1.0\ncomment written by vn\nelement vertex %zu\n", n);
+	const char* position = doubles ? "double" : "float";
+	fprintf(out, "property %s x\nproperty %s y\nproperty %s z\n", position, position, position);
+	if (mesh->normals)
+		fprintf(out, "property float nx\nproperty float ny\nproperty float nz\n");
+	if (mesh->colors)
+		header_colour(out, mesh->colors_are_bytes);
+	if (mesh->texcoords)
+		fprintf(out, "property float s\nproperty float t\n");
+	size_t record_size = 3 * (doubles ? 8u : 4u) + (mesh->normals ? 12u : 0u) +
+	                     (mesh->colors ? (mesh->colors_are_bytes ? 4u : 16u) : 0u) +
+	                     (mesh->texcoords ? 8u : 0u);
+	for (size_t a = 0; a < mesh->attribute_count; a++) {
+		const vn_io_attribute* at = &mesh->attributes[a];
+		const int type = ply_type_of(at->component_type);
+		if (type < 0)
+			return vn_io_fail(error, vn_io_error_unsupported, "%s: attribute %s has component type %d, which PLY lacks",
+			                  path, at->name, at->component_type);
+		for (int c = 0; c < at->components; c++) {
+			char name[96];
+			property_name(mesh, a, c, name, sizeof name);
+			fprintf(out, "property %s %s\n", types[type].name, name);
+		}
+		record_size += types[type].size * (size_t)at->components;
+	}
+	fprintf(out, "element face %zu\nproperty list %s %s vertex_indices\n", mesh->face_count,
+	        types[count_type].name, types[index_type].name);
+	if (mesh->face_colors)
+		header_colour(out, mesh->face_colors_are_bytes);
+	fprintf(out, "end_header\n");
+
+	record b = {malloc(record_size + 32), 0};
+	if (!b.bytes)
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);
+	int failed = 0;
+	for (size_t i = 0; i < n && !failed; i++) {
+		b.used = 0;
+		for (int k = 0; k < 3; k++)
+			put(&b, doubles ? PLY_FLOAT64 : PLY_FLOAT32, mesh->positions[3 * i + k]);
+		for (int k = 0; k < 3 && mesh->normals; k++)
+			put(&b, PLY_FLOAT32, mesh->normals[3 * i + k]);
+		if (mesh->colors)
+			put_colour(&b, mesh->colors + 4 * i, mesh->colors_are_bytes);
+		for (int k = 0; k < 2 && mesh->texcoords; k++)
+			put(&b, PLY_FLOAT32, mesh->texcoords[2 * i + k]);
+		for (size_t a = 0; a < mesh->attribute_count; a++) {
+			const vn_io_attribute* at = &mesh->attributes[a];
+			const int type = ply_type_of(at->component_type);
+			const size_t size = types[type].size;
+			for (size_t c = 0; c < (size_t)at->components; c++)
+				put_bytes(&b, (const unsigned char*)at->data + (i * (size_t)at->components + c) * size, size);
+		}
+		failed = fwrite(b.bytes, 1, b.used, out) != b.used;
+	}
+	free(b.bytes);
+	size_t face_record = 4 + (mesh->face_colors ? 16u : 0u);
+	b.bytes = malloc(face_record + (size_t)largest * 4);
+	if (!b.bytes)
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);
+	for (size_t f = 0; f < mesh->face_count && !failed; f++) {
+		b.used = 0;
+		const uint32_t begin = mesh->face_offsets[f], end = mesh->face_offsets[f + 1];
+		put(&b, count_type, end - begin);
+		for (uint32_t k = begin; k < end; k++)
+			put(&b, index_type, mesh->indices[k]);
+		if (mesh->face_colors)
+			put_colour(&b, mesh->face_colors + 4 * f, mesh->face_colors_are_bytes);
+		failed = fwrite(b.bytes, 1, b.used, out) != b.used;
+	}
+	free(b.bytes);
+	if (failed || ferror(out))
+		return vn_io_fail(error, vn_io_error_write, "%s: cannot write", path);
+	return vn_io_success;
+}

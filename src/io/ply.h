@@ -1,0 +1,20 @@
+/*
+ * PLY (Stanford polygon file format) reader and writer: internal to vnio.
+ * Programs reach them through the format table (vn_io_format_by_name("ply")).
+ */
+#ifndef VN_IO_PLY_H
+#define VN_IO_PLY_H
+
+#include "vn_io.h"
+
+/* The vn_io_format read and write entries for PLY. */
+vn_io_result vn_io_ply_read(const char* path, vn_io_mesh* mesh, vn_io_error* error);
+vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error);
+
+/* Parses size bytes of PLY (ASCII or binary; data need not be
+ * NUL-terminated) into *mesh, which is zeroed first and again on failure.
+ * `name` is the file name that error messages start with. */
+vn_io_result vn_io_ply_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
+                                   vn_io_error* error);
+
+#endif /* VN_IO_PLY_H */

@@ -1,0 +1,170 @@
+#!/usr/bin/env bash
+# PLY and STL in vnconvert, on files others made: Draco's test files
+# (tests/data/ply, tests/data/stl), the Stanford bunny and Blender 3.4's
+# exporters. Triangle counts against Draco's own readers, PLY to PLY keeping
+# every vertex property exactly, STL ASCII = binary, errors.
+#   test_ply_stl.sh PATH/TO/vnconvert
+set -u
+VNC=$1
+HERE=$(cd "$(dirname "$0")" && pwd)
+PLY=$HERE/data/ply
+STL=$HERE/data/stl
+PLYTOOL="/usr/bin/python3 $HERE/plytool.py"
+. "$HERE/lib.sh"
+
+# Triangles in a binary STL: (size - 84) / 50.
+stl_triangles() { echo $(( ($(stat -c %s "$1") - 84) / 50 )); }
+# Triangles Draco's reader sees: draco_encoder (sequential, keeps every
+# face), then the face count of draco_decoder's PLY. Draco 1.5.5 reads no
+# ASCII STL: its facets are counted.
+draco_triangles() {
+  if head -c 84 "$1" | grep -q "^solid" && [ $(( ($(stat -c %s "$1") - 84) % 50 )) -ne 0 ]; then
+    grep -ci "^ *endfacet" "$1"
+    return
+  fi
+  draco_encoder -i "$1" -o "$T/draco.drc" -cl 0 >/dev/null 2>&1 &&
+    draco_decoder -i "$T/draco.drc" -o "$T/draco.ply" >/dev/null 2>&1 &&
+    grep -a -m1 "^element face" "$T/draco.ply" | cut -d' ' -f3
+}
+
+zcat "$HERE/meshlab/data/bun_zipper.ply.gz" >"$T/bun_zipper.ply"
+MESHES="$PLY/cube_att.ply $PLY/cube_quads.ply $PLY/test_pos_color.ply $PLY/test_pos_color_ascii.ply
+  $PLY/test_extra_whitespace.ply $PLY/test_generic.ply $PLY/test_more_datatypes.ply $PLY/delim_test.ply
+  $PLY/blender_ascii.ply $PLY/blender_binary.ply $T/bun_zipper.ply"
+
+# ---- every mesh: as many triangles as Draco reads; PLY to PLY keeps every vertex property
+for f in $MESHES "$STL"/*.stl; do
+  n=$(basename "$f")
+  run "$VNC" "$f" "$T/out.stl" -q
+  check "$n to STL" [ $rc -eq 0 ]
+  check "$n: triangles as Draco reads them" [ "$(stl_triangles "$T/out.stl")" = "$(draco_triangles "$f")" ]
+done
+for f in $MESHES; do
+  n=$(basename "$f")
+  run "$VNC" "$f" "$T/out.ply" -q
+  check "$n to PLY" [ $rc -eq 0 ]
+  check "$n: PLY keeps every vertex property and face exactly" $PLYTOOL same "$f" "$T/out.ply"
+  check "$n: written as binary little endian" [ "$(sed -n 2p "$T/out.ply")" = "format binary_little_endian 1.0" ]
+done
+# The counts as the files declare them (quads stay quads), and the properties kept.
+run "$VNC" "$PLY/cube_quads.ply" "$T/quads.ply" -q
+check "cube_quads: 8 vertices, 6 faces, 12 triangles" [ "$($PLYTOOL count "$T/quads.ply")" = "8 6 12" ]
+run "$VNC" "$PLY/blender_binary.ply" "$T/blender.ply" -q
+check "Blender PLY: 556 vertices, 500 polygons" [ "$($PLYTOOL count "$T/blender.ply")" = "556 500 968" ]
+check "Blender PLY: normals, s t, byte colours with alpha" \
+  [ "$(grep -a '^property' "$T/blender.ply" | head -12 | tr '\n' ' ')" = "property float x property float y property float z property float nx property float ny property float nz property uchar red property uchar green property uchar blue property uchar alpha property float s property float t " ]
+run "$VNC" "$PLY/test_more_datatypes.ply" "$T/types.ply" -q
+check "uint8 alpha colour kept as uchar" grep -aq "^property uchar alpha" "$T/types.ply"
+
+# ---- the bunny: confidence and intensity survive PLY to PLY, glb and back
+run "$VNC" "$T/bun_zipper.ply" "$T/bun.glb"
+check "bunny to glb" [ $rc -eq 0 ]
+check "glb has _CONFIDENCE and _INTENSITY" [ "$(q "$T/bun.glb" "sorted(k for k in d['meshes'][0]['primitives'][0]['attributes'] if k[0] == '_')")" = "['_CONFIDENCE', '_INTENSITY']" ]
+check "_CONFIDENCE: 35947 floats" [ "$(q "$T/bun.glb" "(lambda a: (a['count'], a['componentType']))(d['accessors'][d['meshes'][0]['primitives'][0]['attributes']['_CONFIDENCE']])")" = "(35947, 5126)" ]
+run "$VNC" "$T/bun.glb" "$T/bun_back.ply" -q
+check "bunny PLY to glb to PLY: every property and face exactly" $PLYTOOL same "$T/bun_zipper.ply" "$T/bun_back.ply"
+check "confidence of vertex 0 is 0.850855 (as float)" [ "$($PLYTOOL column "$T/bun_back.ply" confidence 0)" = 0.8508549928665161 ]
+
+# ---- in place, as issue 17 asks
+cp "$T/bun_zipper.ply" "$T/scan.ply"
+run "$VNC" "$T/scan.ply" "$T/scan.ply" --method mwselr --in-place -q
+check "--in-place exits 0" [ $rc -eq 0 ]
+check "--in-place: normals added, the rest exact" $PLYTOOL same "$T/bun_zipper.ply" "$T/scan.ply"
+check "--in-place: has nx" grep -aq "^property float nx" "$T/scan.ply"
+run "$VNC" "$T/scan.ply" "$T/scan.ply" -q
+check "the same file without --in-place is refused" [ $rc -eq 2 ]
+
+# ---- big endian reads as little endian does
+$PLYTOOL big "$PLY/test_pos_color.ply" "$T/big.ply"
+run "$VNC" "$T/big.ply" "$T/big_out.ply" -q
+run "$VNC" "$PLY/test_pos_color.ply" "$T/little_out.ply" -q
+check "big endian PLY: same output as little endian" cmp -s "$T/big_out.ply" "$T/little_out.ply"
+
+# ---- double positions stay double; a double property is rounded to float, with a warning
+cat >"$T/double.ply" <<'PLYEOF'
+ply
+format ascii 1.0
+element vertex 3
+property double x
+property double y
+property double z
+property double quality
+element face 1
+property list uchar int vertex_indices
+end_header
+0.1 0 0 0.1
+0 1 0 1
+0 0 1 2
+3 0 1 2
+PLYEOF
+run "$VNC" "$T/double.ply" "$T/double_out.ply"
+check "double x stays double" grep -aq "^property double x" "$T/double_out.ply"
+check "x = 0.1 exactly" [ "$($PLYTOOL column "$T/double_out.ply" x 0)" = 0.1 ]
+check "warning: double property rounded" grep -q "double.ply: vertex property 'quality' is double, kept as float: 1 of its 3 values rounded" "$T/stderr"
+check "quality as float" grep -aq "^property float quality" "$T/double_out.ply"
+
+# ---- STL: ASCII and binary of the same sphere give the same mesh; welded; positions kept
+# The ASCII file has 6 decimals: the same faces, positions within 1e-6.
+run "$VNC" "$STL/test_sphere.stl" "$T/bin.off" -q
+run "$VNC" "$STL/test_sphere_ascii.stl" "$T/ascii.off" -q
+check "STL ASCII and binary: the same vertices and faces" /usr/bin/python3 - "$T/bin.off" "$T/ascii.off" <<'PYEOF'
+import sys, numpy as np
+(a, fa), (b, fb) = ((np.array([l.split()[:3] for l in t[2:116]], float), t[116:]) for t in (open(f).read().splitlines() for f in sys.argv[1:]))
+sys.exit(not (fa == fb and len(fa) == 224 and np.abs(a - b).max() <= 1e-6))
+PYEOF
+run "$VNC" "$STL/test_sphere.stl" "$T/bin.stl" -q
+run "$VNC" "$STL/test_sphere.stl" "$T/sphere.ply" -q
+check "sphere: corners welded into 114 vertices, 224 triangles" [ "$($PLYTOOL count "$T/sphere.ply")" = "114 224 224" ]
+check "STL to STL keeps every corner's position" /usr/bin/python3 - "$STL/test_sphere.stl" "$T/bin.stl" <<'PYEOF'
+import sys, numpy as np
+a, b = (np.frombuffer(open(f, "rb").read()[84:], np.dtype([("n", "<f4", 3), ("p", "<f4", 9), ("a", "<u2")])) for f in sys.argv[1:])
+sys.exit(not (np.array_equal(a["p"], b["p"]) and np.allclose(np.linalg.norm(b["n"], axis=1), 1, atol=1e-6)))
+PYEOF
+check "STL header does not start with solid" [ "$(head -c 5 "$T/bin.stl")" != solid ]
+run "$VNC" "$STL/blender_ascii.stl" "$T/b1.stl" -q
+run "$VNC" "$STL/blender_binary.stl" "$T/b2.stl" -q
+check "Blender STL ASCII and binary: same triangles" [ "$(stl_triangles "$T/b1.stl")" = 968 ] && check "Blender STL: 968 both" [ "$(stl_triangles "$T/b2.stl")" = 968 ]
+# A binary STL whose header starts with "solid" (as some exporters write) is binary by its size.
+{ printf 'solid but binary'; head -c 64 /dev/zero; tail -c +81 "$STL/test_sphere.stl"; } >"$T/solid_binary.stl"
+run "$VNC" "$T/solid_binary.stl" "$T/sb.stl" -q
+check "binary STL starting with 'solid' is read as binary" cmp -s "$T/sb.stl" "$T/bin.stl"
+run "$VNC" "$PLY/blender_binary.ply" "$T/lost.stl"
+check "PLY to STL warns that the vertex normals are not written" grep -q "cannot hold vertex normals, vertex colours, texture coordinates: not written" "$T/stderr"
+
+# ---- bad input: one line naming the file, no output
+for f in point_cloud_test_pos int_point_cloud float_inf_point_cloud; do
+  check_rejected "$VNC" "$PLY/$f.ply" "$T/none.ply" "$T/keep.ply"
+done
+run "$VNC" "$PLY/point_cloud_test_pos.ply" "$T/none.ply"
+check "point cloud: says so" grep -q "point_cloud_test_pos.ply: has 4 vertices and no faces: a mesh is needed" "$T/stderr"
+rejected_text() { printf "$2" >"$T/$1"; check_rejected "$VNC" "$T/$1" "$T/none.off" "$T/keep.off"; }
+HEADER='ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n'
+rejected_text index.ply "${HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"
+check "index out of range: file, line, face" grep -q "index.ply:13: face 0 has index 3, but the file has 3 vertices" "$T/stderr"
+rejected_text short.ply "${HEADER}0 0 0\n1 0 0\n"
+check "ASCII cut short: counts the bytes" grep -q "short.ply:10: element 'vertex' announces 3 entries, more than the 12 bytes after the header can hold" "$T/stderr"
+rejected_text shortface.ply "${HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1\n"
+check "ASCII cut short in a face: says where" grep -q "shortface.ply:14: the file ends in face 0 of 1 (property 'vertex_indices')" "$T/stderr"
+rejected_text word.ply "${HEADER}0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n"
+check "not a number: line and property" grep -q "word.ply:11: vertex 1, property 'y': 'zero' is not a number" "$T/stderr"
+rejected_text nan.ply "${HEADER}0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"
+check "NaN coordinate: names the vertex" grep -q "nan.ply: vertex 1 is at (1, nan, 0)" "$T/stderr"
+rejected_text noply.ply 'PLY\nformat ascii 1.0\n'
+rejected_text noend.ply 'ply\nformat ascii 1.0\nelement vertex 3\n'
+rejected_text counts.ply 'ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\0\0\0\0'
+check "counts larger than the file" grep -q "counts.ply:.*element 'vertex' announces 1000000000 entries" "$T/stderr"
+head -c 3000 "$PLY/test_pos_color.ply" >"$T/truncated.ply"
+check_rejected "$VNC" "$T/truncated.ply" "$T/none.glb" "$T/keep.glb"
+check "binary PLY cut short: byte offset" grep -q "truncated.ply: byte 3000: the file ends in" "$T/stderr"
+head -c 5000 "$STL/test_sphere.stl" >"$T/truncated.stl"
+check_rejected "$VNC" "$T/truncated.stl" "$T/none.ply" "$T/keep.ply"
+check "binary STL cut short" grep -q "truncated.stl: binary STL announces 224 triangles (11284 bytes), but the file has 5000 bytes" "$T/stderr"
+sed '20s/vertex/vertec/' "$STL/test_sphere_ascii.stl" >"$T/typo.stl"
+check_rejected "$VNC" "$T/typo.stl" "$T/none.ply" "$T/keep.ply"
+check "ASCII STL: line of the typo" grep -q "typo.stl:20: expected 'vertex', found 'vertec'" "$T/stderr"
+head -n 30 "$STL/test_sphere_ascii.stl" >"$T/cut.stl"
+check_rejected "$VNC" "$T/cut.stl" "$T/none.ply" "$T/keep.ply"
+: >"$T/empty.stl"
+check_rejected "$VNC" "$T/empty.stl" "$T/none.ply" "$T/keep.ply"
+
+finish
