@@ -631,6 +631,7 @@ vn_io_result vn_drc_normal_error_of(const vn_io_mesh* mesh, const vn_drc_options
 		for (size_t i = 0; i < ids.size(); ++i)
 			ids[i] = b.kept.empty() ? uint32_t(i) : b.kept[i];
 		b.add(vn_drc_generic, vn_drc_uint32, 1, 0, 0, ids);
+		const uint32_t id_unique_id = b.attributes.back().unique_id; /* the mesh may have GENERIC ones of its own */
 		std::vector<char> bytes;
 		vn_io_result r = encode(b.get(), options->compression_level, false, name, &bytes, error);
 		if (r != vn_io_success)
@@ -639,7 +640,10 @@ vn_io_result vn_drc_normal_error_of(const vn_io_mesh* mesh, const vn_drc_options
 		if ((r = vn_drc_decode(bytes.data(), bytes.size(), name, &g, error)) != vn_io_success)
 			return r;
 		const vn_drc_attribute* normal = first(g, vn_drc_normal);
-		const vn_drc_attribute* id = first(g, vn_drc_generic);
+		const vn_drc_attribute* id = nullptr;
+		for (size_t i = 0; i < g.attribute_count; ++i)
+			if (g.attributes[i].unique_id == id_unique_id)
+				id = &g.attributes[i];
 		std::vector<double> angles;
 		for (size_t p = 0; normal && id && p < g.point_count; ++p) {
 			const uint32_t v = static_cast<const uint32_t*>(id->data)[p];

@@ -76,6 +76,8 @@ struct scanner {
 	int64_t total[3] = {0, 0, 0};
 	int64_t seen[3] = {0, 0, 0};
 	uint64_t triangles = 0, polylines = 0;
+	uint64_t short_faces = 0; /* f lines of fewer than 3 corners, skipped */
+	size_t first_short_face = 0;
 	int64_t first_material = -1, first_object = -1; /* triangles before the first usemtl and o */
 	std::string library;
 	/* Corners of each face, in order (the checking pass). */
@@ -189,7 +191,9 @@ struct scanner {
 		return true;
 	}
 
-	/* ObjDecoder::ParseVertexIndices: "v", "v/vt", "v/vt/vn" or "v//vn". */
+	/* ObjDecoder::ParseVertexIndices: "v", "v/vt", "v/vt/vn" or "v//vn";
+	 * also "v/", "v//" and "v/vt/" (exporters write them for an empty
+	 * slot), which Draco refuses: face() blanks their last slashes. */
 	bool parse_corner(const char*& q, int32_t* index) const
 	{
 		while (q < line_end && (*q == ' ' || *q == '\t'))
@@ -199,13 +203,15 @@ struct scanner {
 		index[1] = index[2] = 0;
 		if (q == line_end || *q != '/')
 			return true;
-		if (++q == line_end)
-			return false;
+		if (++q == line_end || space(*q))
+			return true;
 		if (*q != '/' && !parse_index(q, &index[1]))
 			return false;
 		if (q == line_end || *q != '/')
 			return true;
-		return parse_index(++q, &index[2]);
+		if (++q == line_end || space(*q))
+			return true;
+		return parse_index(q, &index[2]);
 	}
 
 	/* A v, vt or vn line (kind 0, 1, 2) after its keyword. */
@@ -265,9 +271,13 @@ struct scanner {
 			while (t < line_end && !space(*t))
 				t++;
 		}
-		if (entries < 3)
-			return fail(vn_io_error_parse, "a face (f) has %d corner%s; it needs 3 or more", entries,
-			            entries == 1 ? "" : "s");
+		if (entries < 3) {
+			/* No surface: skipped (as a comment for Draco), with a warning. */
+			if (counting && !short_faces++)
+				first_short_face = line;
+			*f = '#';
+			return true;
+		}
 		triangles += uint64_t(entries - 2);
 		if (triangles > INT32_MAX / 3)
 			return fail(vn_io_error_unsupported, "more than %d triangles, more than Draco's OBJ reader holds",
@@ -296,6 +306,8 @@ struct scanner {
 					return false;
 			if (long_face_)
 				long_faces.back().corners.push_back(index);
+			for (char* slash = q + (c - q); slash > q && slash[-1] == '/'; *--slash = ' ')
+				;
 		}
 		if (corners != entries)
 			return fail(vn_io_error_parse, "a face has %d entries, but they read as %d corners", entries, corners);
@@ -370,8 +382,14 @@ struct scanner {
 				std::memset(hash, ' ', size_t(line_end - hash));
 			return face(p + 1);
 		}
+		/* Draco's ParseMaterial and ParseObject read an empty name's line,
+		 * then fail, and the line after is skipped as unknown (in one of
+		 * its two passes only: it then writes past its arrays). Such a line
+		 * names nothing: a comment. */
 		if (starts("usemtl")) {
-			if (first_material < 0 && !rest(p + 6).empty())
+			if (rest(p + 6).empty())
+				*p = '#';
+			else if (first_material < 0)
 				first_material = int64_t(triangles);
 			return true;
 		}
@@ -383,7 +401,9 @@ struct scanner {
 			return true;
 		}
 		if (starts("o ")) {
-			if (first_object < 0 && !rest(p + 1).empty())
+			if (rest(p + 1).empty())
+				*p = '#';
+			else if (first_object < 0)
 				first_object = int64_t(triangles);
 			return true;
 		}
@@ -570,6 +590,30 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	return vn_io_success;
 }
 
+/* A line ending in a backslash goes on on the next one (the OBJ
+ * specification; exporters break long faces so). The two are made one line
+ * in place, and the newline taken out is put after it (before the blanks
+ * that fill its place), so that the lines after keep their numbers. */
+void join_continued_lines(std::vector<char>& text)
+{
+	for (size_t i = 0; i < text.size(); i++) {
+		if (text[i] != '\\')
+			continue;
+		size_t k = i + 1;
+		if (k < text.size() && text[k] == '\r')
+			k++;
+		if (k == text.size() || text[k] != '\n')
+			continue;
+		const size_t taken = k + 1 - i; /* the backslash, a CR, the LF */
+		const auto next = std::find(text.begin() + long(k) + 1, text.end(), '\n');
+		const size_t e = size_t(next - text.begin()); /* the end of the next line */
+		std::memmove(&text[i], &text[k + 1], e - (k + 1));
+		text[e - taken] = '\n';
+		std::fill(text.begin() + long(e - taken) + 1, text.begin() + long(e), ' ');
+		i--; /* the joined line may end in a backslash too */
+	}
+}
+
 vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* mesh, vn_io_error* error)
 {
 	std::vector<char> text(data, data + size);
@@ -577,6 +621,7 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 	for (size_t i = 0; i < size; i++)
 		if (text[i] == '\r' && (i + 1 == size || text[i + 1] != '\n'))
 			text[i] = '\n';
+	join_continued_lines(text);
 	scanner s;
 	s.name = name;
 	s.error = error;
@@ -611,7 +656,15 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 	const draco::Status status = decoder.DecodeFromBuffer(&buffer, &m);
 	if (!status.ok())
 		return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader: %s", name, status.error_msg());
-	return to_mesh(m, s, mesh, error);
+	const vn_io_result r = to_mesh(m, s, mesh, error);
+	if (r == vn_io_success && s.short_faces) {
+		const std::string warning = std::to_string(s.short_faces) + " face" + (s.short_faces == 1 ? "" : "s") +
+		                            " (f) of fewer than 3 corners skipped (the first on line " +
+		                            std::to_string(s.first_short_face) + "): such a face has no surface";
+		if (!(mesh->warnings = copy_string(warning)))
+			return out_of_memory(name, error);
+	}
+	return r;
 }
 
 /* ------------------------------------------------------------------ writer */
