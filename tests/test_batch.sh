@@ -82,6 +82,26 @@ check "a failed file: summary" [ "$(summary "$T/stderr")" = "vnconvert: 2 files 
 run "$VNC" --out-dir badout2 bad -q
 check "-q: the failure still printed, alone" [ "$(grep -c . "$T/stderr")" = 1 ] && check "-q: FAIL line" grep -q "^FAIL bad/broken.off: " "$T/stderr"
 
+# ---- OBJ, PLY and STL to GLB (issue 17's "vnconvert --out-dir out/ --format glb
+# assets/*.obj assets/*.ply"): every file of tests/data/obj, ply and stl (Draco's
+# test files and Blender's exports; PLY and STL prefixed, as cube_att.obj and
+# cube_att.ply would both be out/cube_att.glb). The five invalid ones fail, the
+# others convert; the summary's triangles are those the GLB files hold.
+mkdir assets
+cp "$HERE"/data/obj/*.obj "$HERE"/data/obj/*.mtl assets/
+for f in "$HERE"/data/ply/*.ply "$HERE"/data/stl/*.stl; do cp "$f" "assets/${f##*.}_$(basename "$f")"; done
+run "$VNC" --out-dir pipeline --format glb assets/*.obj assets/*.ply assets/*.stl
+check "OBJ, PLY, STL to GLB: exit 1 (some files are invalid)" [ $rc -eq 1 ]
+check "OBJ, PLY, STL to GLB: the five invalid files fail" [ "$(grep '^FAIL' "$T/stderr" | cut -d: -f1 | sort | tr '\n' ' ')" = \
+  "FAIL assets/inf_nan.obj FAIL assets/ply_float_inf_point_cloud.ply FAIL assets/ply_int_point_cloud.ply FAIL assets/ply_point_cloud_test_pos.ply FAIL assets/test_lines.obj " ]
+check "OBJ, PLY, STL to GLB: summary" [ "$(summary "$T/stderr")" = "vnconvert: 28 files converted, 5 failed; 7,060 triangles" ]
+check "OBJ, PLY, STL to GLB: 28 files" [ "$(ls pipeline | grep -c '\.glb$')" = 28 ]
+glbtri=0
+for g in pipeline/*.glb; do
+  glbtri=$((glbtri + $(q "$g" "sum(d['accessors'][p['indices']]['count'] // 3 for m in d['meshes'] for p in m['primitives'])")))
+done
+check "OBJ, PLY, STL to GLB: the GLB files hold 7060 triangles" [ $glbtri = 7060 ]
+
 # ---- textures: two .gltf, each with its own Texture0.png, into one folder.
 mkdir a b
 cp "$MODELS/Duck/Duck.gltf" a/duck.gltf; cp "$MODELS/Duck/Duck0.bin" a/; cp "$MODELS/Duck/DuckCM.png" a/Texture0.png
