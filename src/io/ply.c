@@ -400,8 +400,9 @@ static vn_io_result read_value(ply_reader* r, int type, const place* at, unsigne
 		return fail(r, vn_io_error_parse, "%s %zu, property '%s': '%s' is not a number", at->element->name, at->entry,
 		            at->property->name, quote(t).text);
 	if (!is_real(type) && !(v >= types[type].min && v <= types[type].max && v == floor(v)))
-		return fail(r, vn_io_error_parse, "%s %zu, property '%s': '%s' is not a %s (%.0f to %.0f)", at->element->name,
-		            at->entry, at->property->name, quote(t).text, type_name(type), types[type].min, types[type].max);
+		return fail(r, vn_io_error_parse, "%s %zu, property '%s': '%s' is not of type %s (a whole number from %.0f to %.0f)",
+		            at->element->name, at->entry, at->property->name, quote(t).text, type_name(type), types[type].min,
+		            types[type].max);
 	put_value(type, v, out);
 	return vn_io_success;
 }
