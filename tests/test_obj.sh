@@ -100,6 +100,14 @@ printf 'COFF\n4 1 0\n0 0 0 1 0 0\n1 0 0 0 1 0\n0 1 0 0 0 1\n5 5 5 1 1 1\n3 0 1 2
 check "OFF -> OBJ: colours and the loose vertex" [ "$(grep '^v ' "$T/c.obj" | tr '\n' ,)" = "v 0 0 0 1 0 0,v 1 0 0 0 1 0,v 0 1 0 0 0 1,v 5 5 5 1 1 1," ]
 run "$VNC" "$T/c.obj" "$T/c2.off" -q
 check "OBJ colours are not read back (Draco 1.5.5 skips them)" [ "$(head -1 "$T/c2.off")" = NOFF ]
+# OBJ colours have no alpha: vnconvert warns when one is not 1, and only then.
+printf 'COFF\n3 1 0\n0 0 0 1 0 0 0.5\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n' >"$T/alpha.off"
+run "$VNC" "$T/alpha.off" "$T/alpha.obj"
+check "OFF -> OBJ, alpha 0.5: the warning names alpha" [ "$rc $err" = "0 vnconvert: warning: $T/alpha.obj cannot hold vertex colour alpha: not written" ]
+check "OFF -> OBJ, alpha 0.5: r g b written" [ "$(grep '^v ' "$T/alpha.obj" | head -1)" = "v 0 0 0 1 0 0" ]
+sed -i 's/ 0\.5$/ 1/' "$T/alpha.off"
+run "$VNC" "$T/alpha.off" "$T/alpha.obj"
+check "OFF -> OBJ, alpha 1: no warning" [ "$rc:$err" = "0:" ]
 
 # Invalid files: one line naming the file, exit 1, no output.
 check_rejected "$VNC" "$DATA/inf_nan.obj" "$T/none.obj" "$T/keep.obj"

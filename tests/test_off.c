@@ -1380,6 +1380,31 @@ static void test_format_lookup(void** state)
 	assert_null(vn_io_format_by_name(NULL));
 }
 
+/* OBJ's `v x y z r g b` has no alpha: vnconvert warns only when an alpha
+ * is not 1, and only once where the colours are lost anyway (STL). */
+static void test_losses_name_colour_alpha(void** state)
+{
+	(void)state;
+	const vn_io_format* obj = vn_io_format_by_name("obj");
+	const vn_io_format* ply = vn_io_format_by_name("ply");
+	const vn_io_format* stl = vn_io_format_by_name("stl");
+	char text[128];
+	vn_io_mesh m;
+	read_ok("COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 0.5\n0 1 0 0 0 1 1\n3 0 1 2\n", &m);
+	assert_int_equal(vn_io_mesh_losses(&m, obj, text, sizeof text), 1);
+	assert_string_equal(text, "vertex colour alpha");
+	assert_int_equal(vn_io_mesh_losses(&m, ply, text, sizeof text), 0);
+	assert_string_equal(text, "");
+	assert_int_equal(vn_io_mesh_losses(&m, stl, text, sizeof text), 1);
+	assert_string_equal(text, "vertex colours");
+	vn_io_mesh_free(&m);
+
+	read_ok("COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1\n3 0 1 2\n", &m);
+	assert_int_equal(vn_io_mesh_losses(&m, obj, text, sizeof text), 0);
+	assert_string_equal(text, "");
+	vn_io_mesh_free(&m);
+}
+
 static void test_result_strings(void** state)
 {
 	(void)state;
@@ -1506,6 +1531,7 @@ int main(void)
 	    cmocka_unit_test(test_read_memory_names_the_source),
 	    cmocka_unit_test(test_same_file),
 	    cmocka_unit_test(test_format_lookup),
+	    cmocka_unit_test(test_losses_name_colour_alpha),
 	    cmocka_unit_test(test_result_strings),
 	    cmocka_unit_test(test_fail_formats_and_returns),
 	    cmocka_unit_test(test_mesh_free_and_is_triangles),

@@ -21,7 +21,8 @@
 /* What the glTF reader (both gltf and glb) brings. */
 #define GLTF_READS                                                                                               \
 	{{vn_io_holds_texcoords, "TEXCOORD_0", NULL},                                                              \
-	 {vn_io_holds_colors, "COLOR_0 (RGBA)", NULL},                                                             \
+	 {vn_io_holds_colors, "COLOR_0", NULL},                                                                    \
+	 {vn_io_holds_colors | vn_io_holds_color_alpha, "its alpha", "the alpha of COLOR_0 (named)"},              \
 	 {vn_io_holds_attributes, "every other vertex attribute in its type (TEXCOORD_n, COLOR_n, JOINTS_n, "      \
 	                          "WEIGHTS_n, TANGENT, `_NAME`)",                                                  \
 	  "other vertex attributes (named)"}}
@@ -36,10 +37,11 @@
 static const vn_io_format formats[] = {
     {"off", "OFF", "OFF", ".off", "Geomview Object File Format (reads ASCII and binary, writes ASCII)",
      vn_io_off_read, vn_io_off_write,
-     vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_face_colors | vn_io_holds_polygons |
-         vn_io_holds_loose_vertices,
+     vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_face_colors |
+         vn_io_holds_polygons | vn_io_holds_loose_vertices,
      vn_io_path_mesh, 0, "the zero vector",
-     {{vn_io_holds_colors, "vertex colours with alpha", NULL},
+     {{vn_io_holds_colors, "vertex colours", NULL},
+      {vn_io_holds_colors | vn_io_holds_color_alpha, "their alpha", "vertex colour alpha (named)"},
       {vn_io_holds_texcoords, "texture coordinates", NULL},
       {vn_io_holds_face_colors, "face colours", "face colours (named)"},
       {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"}},
@@ -60,10 +62,11 @@ static const vn_io_format formats[] = {
     {"ply", "PLY", "PLY", ".ply",
      "Stanford polygon file (reads ASCII and binary, either byte order; writes binary little-endian)",
      vn_io_ply_read, vn_io_ply_write,
-     vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes | vn_io_holds_face_colors |
-         vn_io_holds_polygons | vn_io_holds_loose_vertices,
+     vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
+         vn_io_holds_face_colors | vn_io_holds_polygons | vn_io_holds_loose_vertices,
      vn_io_path_mesh, 0, "the zero vector",
-     {{vn_io_holds_colors, "vertex colours (red green blue [alpha])", NULL},
+     {{vn_io_holds_colors, "vertex colours (red green blue)", NULL},
+      {vn_io_holds_colors | vn_io_holds_color_alpha, "their alpha", "vertex colour alpha (named)"},
       {vn_io_holds_texcoords, "texture coordinates (s t, u v or texture_u texture_v)", NULL},
       {vn_io_holds_attributes, "every other vertex property in its type, as `_NAME` (double as float)",
        "other vertex properties (named)"},
@@ -80,18 +83,22 @@ static const vn_io_format formats[] = {
      NULL, NULL, NULL},
     {"gltf", "glTF", "glTF", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)",
      vn_io_gltf_read, vn_io_gltf_write,
-     vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes | vn_io_holds_loose_vertices,
+     vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
+         vn_io_holds_loose_vertices,
      vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
      GLTF_DOCUMENT_LOSES, "buffers and images"},
     {"glb", "GLB", "glTF", ".glb", "glTF 2.0 binary (as gltf)", vn_io_gltf_read, vn_io_glb_write,
-     vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes | vn_io_holds_loose_vertices,
+     vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
+         vn_io_holds_loose_vertices,
      vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
      GLTF_DOCUMENT_LOSES, NULL},
     {"drc", "Draco", "Draco", ".drc", "Draco mesh (triangles; positions, normals, texcoords, colours; quantized)",
-     vn_io_drc_read, vn_io_drc_write, vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_attributes,
+     vn_io_drc_read, vn_io_drc_write,
+     vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes,
      vn_io_path_drc, vn_io_draco_output, "the zero vector (Draco's octahedral coding decodes it as (1, 0, 0))",
      {{vn_io_holds_texcoords, "the first TEX_COORD (2 floats)", NULL},
-      {vn_io_holds_colors, "the first COLOR (RGBA)", NULL},
+      {vn_io_holds_colors, "the first COLOR", NULL},
+      {vn_io_holds_colors | vn_io_holds_color_alpha, "its alpha", "the alpha of the first COLOR (named)"},
       {vn_io_holds_attributes, "every other attribute in its type (TEX_COORD and COLOR sets, GENERIC as `_NAME`)",
        "other attributes (named)"}},
      "metadata",
@@ -302,6 +309,21 @@ void vn_io_unknown_format(const char* path, int input, char* text, size_t size)
 
 /* ------------------------------------------------------------------ the README's table */
 
+static int item_kept(const vn_io_item* it, const vn_io_format* out)
+{
+	return it->needs && (out->holds & it->needs) == it->needs;
+}
+
+/* True when `it` needs all that another left-out item needs, and more:
+ * "their alpha" of vertex colours not written goes without saying. */
+static int part_of_lost(const vn_io_format* in, const vn_io_item* it, const vn_io_format* out)
+{
+	for (const vn_io_item* o = in->reads; o < in->reads + VN_IO_MAX_ITEMS && o->text; ++o)
+		if (o->needs && o->needs != it->needs && (o->needs & it->needs) == o->needs && !item_kept(o, out))
+			return 1;
+	return 0;
+}
+
 /* The items of `in`'s reader that `out`'s writer keeps (keep 1) or leaves out
  * (keep 0), then, when leaving out, what reading never brings; "nothing"
  * when there are none. */
@@ -310,8 +332,8 @@ static void items(const vn_io_format* in, const vn_io_format* out, int keep, cha
 	text[0] = '\0';
 	size_t n = 0;
 	for (const vn_io_item* it = in->reads; it < in->reads + VN_IO_MAX_ITEMS && it->text; ++it) {
-		const int kept = it->needs && (out->holds & it->needs) == it->needs;
-		if (kept == keep)
+		const int kept = item_kept(it, out);
+		if (kept == keep && (keep || !part_of_lost(in, it, out)))
 			append(text, size, "%s%s", n++ ? ", " : "", keep || !it->lost ? it->text : it->lost);
 	}
 	if (!keep && in->never_read)

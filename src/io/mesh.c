@@ -106,6 +106,16 @@ size_t vn_io_mesh_first_nonfinite(const vn_io_mesh* mesh)
 	return mesh->vertex_count;
 }
 
+/* True when a vertex colour is not opaque: only then does a writer without
+ * alpha lose something. */
+static int has_alpha(const vn_io_mesh* mesh)
+{
+	for (size_t i = 0; i < mesh->vertex_count; i++)
+		if (mesh->colors[4 * i + 3] != 1.0f)
+			return 1;
+	return 0;
+}
+
 size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, char* text, size_t size)
 {
 	size_t lost = 0, used = 0;
@@ -113,9 +123,11 @@ size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, cha
 		text[0] = '\0';
 	const unsigned holds = format ? format->holds : 0;
 	const int names_lost = !(holds & vn_io_holds_face_names);
+	const int colors_kept = mesh->colors && (holds & vn_io_holds_colors);
 	const char* names[] = {
 	    mesh->normals && format && !format->no_normal ? "vertex normals" : NULL,
-	    mesh->colors && !(holds & vn_io_holds_colors) ? "vertex colours" : NULL,
+	    mesh->colors && !colors_kept ? "vertex colours" : NULL,
+	    colors_kept && !(holds & vn_io_holds_color_alpha) && has_alpha(mesh) ? "vertex colour alpha" : NULL,
 	    mesh->texcoords && !(holds & vn_io_holds_texcoords) ? "texture coordinates" : NULL,
 	    mesh->face_colors && !(holds & vn_io_holds_face_colors) ? "face colours" : NULL,
 	    mesh->materials.of_face && names_lost ? "materials" : NULL,

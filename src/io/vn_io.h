@@ -187,13 +187,14 @@ vn_io_result vn_io_mesh_normals(vn_io_mesh* mesh, const char* path, const vn_io_
 /* What a format's writer keeps of a vn_io_mesh besides positions, normals
  * and triangles (vn_io_format.holds), and what a read item needs. */
 enum {
-	vn_io_holds_colors = 1,        /* `colors`, RGBA */
+	vn_io_holds_colors = 1,        /* `colors` (RGB: see vn_io_holds_color_alpha) */
 	vn_io_holds_texcoords = 2,     /* `texcoords` */
 	vn_io_holds_attributes = 4,    /* `attributes` */
 	vn_io_holds_face_colors = 8,   /* `face_colors` */
 	vn_io_holds_polygons = 16,     /* faces of more than 3 corners (else fan-triangulated) */
 	vn_io_holds_loose_vertices = 32, /* vertices no face uses (else only the vertices faces use are written) */
-	vn_io_holds_face_names = 64      /* `materials`, `objects` and `material_library` */
+	vn_io_holds_face_names = 64,     /* `materials`, `objects` and `material_library` */
+	vn_io_holds_color_alpha = 128    /* the alpha of `colors` (OBJ's `v x y z r g b` has none) */
 };
 
 /* How vnconvert converts between two formats of one family (both ends with
@@ -214,14 +215,16 @@ enum {
 /* One thing a reader brings into a vn_io_mesh besides positions and faces:
  * a writer keeps it when its holds has every bit of `needs` (0: no writer
  * does). Named as the README's "What vnconvert keeps" table names it;
- * `lost` names it where it is left out (NULL: `text`). */
+ * `lost` names it where it is left out (NULL: `text`), unless an item
+ * needing part of its bits is left out too ("their alpha" after "vertex
+ * colours"). */
 typedef struct vn_io_item {
 	unsigned needs;
 	const char* text;
 	const char* lost;
 } vn_io_item;
 
-#define VN_IO_MAX_ITEMS 6
+#define VN_IO_MAX_ITEMS 8
 
 typedef struct vn_io_format {
 	const char* name;       /* "glb": as --format and --input-format take it */
@@ -259,7 +262,8 @@ typedef struct vn_io_format {
 } vn_io_format;
 
 /* Names what writing mesh as `format` leaves out ("vertex normals, face
- * colours, TEXCOORD_1, _ID"), comma-separated, into text (truncated to size); returns how many
+ * colours, TEXCOORD_1, _ID"; "vertex colour alpha" only when an alpha is
+ * not 1), comma-separated, into text (truncated to size); returns how many
  * things that is (0: nothing is lost, text ""). */
 size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, char* text, size_t size);
 
