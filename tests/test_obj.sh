@@ -4,12 +4,13 @@
 #   test_obj.sh PATH/TO/vnconvert NODE_MODULES_DIR
 # Checks: the triangle count Draco's own tools see, OBJ -> OBJ keeping every
 # face's corners (positions, texture coordinates), polygons, materials and
-# object names exactly (and a second round trip changing no byte), unit
+# object names exactly (and a second round trip changing no byte), mtllib
+# names written from the output's folder to the input's .mtl files, unit
 # normals, one v line per position with corners told apart by vn, OBJ -> OFF
 # -> OBJ, OBJ -> GLB through the Khronos validator, and one-line errors for
 # invalid files. objcheck.py reads OBJ independently of Draco and vn.
 set -u
-VNC=$1
+VNC=$(realpath "$1")
 MODULES=$2
 HERE=$(cd "$(dirname "$0")" && pwd)
 DATA=$HERE/data/obj
@@ -59,7 +60,9 @@ for m in $meshes; do
 done
 
 # What the files hold, as written.
-check "cube: mtllib kept" [ "$(grep '^mtllib' "$T/blender_cube.obj")" = "mtllib blender_cube.mtl" ]
+# The output is in another folder: its mtllib names the input's .mtl from there.
+mtl=$(sed -n 's/^mtllib //p' "$T/blender_cube.obj")
+check "cube: mtllib names the input's .mtl" [ "$T/$mtl" -ef "$DATA/blender_cube.mtl" ]
 check "cube: 4 Blue faces, then 2 Red" [ "$(grep -E '^(usemtl|o) ' "$T/blender_cube.obj" | tr '\n' ,)" = "o Cube,usemtl Blue,usemtl Red," ]
 check "cube: 4 corners a face" [ "$(grep '^f' "$T/blender_cube.obj" | awk '{print NF - 1}' | sort -u)" = 4 ]
 check "cylinder: two 12-corner caps" [ "$(grep '^f' "$T/blender_cylinder.obj" | awk 'NF == 13' | wc -l)" = 2 ]
@@ -108,6 +111,42 @@ check "OFF -> OBJ, alpha 0.5: r g b written" [ "$(grep '^v ' "$T/alpha.obj" | he
 sed -i 's/ 0\.5$/ 1/' "$T/alpha.off"
 run "$VNC" "$T/alpha.off" "$T/alpha.obj"
 check "OFF -> OBJ, alpha 1: no warning" [ "$rc:$err" = "0:" ]
+
+# mtllib: each relative name is written from the output's folder, so that it
+# names the input's .mtl files wherever the output goes; absolute names stay,
+# and an output beside its input (or a name without a folder: standard input
+# or output) has the line as read, byte for byte.
+L=$T/lib
+mkdir -p "$L/A/sub" "$L/B"
+touch "$L/A/m.mtl" "$L/A/sub/n.mtl"
+face='v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n'
+printf "mtllib m.mtl\n$face" >"$L/A/one.obj"
+printf "mtllib m.mtl\tsub/n.mtl  /abs/x.mtl\n$face" >"$L/A/many.obj"
+mtllib() { grep '^mtllib' "$1"; }
+# found FOLDER FILE: every relative name FILE's mtllib line gives is a file from FOLDER.
+found() { (cd "$1" && for n in $(mtllib "$2" | cut -c8-); do [ "${n#/}" != "$n" ] || [ -f "$n" ] || exit 1; done); }
+"$VNC" "$L/A/one.obj" "$L/B/one.obj" -q
+check "mtllib: A to B" [ "$(mtllib "$L/B/one.obj")" = "mtllib ../A/m.mtl" ]
+check "mtllib: the .mtl is found from B" found "$L/B" one.obj
+"$VNC" "$L/A/one.obj" "$L/A/same.obj" -q
+check "mtllib: same folder, the line as read" [ "$(mtllib "$L/A/same.obj")" = "mtllib m.mtl" ]
+"$VNC" "$L/A/many.obj" "$L/A/many-same.obj" -q
+check "mtllib: same folder, several names, byte for byte" cmp -s <(mtllib "$L/A/many.obj") <(mtllib "$L/A/many-same.obj")
+"$VNC" "$L/A/many.obj" "$L/B/many.obj" -q
+check "mtllib: several names, each its path; absolute kept" \
+  [ "$(mtllib "$L/B/many.obj")" = "$(printf 'mtllib ../A/m.mtl\t../A/sub/n.mtl  /abs/x.mtl')" ]
+"$VNC" "$L/B/one.obj" "$L/A/back.obj" -q
+check "mtllib: A to B and back, the line as read" [ "$(mtllib "$L/A/back.obj")" = "mtllib m.mtl" ]
+mkdir -p "$L/B/deep"
+"$VNC" "$L/B/one.obj" "$L/B/deep/one.obj" -q
+check "mtllib: from B on deeper" [ "$(mtllib "$L/B/deep/one.obj")" = "mtllib ../../A/m.mtl" ]
+(cd "$L" && "$VNC" --out-dir out A/one.obj A/many.obj -q)
+check "mtllib: batch into an out-dir" [ "$(mtllib "$L/out/one.obj")" = "mtllib ../A/m.mtl" ]
+check "mtllib: batch, the .mtl files are found" found "$L/out" many.obj
+check "mtllib: batch, several names" [ "$(mtllib "$L/out/many.obj")" = "$(printf 'mtllib ../A/m.mtl\t../A/sub/n.mtl  /abs/x.mtl')" ]
+"$VNC" - "$L/B/stdin.obj" --input-format obj -q <"$L/A/one.obj"
+check "mtllib: from standard input, as read" [ "$(mtllib "$L/B/stdin.obj")" = "mtllib m.mtl" ]
+check "mtllib: to standard output, as read" [ "$("$VNC" "$L/A/one.obj" - --format obj -q | mtllib -)" = "mtllib m.mtl" ]
 
 # Invalid files: one line naming the file, exit 1, no output.
 check_rejected "$VNC" "$DATA/inf_nan.obj" "$T/none.obj" "$T/keep.obj"

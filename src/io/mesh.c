@@ -57,6 +57,7 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 		free(sets[k]->of_face);
 	}
 	free(mesh->material_library);
+	free(mesh->material_folder);
 	free(mesh->warnings);
 	memset(mesh, 0, sizeof *mesh);
 }

@@ -15,10 +15,11 @@
  * of more than 8 corners is split into faces Draco takes, and `mtllib` is a
  * comment: reading from memory, Draco would look for the .mtl in the
  * current folder, and it only adds names, in another order, from it; the
- * `mtllib` argument is kept instead. Polygons are put back together from
- * the corner counts the scan saw (Draco's preserve_polygons would do it
- * from an "added_edges" attribute, which splits points further and cannot
- * tell the split pieces of a long face apart).
+ * `mtllib` argument is kept instead, with the file's folder (the writer
+ * names the libraries from its output's folder). Polygons are put back
+ * together from the corner counts the scan saw (Draco's preserve_polygons
+ * would do it from an "added_edges" attribute, which splits points further
+ * and cannot tell the split pieces of a long face apart).
  *
  * A vertex is one (v, vt, vn) combination after Draco merges equal values.
  *
@@ -37,6 +38,7 @@ extern "C" {
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cfloat>
 #include <cinttypes>
 #include <cmath>
@@ -700,6 +702,89 @@ struct numbering {
 	}
 };
 
+/* realpath() of the folder holding `file` (malloc'd), or NULL. */
+char* real_folder(const char* file)
+{
+	const char* slash = std::strrchr(file, '/');
+	const std::string folder = !slash ? "." : slash == file ? "/" : std::string(file, size_t(slash - file));
+	return realpath(folder.c_str(), nullptr);
+}
+
+/* The components of `path` ("/a/b" -> a, b; blank ones and "." left out). */
+std::vector<std::string> components(const std::string& path)
+{
+	std::vector<std::string> v;
+	for (size_t at = 0, end; at < path.size(); at = end + 1) {
+		end = std::min(path.find('/', at), path.size());
+		if (end > at && path.compare(at, end - at, ".") != 0)
+			v.push_back(path.substr(at, end - at));
+	}
+	return v;
+}
+
+/* Relative path `name`, which starts from folder `at`, as a path from
+ * folder `from` (both as realpath() gives them, as components). The real
+ * folders are no links: a ".." after them goes back one, and a way through
+ * `from`'s own folders is cut short ("../A/m.mtl" read in B, written in A:
+ * "m.mtl"). */
+std::string seen_from(const std::vector<std::string>& from, std::vector<std::string> at, const std::string& name)
+{
+	bool real = true; /* every folder in `at` so far is */
+	for (const std::string& c : components(name)) {
+		if (c == ".." && real) {
+			if (!at.empty())
+				at.pop_back();
+			continue;
+		}
+		real = false;
+		at.push_back(c);
+	}
+	if (at.empty())
+		return name;
+	size_t common = 0;
+	while (common < from.size() && common + 1 < at.size() && from[common] == at[common])
+		common++;
+	std::string way;
+	for (size_t i = common; i < from.size(); i++)
+		way += "../";
+	for (size_t i = common; i < at.size(); i++)
+		way += at[i] + (i + 1 < at.size() ? "/" : "");
+	return way;
+}
+
+/* The `mtllib` arguments written to `path`: each relative one (OBJ
+ * separates them by blanks) as a path from the output's folder (where its
+ * links lead), so that they name the input's .mtl files wherever the output
+ * is; absolute ones ("/x.mtl", "C:\\x.mtl") and all of them in the input's
+ * own folder as read. */
+std::string library_names(const char* path, const vn_io_mesh* mesh)
+{
+	const std::string names = mesh->material_library;
+	char* target;
+	vn_io_error ignored;
+	if (!mesh->material_folder || vn_io_output_check(path, &target, &ignored) != vn_io_success)
+		return names;
+	char* folder = real_folder(target);
+	std::free(target);
+	if (!folder)
+		return names;
+	const std::vector<std::string> from = components(folder), at = components(mesh->material_folder);
+	std::free(folder);
+	if (from == at)
+		return names;
+	std::string text;
+	for (size_t i = 0; i < names.size();) {
+		const size_t end = std::min(names.find_first_of(" \t", i), names.size());
+		const std::string name = names.substr(i, end - i);
+		const bool absolute = name.empty() || name[0] == '/' || name[0] == '\\' || (name.size() > 1 && name[1] == ':');
+		text += absolute ? name : seen_from(from, at, name);
+		if (end < names.size())
+			text += names[end];
+		i = end + 1;
+	}
+	return text;
+}
+
 /* "o NAME" or "usemtl NAME" before face f when its name differs from the
  * face before. */
 void put_name(vn_io_text_out* w, const char* keyword, const vn_io_face_names& names, size_t f)
@@ -728,7 +813,7 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 	vn_io_text_out w = {out, 0, 0};
 	if (mesh->material_library) {
 		vn_io_put(&w, "mtllib ");
-		vn_io_put(&w, mesh->material_library);
+		vn_io_put(&w, library_names(path, mesh).c_str());
 		vn_io_put(&w, "\n");
 	}
 	/* Every vertex's position, loose ones too; texture coordinates and
@@ -827,6 +912,12 @@ vn_io_result vn_io_obj_read(const char* path, vn_io_mesh* mesh, vn_io_error* err
 		return r;
 	r = vn_io_obj_read_memory(data, size, path, mesh, error);
 	std::free(data);
+	/* Without its folder, the names are written as read. */
+	if (r == vn_io_success && mesh->material_library && !(mesh->material_folder = real_folder(path)) &&
+	    errno == ENOMEM) {
+		vn_io_mesh_free(mesh);
+		return out_of_memory(path, error);
+	}
 	return r;
 }
 

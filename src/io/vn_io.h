@@ -103,12 +103,19 @@ typedef struct vn_io_mesh {
 	vn_io_attribute* attributes; /* NULL or attribute_count entries, each owning its data */
 
 	/* The material and the object of each face, and the files defining the
-	 * materials (an OBJ's `mtllib` argument: "model.mtl", or NULL), as an OBJ
-	 * names them; only the OBJ writer keeps them (vn_io_holds_face_names).
-	 * Faces are never reordered, so of_face stays valid through vn. */
+	 * materials (an OBJ's `mtllib` arguments as written: "model.mtl", or
+	 * NULL), as an OBJ names them; only the OBJ writer keeps them
+	 * (vn_io_holds_face_names). Faces are never reordered, so of_face stays
+	 * valid through vn. */
 	vn_io_face_names materials;
 	vn_io_face_names objects;
 	char* material_library;
+	/* The folder of the file read (absolute, links resolved: realpath), that
+	 * material_library's relative names are relative to; NULL when read from
+	 * memory. The OBJ writer writes each relative name from its output's
+	 * folder to that one ("../assets/model.mtl"; as written when the folder
+	 * is the same or this is NULL); absolute names stay. */
+	char* material_folder;
 
 	/* NULL, or what the reader read anyway but the file should not have
 	 * (bytes after a GLB's declared length): one line each, "\n"-separated,
@@ -193,7 +200,7 @@ enum {
 	vn_io_holds_face_colors = 8,   /* `face_colors` */
 	vn_io_holds_polygons = 16,     /* faces of more than 3 corners (else fan-triangulated) */
 	vn_io_holds_loose_vertices = 32, /* vertices no face uses (else only the vertices faces use are written) */
-	vn_io_holds_face_names = 64,     /* `materials`, `objects` and `material_library` */
+	vn_io_holds_face_names = 64,     /* `materials`, `objects`, `material_library` and its folder */
 	vn_io_holds_color_alpha = 128    /* the alpha of `colors` (OBJ's `v x y z r g b` has none) */
 };
 

@@ -158,6 +158,7 @@ typedef struct args {
 	vn_method method;
 	unsigned threads; /* -j: a conversion's threads; in batch mode the files converted at once */
 	int in_place, stats, quiet, apply_transforms;
+	int stdio; /* IN or OUT is '-', read or written through a temporary file */
 	vn_gltf_options gltf;
 	/* Draco flags as given, -1 when not: a .drc input's own bits or the
 	 * defaults fill the rest once the input is read. */
@@ -563,6 +564,10 @@ static int convert_one(args a, size_t* triangles)
 	if ((a.apply_transforms ? vn_io_gltf_read_scene(a.in, &mesh, &err)
 	                        : vn_io_read_file(a.in, a.in_format, &mesh, &err)) != vn_io_success)
 		die(1, "%s", err.message);
+	if (a.stdio) { /* the temporary's folder: an OBJ's mtllib names are written as read */
+		free(mesh.material_folder);
+		mesh.material_folder = NULL;
+	}
 	input_warnings(&a, mesh.warnings);
 	const size_t nonfinite = vn_io_mesh_first_nonfinite(&mesh);
 	if (nonfinite < mesh.vertex_count) {
@@ -817,6 +822,7 @@ static void start(batch* b, size_t i, unsigned threads, outcome* o)
 		a.apply_transforms = j->apply_transforms;
 		a.threads = threads;
 		a.gltf.image_names_from_output = !b->stdio;
+		a.stdio = b->stdio;
 		const int status = convert_one(a, &o->triangles);
 		exit(status);
 	}
