@@ -904,14 +904,7 @@ vn_io_result vn_io_obj_read_memory(const char* data, size_t size, const char* na
 
 vn_io_result vn_io_obj_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)
 {
-	std::memset(mesh, 0, sizeof *mesh);
-	char* data;
-	size_t size;
-	vn_io_result r = vn_io_read_all(path, &data, &size, error);
-	if (r != vn_io_success)
-		return r;
-	r = vn_io_obj_read_memory(data, size, path, mesh, error);
-	std::free(data);
+	const vn_io_result r = vn_io_read_with(path, vn_io_obj_read_memory, mesh, error);
 	/* Without its folder, the names are written as read. */
 	if (r == vn_io_success && mesh->material_library && !(mesh->material_folder = real_folder(path)) &&
 	    errno == ENOMEM) {
