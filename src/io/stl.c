@@ -363,6 +363,11 @@ vn_io_result vn_io_stl_write(FILE* out, const char* path, const vn_io_mesh* mesh
 		const uint32_t corners = mesh->face_offsets[f + 1] - mesh->face_offsets[f];
 		triangles += corners >= 3 ? corners - 2 : 0;
 	}
+	/* An STL without triangles holds nothing (and vn reads it as an error). */
+	if (triangles == 0)
+		return vn_io_fail(error, vn_io_error_unsupported,
+		                  "%s: the mesh has no faces, and STL holds only triangles: write OFF or PLY for a point cloud",
+		                  path);
 	if (triangles > UINT32_MAX)
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: %llu triangles are more than STL's 32-bit count holds",
 		                  path, (unsigned long long)triangles);
