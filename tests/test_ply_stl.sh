@@ -166,10 +166,15 @@ head -n 30 "$STL/test_sphere_ascii.stl" >"$T/cut.stl"
 check_rejected "$VNC" "$T/cut.stl" "$T/none.ply" "$T/keep.ply"
 : >"$T/empty.stl"
 check_rejected "$VNC" "$T/empty.stl" "$T/none.ply" "$T/keep.ply"
-# A point cloud (an OFF without faces) written as STL: refused, not an empty STL.
+# A point cloud (an OFF without faces) written as STL or PLY: refused, not an
+# empty STL, nor a PLY that vn would refuse to read.
 printf 'OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n' >"$T/cloud.off"
 run "$VNC" "$T/cloud.off" "$T/cloud.stl"
 check "point cloud to STL: exit 1" [ $rc -eq 1 ]
 check "point cloud to STL: no file" [ ! -e "$T/cloud.stl" ]
 check "point cloud to STL: says why" grep -q "cloud.stl: the mesh has no faces, and STL holds only triangles" "$T/stderr"
+run "$VNC" "$T/cloud.off" "$T/cloud.ply"
+check "point cloud to PLY: exit 1" [ $rc -eq 1 ]
+check "point cloud to PLY: no file" [ ! -e "$T/cloud.ply" ]
+check "point cloud to PLY: says why" grep -q "cloud.ply: the mesh has no faces, and vn reads a PLY without faces as an error" "$T/stderr"
 finish

@@ -878,6 +878,12 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
                              vn_io_error* error)
 {
 	(void)settings; /* PLY has none */
+	/* As OBJ and STL: what vn writes, vn reads (a PLY without faces is refused). */
+	if (mesh->face_count == 0)
+		return vn_io_fail(error, vn_io_error_unsupported,
+		                  "%s: the mesh has no faces, and vn reads a PLY without faces as an error: write OFF for a "
+		                  "point cloud",
+		                  path);
 	const size_t n = mesh->vertex_count;
 	int doubles = 0;
 	for (size_t i = 0; i < 3 * n && !doubles; i++)
