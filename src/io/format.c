@@ -47,7 +47,7 @@ static const vn_io_format formats[] = {
       {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"}},
      "comments", NULL, NULL, NULL},
     {"obj", "OBJ", "OBJ", ".obj",
-     "Wavefront OBJ (read through Draco: v/vt/vn, faces of 3 to 8 corners, usemtl, o; written with per-corner vn)",
+     "Wavefront OBJ (read through Draco: v/vt/vn, polygons, usemtl, o; written with per-corner vn)",
      vn_io_obj_read, vn_io_obj_write,
      vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_polygons | vn_io_holds_loose_vertices |
          vn_io_holds_face_names,
