@@ -97,6 +97,14 @@ run "$VNC" "$T/joined.obj" "$T/joined-out.obj" --stats
 check "continued face, empty usemtl and o: 5 vertices, 2 faces" [ "$rc $(stat vertices) $(stat faces)" = "0 5 2" ]
 check "continued face: one quad" [ "$(grep '^f' "$T/joined-out.obj" | awk '{ printf "%d,", NF - 1 }')" = "4,3," ]
 check "face of 2 corners: skipped, with its line" grep -q "joined.obj: 1 face (f) of fewer than 3 corners skipped (the first on line 13)" "$T/stderr"
+# An `o` or `usemtl` after the last face names no face (found by fuzzing: the
+# mesh carried names no face has, so GLB output warned of losing them and the
+# OBJ read back from the output differed): no names at all.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no late\nusemtl late\n' >"$T/late-o.obj"
+run "$VNC" "$T/late-o.obj" "$T/late-o.glb"
+check "o and usemtl after the last face: nothing to lose in GLB" [ "$rc:$err" = "0:" ]
+"$VNC" "$T/late-o.obj" "$T/late-o-out.obj" -q
+check "o and usemtl after the last face: not written" not grep -qE '^(o|usemtl) ' "$T/late-o-out.obj"
 # OFF -> OBJ: loose vertices and vertex colours ("v x y z r g b").
 printf 'COFF\n4 1 0\n0 0 0 1 0 0\n1 0 0 0 1 0\n0 1 0 0 0 1\n5 5 5 1 1 1\n3 0 1 2\n' >"$T/c.off"
 "$VNC" "$T/c.off" "$T/c.obj" -q

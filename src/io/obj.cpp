@@ -492,6 +492,15 @@ bool face_names(const draco::Mesh& m, const char* label, const std::vector<uint3
 		                      ? VN_IO_NO_NAME
 		                      : uint32_t(id);
 	}
+	/* Names that no face has (an `o` after the last face): none, as the
+	 * writer would write none. */
+	if (std::all_of(out->of_face, out->of_face + first_triangle.size(), [](uint32_t i) { return i == VN_IO_NO_NAME; })) {
+		for (size_t i = 0; i < out->count; i++)
+			std::free(out->names[i]);
+		std::free(out->names);
+		std::free(out->of_face);
+		*out = vn_io_face_names{};
+	}
 	return true;
 }
 
