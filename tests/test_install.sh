@@ -20,6 +20,23 @@ declared=$(grep -oE '^VN_API [^(]*\b(vn_[a-z0-9_]+)\(' "$S/src/vn.h" | grep -oE 
 exported=$(nm -D --defined-only "$lib" | awk '$3 ~ /^vn_/ { print $3 }' | sort)
 [ -n "$declared" ] && [ "$declared" = "$exported" ] || { echo "FAIL: exported API differs from vn.h:"; diff <(echo "$declared") <(echo "$exported"); exit 1; }
 
+# libvnio.so, for bindings: exactly the functions vn_io.h and vn_convert.h
+# mark VN_IO_API, and it converts when loaded from the prefix alone (it
+# finds libvn.so beside it).
+io=$(find "$T/prefix" -name 'libvnio.so.*.*.*' | head -1)
+[ -n "$io" ] || { echo "FAIL: libvnio.so not installed"; exit 1; }
+declared=$(grep -hoE '^VN_IO_API [^(]*\b(vn_[a-z0-9_]+)\(' "$S/src/io/vn_io.h" "$S/src/io/vn_convert.h" | grep -oE 'vn_[a-z0-9_]+\($' | tr -d '(' | sort)
+exported=$(nm -D --defined-only "$io" | awk '$2 != "A" { print $3 }' | sort)
+[ -n "$declared" ] && [ "$declared" = "$exported" ] || { echo "FAIL: libvnio.so's exports differ from VN_IO_API:"; diff <(echo "$declared") <(echo "$exported"); exit 1; }
+env -u LD_LIBRARY_PATH python3 - "$io" "$S/samples/torus.off" "$T/torus.glb" <<'PY' || { echo "FAIL: libvnio.so from the prefix"; exit 1; }
+import ctypes, sys
+lib = ctypes.CDLL(sys.argv[1])
+error = ctypes.create_string_buffer(512)
+status = lib.vn_io_convert(sys.argv[2].encode(), sys.argv[3].encode(), None, None, error)
+assert status == 0, (status, error.value)
+assert open(sys.argv[3], "rb").read(4) == b"glTF"
+PY
+
 cmake -S "$S/tests/consumer" -B "$T/consumer" -DCMAKE_PREFIX_PATH="$T/prefix" >/dev/null
 cmake --build "$T/consumer" >/dev/null
 LD_LIBRARY_PATH="$T/prefix/lib:$T/prefix/lib64" "$T/consumer/consumer" | grep -qx "success 0 0 1" || { echo "FAIL: shared consumer"; exit 1; }

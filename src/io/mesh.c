@@ -3,6 +3,7 @@
  */
 #include "vn_io.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,9 +20,23 @@ const char* vn_io_result_string(vn_io_result r)
 	case vn_io_error_format: return "unknown file format";
 	case vn_io_error_memory: return "out of memory";
 	case vn_io_error_same_file: return "the output is the input file";
+	case vn_io_error_option: return "an option that is out of range or does not apply";
 	case vn_io_result_count_: break;
 	}
 	return "unknown vn_io result";
+}
+
+int vn_io_parse_uint(const char* s, unsigned long lo, unsigned long hi, unsigned long* out)
+{
+	if (!s || !*s || *s == '-' || *s == '+')
+		return 0;
+	char* end;
+	errno = 0;
+	unsigned long v = strtoul(s, &end, 10);
+	if (errno || *end || v < lo || v > hi)
+		return 0;
+	*out = v;
+	return 1;
 }
 
 vn_io_result vn_io_fail(vn_io_error* error, vn_io_result r, const char* fmt, ...)

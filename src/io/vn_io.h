@@ -23,6 +23,14 @@
 extern "C" {
 #endif
 
+/* What libvnio.so exports (vn_convert.h's entry points and what a binding
+ * needs besides); the rest of vn_io is internal to vn's programs. */
+#if defined(__GNUC__) || defined(__clang__)
+#  define VN_IO_API __attribute__((visibility("default")))
+#else
+#  define VN_IO_API
+#endif
+
 typedef enum vn_io_result {
 	vn_io_success = 0,
 	vn_io_error_open,        /* cannot open or read the input file */
@@ -32,11 +40,12 @@ typedef enum vn_io_result {
 	vn_io_error_format,      /* unknown extension or format name */
 	vn_io_error_memory,      /* out of memory */
 	vn_io_error_same_file,   /* output is the input and in-place was not asked for */
+	vn_io_error_option,      /* an option value out of range, or not applying to the conversion */
 	vn_io_result_count_
 } vn_io_result;
 
 /* A short English description of r; never NULL. */
-const char* vn_io_result_string(vn_io_result r);
+VN_IO_API const char* vn_io_result_string(vn_io_result r);
 
 /* One human-readable line: "<file>:<line>: <what>" or "<file>: <what>". */
 typedef struct vn_io_error {
@@ -294,7 +303,7 @@ typedef enum vn_io_listing {
 	vn_io_list_extensions, /* ".off .gltf .glb .drc" */
 	vn_io_list_draco       /* where the Draco options apply: "Draco (.drc) output and glTF to glTF conversions" */
 } vn_io_listing;
-void vn_io_format_list(vn_io_listing style, char* text, size_t size);
+VN_IO_API void vn_io_format_list(vn_io_listing style, char* text, size_t size);
 
 /* The families (with their extensions) of path `p`: "glTF to glTF
  * conversions (.gltf or .glb in and out)", into text. */
@@ -399,6 +408,10 @@ vn_io_result vn_io_read_with(const char* path, vn_io_memory_reader parse, vn_io_
 
 /* True when a and b name the same existing file (same device and inode). */
 int vn_io_same_file(const char* a, const char* b);
+
+/* Parses a whole decimal number in [lo, hi] (the text of a command-line
+ * value); false on anything else. */
+int vn_io_parse_uint(const char* s, unsigned long lo, unsigned long hi, unsigned long* out);
 
 /* Fills error with printf-style text; returns r, for `return vn_io_fail(...)`. */
 vn_io_result vn_io_fail(vn_io_error* error, vn_io_result r, const char* fmt, ...)

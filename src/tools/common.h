@@ -35,20 +35,6 @@ static inline double tool_now(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* Parses a whole decimal number in [lo, hi]; false on anything else. */
-static inline int tool_parse_uint(const char* s, unsigned long lo, unsigned long hi, unsigned long* out)
-{
-	if (!s || !*s || *s == '-' || *s == '+')
-		return 0;
-	char* end;
-	errno = 0;
-	unsigned long v = strtoul(s, &end, 10);
-	if (errno || *end || v < lo || v > hi)
-		return 0;
-	*out = v;
-	return 1;
-}
-
 static inline unsigned tool_cpu_count(void)
 {
 	long n = sysconf(_SC_NPROCESSORS_ONLN);

@@ -126,15 +126,15 @@ int main(int argc, char** argv)
 			if (!all && vn_method_from_name(v, &method) != vn_result_success)
 				die(2, "unknown method '%s' (see --list-methods)", v);
 		} else if ((!strcmp(s, "-j") || !strcmp(s, "--threads")) && has_value) {
-			if (!tool_parse_uint(argv[++i], 1, 256, &threads))
+			if (!vn_io_parse_uint(argv[++i], 1, 256, &threads))
 				die(2, "--threads needs a whole number from 1 to 256, not '%s'", argv[i]);
 		} else if ((!strcmp(s, "-r") || !strcmp(s, "--repeat")) && has_value) {
-			if (!tool_parse_uint(argv[++i], 1, 100000, &repeat))
+			if (!vn_io_parse_uint(argv[++i], 1, 100000, &repeat))
 				die(2, "--repeat needs a whole number from 1 to 100000, not '%s'", argv[i]);
 		} else if (!strcmp(s, "--corners")) {
 			corners = 1;
 		} else if (!strcmp(s, "--sharp-every") && has_value) {
-			if (!tool_parse_uint(argv[++i], 0, 1000000000, &sharp_every))
+			if (!vn_io_parse_uint(argv[++i], 0, 1000000000, &sharp_every))
 				die(2, "--sharp-every needs a whole number, not '%s'", argv[i]);
 		} else if (!strcmp(s, "--crease") && has_value) {
 			char* end;

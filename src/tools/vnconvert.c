@@ -20,8 +20,7 @@
 #include <malloc.h>
 #endif
 
-#include "draco.h"
-#include "gltf.h"
+#include "vn_convert.h"
 
 static const char* prog = "vnconvert";
 
@@ -153,18 +152,12 @@ static const char* noun(size_t count, const char* one, const char* many)
 typedef struct args {
 	const char* in;
 	const char* out;
-	const vn_io_format* in_format;
+	/* The conversion: every flag vn_io_convert_option takes, and --stats. */
+	vn_convert_options o;
+	const vn_io_format* in_format;  /* o's formats, or IN's and OUT's extensions' */
 	const vn_io_format* out_format;
-	vn_method method;
-	unsigned threads; /* -j: a conversion's threads; in batch mode the files converted at once */
-	int in_place, stats, quiet, apply_transforms;
-	int stdio; /* IN or OUT is '-', read or written through a temporary file */
-	vn_gltf_options gltf;
-	/* Draco flags as given, -1 when not: a .drc input's own bits or the
-	 * defaults fill the rest once the input is read. */
-	vn_drc_options drc;
-	/* The first option given that applies only to some conversions (NULL: none). */
-	const char *drc_given, *gltf_only;
+	unsigned threads; /* -j, else every core: a conversion's threads; in batch mode the files converted at once */
+	int quiet;
 	/* Batch mode (out_dir not NULL): every IN into out_dir. */
 	const char* out_dir;
 	int recursive;
@@ -179,17 +172,6 @@ static const char* need_value(int argc, char** argv, int* i)
 	return argv[++*i];
 }
 
-static const vn_io_format* need_format(const char* flag, const char* name)
-{
-	const vn_io_format* f = vn_io_format_by_name(name);
-	if (!f) {
-		char names[128];
-		vn_io_format_list(vn_io_list_names, names, sizeof names);
-		die(2, "%s is one of %s, not '%s'", flag, names, name);
-	}
-	return f;
-}
-
 /* IN or OUT whose extension names no format vn knows. */
 static void unknown_extension(const char* path, int input)
 {
@@ -198,53 +180,22 @@ static void unknown_extension(const char* path, int input)
 	die(2, "%s", text);
 }
 
-/* --apply-transforms applies: a glTF scene written as a format without one. */
-static int transforms_apply(const vn_io_format* in, const vn_io_format* out)
-{
-	return in->path == vn_io_path_gltf && vn_io_conversion_path(in, out) == vn_io_path_mesh;
-}
-
-/* What a given option that does not apply to converting `in` to `out`
- * applies to ("--crease-angle applies only to glTF to glTF conversions
- * (...)"), in a static buffer; NULL when every option given applies. */
-static const char* option_misfit(const args* a, const vn_io_format* in, const vn_io_format* out)
-{
-	static char text[512];
-	char where[256];
-	const vn_io_path path = vn_io_conversion_path(in, out);
-	if (a->drc_given && !(out->draco & vn_io_draco_output) &&
-	    !(path != vn_io_path_mesh && (in->draco & vn_io_draco_document))) {
-		vn_io_format_list(vn_io_list_draco, where, sizeof where);
-		snprintf(text, sizeof text, "%s applies to %s", a->drc_given, where);
-		return text;
-	}
-	if (a->gltf_only && path != vn_io_path_gltf) {
-		vn_io_path_description(vn_io_path_gltf, where, sizeof where);
-		snprintf(text, sizeof text, "%s applies only to %s", a->gltf_only, where);
-		return text;
-	}
-	if (a->apply_transforms && !transforms_apply(in, out)) {
-		snprintf(text, sizeof text, "%s applies to glTF input written as a format without a scene graph",
-		         "--apply-transforms");
-		return text;
-	}
-	return NULL;
-}
-
 static args parse(int argc, char** argv)
 {
 	args a;
 	memset(&a, 0, sizeof(a));
-	a.method = vn_method_mwa;
-	a.threads = tool_cpu_count();
-	a.drc = (vn_drc_options){-1, -1, -1, -1, -1};
-	const char *drc_given = NULL, *gltf_only = NULL;
 	a.inputs = (const char**)calloc((size_t)argc, sizeof *a.inputs);
 	if (!a.inputs)
 		die(1, "%s", "out of memory");
+	vn_io_error err;
 	for (int i = 1; i < argc; ++i) {
 		const char* s = argv[i];
-		if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
+		const int arity = vn_io_convert_option_arity(s);
+		if (arity >= 0) {
+			const char* v = arity ? need_value(argc, argv, &i) : NULL;
+			if (vn_io_convert_option(&a.o, s, v, &err) != vn_io_success)
+				die(2, "%s", err.message);
+		} else if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
 			usage(stdout);
 			exit(0);
 		} else if (!strcmp(s, "--version")) {
@@ -256,88 +207,10 @@ static args parse(int argc, char** argv)
 		} else if (!strcmp(s, "--list-conversions")) {
 			vn_io_conversions_table(stdout);
 			exit(0);
-		} else if (!strcmp(s, "-m") || !strcmp(s, "--method")) {
-			const char* v = need_value(argc, argv, &i);
-			if (vn_method_from_name(v, &a.method) != vn_result_success) {
-				char names[128] = "";
-				for (unsigned m = 0; m < vn_method_count; ++m) {
-					const size_t used = strlen(names);
-					snprintf(names + used, sizeof names - used, "%s%s", m ? ", " : "", vn_method_name((vn_method)m));
-				}
-				die(2, "%s is one of %s, not '%s' (see --list-methods)", s, names, v);
-			}
-		} else if (!strcmp(s, "-f") || !strcmp(s, "--format")) {
-			a.out_format = need_format(s, need_value(argc, argv, &i));
-		} else if (!strcmp(s, "--input-format")) {
-			a.in_format = need_format(s, need_value(argc, argv, &i));
-		} else if (!strcmp(s, "-j") || !strcmp(s, "--threads")) {
-			const char* v = need_value(argc, argv, &i);
-			unsigned long n;
-			if (!tool_parse_uint(v, 1, 256, &n))
-				die(2, "%s needs a whole number from 1 to 256, not '%s'", s, v);
-			a.threads = (unsigned)n;
-		} else if (!strcmp(s, "--no-weld")) {
-			a.gltf.no_weld = 1;
-		} else if (!strcmp(s, "--weld-epsilon")) {
-			const char* v = need_value(argc, argv, &i);
-			char* end;
-			a.gltf.weld_epsilon = strtod(v, &end);
-			if (!*v || *end || !(a.gltf.weld_epsilon >= 0) || a.gltf.weld_epsilon > 1e300)
-				die(2, "--weld-epsilon needs a finite number >= 0, not '%s'", v);
-		} else if (!strcmp(s, "--weld-scope")) {
-			const char* v = need_value(argc, argv, &i);
-			if (strcmp(v, "primitive") && strcmp(v, "mesh"))
-				die(2, "--weld-scope is primitive or mesh, not '%s'", v);
-			a.gltf.weld_mesh = !strcmp(v, "mesh");
-			gltf_only = gltf_only ? gltf_only : s;
-		} else if (!strcmp(s, "--tangents")) {
-			const char* v = need_value(argc, argv, &i);
-			if (strcmp(v, "keep") && strcmp(v, "drop"))
-				die(2, "--tangents is keep or drop, not '%s'", v);
-			a.gltf.drop_tangents = !strcmp(v, "drop");
-			gltf_only = gltf_only ? gltf_only : s;
-		} else if (!strcmp(s, "--crease-angle")) {
-			const char* v = need_value(argc, argv, &i);
-			char* end;
-			const double degrees = strtod(v, &end);
-			if (!*v || *end || !(degrees >= 0 && degrees <= 180))
-				die(2, "--crease-angle needs a number of degrees from 0 to 180, not '%s'", v);
-			a.gltf.crease = 1;
-			a.gltf.crease_angle = degrees * 3.14159265358979323846 / 180;
-		} else if (!strcmp(s, "--draco")) {
-			const char* v = need_value(argc, argv, &i);
-			if (strcmp(v, "keep") && strcmp(v, "off") && strcmp(v, "on"))
-				die(2, "--draco is keep, off or on, not '%s'", v);
-			a.gltf.draco = !strcmp(v, "off") ? vn_gltf_draco_off : !strcmp(v, "on") ? vn_gltf_draco_on : vn_gltf_draco_keep;
-			gltf_only = gltf_only ? gltf_only : s;
-		} else if (!strcmp(s, "--meshopt")) {
-			const char* v = need_value(argc, argv, &i);
-			if (strcmp(v, "keep") && strcmp(v, "off"))
-				die(2, "--meshopt is keep or off, not '%s'", v);
-			a.gltf.meshopt = !strcmp(v, "off") ? vn_gltf_meshopt_off : vn_gltf_meshopt_keep;
-			gltf_only = gltf_only ? gltf_only : s;
-		} else if (!strcmp(s, "--draco-qp") || !strcmp(s, "--draco-qn") || !strcmp(s, "--draco-qt") ||
-		           !strcmp(s, "--draco-qc") || !strcmp(s, "--draco-cl")) {
-			const int level = !strcmp(s, "--draco-cl"), normal = !strcmp(s, "--draco-qn");
-			const char* v = need_value(argc, argv, &i);
-			unsigned long n;
-			/* Draco's octahedral normal coding needs 2 bits at least. */
-			const unsigned long lowest = level ? 0 : normal ? 2 : 1, highest = level ? 10 : VN_DRC_MAX_BITS;
-			if (!tool_parse_uint(v, lowest, highest, &n))
-				die(2, "%s needs a whole number%s from %lu to %lu, not '%s'", s, level ? "" : " of bits", lowest,
-				    highest, v);
-			int* field[] = {&a.drc.position_bits, &a.drc.normal_bits, &a.drc.texcoord_bits, &a.drc.color_bits,
-			                &a.drc.compression_level};
-			*field[strchr("pntcl", s[9]) - "pntcl"] = (int)n;
-			drc_given = drc_given ? drc_given : s;
-		} else if (!strcmp(s, "--in-place")) {
-			a.in_place = 1;
 		} else if (!strcmp(s, "--stats")) {
-			a.stats = 1;
+			a.o.stats = 1;
 		} else if (!strcmp(s, "-q") || !strcmp(s, "--quiet")) {
 			a.quiet = 1;
-		} else if (!strcmp(s, "--apply-transforms")) {
-			a.apply_transforms = 1;
 		} else if (!strcmp(s, "-o") || !strcmp(s, "--out-dir")) {
 			a.out_dir = need_value(argc, argv, &i);
 		} else if (!strcmp(s, "-r") || !strcmp(s, "--recursive")) {
@@ -348,12 +221,13 @@ static args parse(int argc, char** argv)
 			a.inputs[a.input_count++] = s;
 		}
 	}
-	a.drc_given = drc_given;
-	a.gltf_only = gltf_only;
+	a.threads = a.o.threads ? a.o.threads : tool_cpu_count();
+	a.in_format = a.o.input_format ? vn_io_format_by_name(a.o.input_format) : NULL;
+	a.out_format = a.o.output_format ? vn_io_format_by_name(a.o.output_format) : NULL;
 	if (a.out_dir) {
 		if (!a.input_count)
 			die(2, "%s", "usage: vnconvert --out-dir DIR IN... (see --help)");
-		if (a.stats)
+		if (a.o.stats)
 			die(2, "%s", "--stats is for one file: a batch ends with a summary instead");
 		return a;
 	}
@@ -371,7 +245,7 @@ static args parse(int argc, char** argv)
 			die(2, "%s", "IN '-' (standard input) needs --input-format: there is no extension to tell the format");
 		if (!strcmp(a.out, "-") && !a.out_format)
 			die(2, "%s", "OUT '-' (standard output) needs --format: there is no extension to tell the format");
-		if (a.stats)
+		if (a.o.stats)
 			die(2, "%s", "--stats needs IN and OUT to be files, not '-'");
 		const vn_io_format* f = !strcmp(a.in, "-") && a.in_format->companions ? a.in_format : a.out_format;
 		if ((!strcmp(a.in, "-") && a.in_format->companions) || (!strcmp(a.out, "-") && a.out_format->companions))
@@ -382,289 +256,43 @@ static args parse(int argc, char** argv)
 		unknown_extension(a.in, 1);
 	if (!a.out_format && !(a.out_format = vn_io_format_for_path(a.out)))
 		unknown_extension(a.out, 0);
-	const char* misfit = option_misfit(&a, a.in_format, a.out_format);
-	if (misfit)
-		die(2, "%s, and this one is %s to %s: leave it out", misfit, a.in_format->name, a.out_format->name);
+	/* Before '-' reads standard input. */
+	if (vn_io_convert_check(&a.o, a.in_format, a.out_format, &err) != vn_io_success)
+		die(2, "%s", err.message);
 	return a;
 }
 
-/* The reader's warnings about IN ("\n"-separated lines), one line each. */
-static void input_warnings(const args* a, const char* text)
+static void progress(void* context, const char* what, const char* path)
 {
-	while (text && *text && !a->quiet) {
-		const size_t n = strcspn(text, "\n");
-		fprintf(stderr, "%s: warning: %s: %.*s\n", prog, a->in, (int)n, text);
-		text += n + (text[n] == '\n');
-	}
-}
-
-static void progress(const args* a, const char* what, const char* path)
-{
-	if (!a->quiet && isatty(STDERR_FILENO))
+	if (!((const args*)context)->quiet && isatty(STDERR_FILENO))
 		fprintf(stderr, "%s: %s %s\n", prog, what, path);
-}
-
-/* glTF to glTF: the document path, which keeps everything but the normals. */
-static int convert_gltf(args* a, size_t* triangles)
-{
-	a->gltf.method = a->method;
-	a->gltf.threads = a->threads;
-	a->gltf.draco_options = a->drc;
-	a->gltf.draco_normal_error = a->stats;
-	vn_gltf_stats st;
-	vn_io_error err;
-	progress(a, "converting", a->in);
-	const double t0 = tool_now();
-	if (vn_gltf_convert(a->in, a->out, a->out_format == vn_io_format_by_name("glb"), &a->gltf, &st, &err) !=
-	    vn_io_success)
-		die(1, "%s", err.message);
-	const double t1 = tool_now();
-	*triangles = st.triangles;
-	input_warnings(a, st.warnings);
-	if (st.zero_normals && !a->quiet)
-		fprintf(stderr,
-		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); "
-		        "the input's normal kept where it is a unit vector, else written as (0, 0, 1)\n",
-		        prog, st.zero_normals, st.vertices, noun(st.vertices, "vertex", "vertices"),
-		        noun(st.zero_normals, "has", "have"));
-	if (st.tangent_primitives && !a->quiet && !a->gltf.drop_tangents)
-		fprintf(stderr,
-		        "%s: warning: %zu %s TANGENT data, which no longer matches the new normals "
-		        "(--tangents drop removes it)\n",
-		        prog, st.tangent_primitives, noun(st.tangent_primitives, "primitive has", "primitives have"));
-	if (st.draco_uncompressed && !a->quiet)
-		fprintf(stderr,
-		        "%s: warning: %zu %s left uncompressed: %s morph targets keep every vertex, and Draco "
-		        "cannot store more than 3 vertices per triangle\n",
-		        prog, st.draco_uncompressed, noun(st.draco_uncompressed, "primitive", "primitives"),
-		        noun(st.draco_uncompressed, "its", "their"));
-	/* Renumbering indices an unknown extension may hold would break it. */
-	if (st.unpruned_extension[0] && !a->quiet)
-		fprintf(stderr,
-		        "%s: warning: %s uses %s, an extension vn does not know that may refer to accessors or "
-		        "bufferViews by their index, so the data vn replaced stay in the file, unused, rather than being "
-		        "removed and the rest renumbered; the file is otherwise complete and correct\n",
-		        prog, a->out, st.unpruned_extension);
-	if (a->stats) {
-		printf("input:              %s (%s)\n", a->in, a->in_format->name);
-		printf("output:             %s (%s)\n", a->out, a->out_format->name);
-		printf("method:             %s\n", vn_method_name(a->method));
-		printf("primitives:         %zu processed, %zu skipped (%zu %s, %zu %s, %zu without POSITION)\n",
-		       st.primitives, st.skipped_points + st.skipped_lines + st.skipped_no_position, st.skipped_points,
-		       noun(st.skipped_points, "point", "points"), st.skipped_lines, noun(st.skipped_lines, "line", "lines"),
-		       st.skipped_no_position);
-		printf("vertices:           %zu\n", st.vertices);
-		printf("triangles:          %zu\n", st.triangles);
-		printf("welded vertices:    %zu\n", st.welded_vertices);
-		printf("hard edges kept:    %zu\n", st.hard_edges);
-		printf("split vertices:     %zu\n", st.split_vertices);
-		printf("zero normals:       %zu\n", st.zero_normals);
-		printf("tangent primitives: %zu (%s)\n", st.tangent_primitives, a->gltf.drop_tangents ? "dropped" : "kept");
-		printf("appended accessors: %zu\n", st.appended_accessors);
-		printf("removed unused:     %zu %s, %zu %s\n", st.pruned_accessors,
-		       noun(st.pruned_accessors, "accessor", "accessors"), st.pruned_views,
-		       noun(st.pruned_views, "bufferView", "bufferViews"));
-		printf("draco primitives:   %zu (%zu left uncompressed)\n", st.draco_primitives, st.draco_uncompressed);
-		printf("meshopt views:      %zu (%zu encoded again)\n", st.meshopt_views, st.meshopt_encoded);
-		for (int bits = 0; bits <= VN_DRC_MAX_BITS; ++bits)
-			if (st.draco_normal_error[bits].compared)
-				printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu %s)\n",
-				       st.draco_normal_error[bits].median_degrees, st.draco_normal_error[bits].max_degrees, bits,
-				       st.draco_normal_error[bits].compared, noun(st.draco_normal_error[bits].compared, "normal", "normals"));
-		printf("threads:            %u\n", a->threads);
-		printf("time:               %.3f ms\n", 1e3 * (t1 - t0));
-	}
-	return 0;
-}
-
-/* .drc to .drc: the document path of Draco, which keeps every attribute
- * (type, unique id, grid) and the metadata, and replaces only NORMAL. */
-static int convert_drc(const args* a, size_t* triangles)
-{
-	vn_drc_convert_options o;
-	memset(&o, 0, sizeof o);
-	o.method = a->method;
-	o.threads = a->threads;
-	o.given = a->drc;
-	o.normal_error = a->stats;
-	vn_drc_convert_stats st;
-	vn_io_error err;
-	progress(a, "converting", a->in);
-	if (vn_drc_convert(a->in, a->out, &o, &st, &err) != vn_io_success)
-		die(1, "%s", err.message);
-	*triangles = st.normals.faces;
-	if (st.normals.zero_normals && !a->quiet)
-		fprintf(stderr,
-		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); %s\n",
-		        prog, st.normals.zero_normals, st.points, noun(st.points, "vertex", "vertices"),
-		        noun(st.normals.zero_normals, "has", "have"),
-		        st.input_normals ? "the input's normal kept" : "written as the zero vector");
-	if (a->stats) {
-		printf("input:              %s (%s)\n", a->in, a->in_format->name);
-		printf("output:             %s (%s)\n", a->out, a->out_format->name);
-		printf("method:             %s\n", vn_method_name(a->method));
-		printf("vertices:           %zu\n", st.points);
-		printf("faces:              %zu (triangles)\n", st.normals.faces);
-		printf("attributes:         %zu (NORMAL replaced, the others kept)\n", st.attributes);
-		printf("degenerate faces:   %zu\n", st.normals.degenerate_faces);
-		printf("zero normals:       %zu\n", st.normals.zero_normals);
-		printf("non-finite vertices: %zu\n", st.normals.nonfinite_vertices);
-		printf("threads:            %u\n", a->threads);
-		printf("time read:          %.3f ms\n", 1e3 * st.read_seconds);
-		printf("time normals:       %.3f ms\n", 1e3 * st.normals_seconds);
-		printf("time write:         %.3f ms\n", 1e3 * st.write_seconds);
-		printf("draco settings:     qp=%d qn=%d qt=%d qc=%d cl=%d\n", st.used.position_bits, st.used.normal_bits,
-		       st.used.texcoord_bits, st.used.color_bits, st.used.compression_level);
-		printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu %s)\n",
-		       st.normal_error.median_degrees, st.normal_error.max_degrees, st.used.normal_bits,
-		       st.normal_error.compared, noun(st.normal_error.compared, "normal", "normals"));
-	}
-	return 0;
-}
-
-/* Triangles of mesh once its polygons are fan-triangulated. */
-static size_t triangle_count(const vn_io_mesh* mesh)
-{
-	size_t n = 0;
-	for (size_t f = 0; f < mesh->face_count; f++) {
-		const size_t k = mesh->face_offsets[f + 1] - mesh->face_offsets[f];
-		n += k >= 3 ? k - 2 : 0;
-	}
-	return n;
 }
 
 /* Converts a.in to a.out: exit status 0, 1 (*triangles: how many it wrote
  * on success) or 2, with every message on stderr (warnings; an error in
- * one line). */
+ * one line) and the --stats text on stdout. */
 static int convert_one(args a, size_t* triangles)
 {
-	if (!a.in_place && (!strcmp(a.in, a.out) || vn_io_same_file(a.in, a.out)))
-		die(2, "output '%s' is the input; pass --in-place to overwrite it", a.out);
+	a.o.input_format = a.in_format->name;
+	a.o.output_format = a.out_format->name;
+	a.o.threads = a.threads;
+	a.o.progress = progress;
+	a.o.progress_context = &a;
+	vn_convert_report report;
 	vn_io_error err;
-	/* A missing folder or an OUT that is a device is told before any work. */
-	if (vn_io_output_check(a.out, NULL, &err) != vn_io_success)
-		die(1, "%s", err.message);
-	switch (vn_io_conversion_path(a.in_format, a.out_format)) {
-	case vn_io_path_gltf:
-		return convert_gltf(&a, triangles);
-	case vn_io_path_drc:
-		return convert_drc(&a, triangles);
-	case vn_io_path_mesh:
-		break;
-	}
-
-	vn_io_mesh mesh;
-	memset(&mesh, 0, sizeof(mesh));
-
-	progress(&a, "reading", a.in);
-	const double t0 = tool_now();
-	const int drc_out = (a.out_format->draco & vn_io_draco_output) != 0;
-	vn_drc_options drc;
-	vn_drc_default_options(&drc);
-	if ((a.apply_transforms ? vn_io_gltf_read_scene(a.in, &mesh, &err)
-	                        : vn_io_read_file(a.in, a.in_format, &mesh, &err)) != vn_io_success)
-		die(1, "%s", err.message);
-	if (a.stdio) { /* the temporary's folder: an OBJ's mtllib names are written as read */
-		free(mesh.material_folder);
-		mesh.material_folder = NULL;
-	}
-	input_warnings(&a, mesh.warnings);
-	const size_t nonfinite = vn_io_mesh_first_nonfinite(&mesh);
-	if (nonfinite < mesh.vertex_count) {
-		const double* p = mesh.positions + 3 * nonfinite;
-		fprintf(stderr,
-		        "%s: error: %s: vertex %zu is at (%g, %g, %g), and no output format can hold a coordinate that is "
-		        "not a finite number: fix or remove that vertex\n",
-		        prog, a.in, nonfinite, p[0], p[1], p[2]);
-		vn_io_mesh_free(&mesh);
-		return 1;
-	}
-	int* given[] = {&a.drc.position_bits, &a.drc.normal_bits, &a.drc.texcoord_bits, &a.drc.color_bits,
-	                &a.drc.compression_level};
-	int* used[] = {&drc.position_bits, &drc.normal_bits, &drc.texcoord_bits, &drc.color_bits,
-	               &drc.compression_level};
-	for (size_t i = 0; i < sizeof given / sizeof given[0]; ++i)
-		if (*given[i] >= 0)
-			*used[i] = *given[i];
-
-	const double t1 = tool_now();
-	const vn_io_normals_options no = {a.method, a.threads, a.gltf.no_weld, a.gltf.weld_epsilon, a.gltf.crease,
-	                                  a.gltf.crease_angle};
-	vn_io_normals_stats st;
-	const int had_normals = mesh.normals != NULL;
-	if (vn_io_mesh_normals(&mesh, a.in, &no, &st, &err) != vn_io_success) {
-		fprintf(stderr, "%s: error: %s\n", prog, err.message);
-		vn_io_mesh_free(&mesh);
-		return 1;
-	}
-	const double t2 = tool_now();
-
-	/* After the normals are computed: a format without vertex normals loses them. */
-	char lost[512];
-	if (vn_io_mesh_losses(&mesh, a.out_format, lost, sizeof lost) && !a.quiet)
-		fprintf(stderr, "%s: warning: %s cannot hold %s: not written\n", prog, a.out, lost);
-	if (st.zero_normals && a.out_format->no_normal && !a.quiet)
-		fprintf(stderr,
-		        "%s: warning: %zu of %zu %s %s no normal (isolated, or only degenerate faces); "
-		        "%s%s\n",
-		        prog, st.zero_normals, mesh.vertex_count, noun(mesh.vertex_count, "vertex", "vertices"),
-		        noun(st.zero_normals, "has", "have"), had_normals ? "the input's normal kept" : "written as ",
-		        had_normals ? "" : a.out_format->no_normal);
-
-	if (!(a.out_format->holds & vn_io_holds_loose_vertices) && !a.quiet) {
-		/* Draco 1.5.5's decoder refuses more points than 3 per triangle: the writer
-		 * then keeps only the vertices faces use. */
-		const size_t corners = 3 * triangle_count(&mesh);
-		if (mesh.vertex_count > corners)
-			fprintf(stderr,
-			        "%s: warning: %zu vertices and %zu %s: only the vertices faces use are written, as %s "
-			        "cannot store more than 3 points per triangle\n",
-			        prog, mesh.vertex_count, corners / 3, noun(corners / 3, "triangle", "triangles"),
-			        a.out_format->title);
-	}
-	progress(&a, "writing", a.out);
-	if (vn_io_write_file(a.out, a.out_format, &mesh, drc_out ? &drc : NULL, &err) !=
-	    vn_io_success) {
-		fprintf(stderr, "%s: error: %s\n", prog, err.message);
-		vn_io_mesh_free(&mesh);
-		return 1;
-	}
-	const double t3 = tool_now();
-	*triangles = triangle_count(&mesh);
-
-	if (a.stats) {
-		printf("input:              %s (%s)\n", a.in, a.in_format->name);
-		printf("output:             %s (%s)\n", a.out, a.out_format->name);
-		printf("method:             %s\n", vn_method_name(a.method));
-		printf("vertices:           %zu\n", st.vertices);
-		printf("faces:              %zu (%s)\n", st.faces,
-		       vn_io_mesh_is_triangles(&mesh) ? "triangles" : "polygons");
-		printf("degenerate faces:   %zu\n", st.degenerate_faces);
-		printf("welded vertices:    %zu\n", st.welded_vertices);
-		printf("hard edges kept:    %zu\n", st.hard_edges);
-		printf("split vertices:     %zu\n", st.split_vertices);
-		printf("zero normals:       %zu\n", st.zero_normals);
-		printf("threads:            %u\n", a.threads);
-		printf("time read:          %.3f ms\n", 1e3 * (t1 - t0));
-		printf("time normals:       %.3f ms\n", 1e3 * (t2 - t1));
-		printf("time write:         %.3f ms\n", 1e3 * (t3 - t2));
-		vn_drc_normal_error q;
-		if (drc_out && vn_drc_normal_error_of(&mesh, &drc, a.out, &q, &err) != vn_io_success) {
-			fprintf(stderr, "%s: error: %s\n", prog, err.message);
-			vn_io_mesh_free(&mesh);
-			return 1;
-		}
-		if (drc_out) {
-			printf("draco settings:     qp=%d qn=%d qt=%d qc=%d cl=%d\n", drc.position_bits, drc.normal_bits,
-			       drc.texcoord_bits, drc.color_bits, drc.compression_level);
-			printf("draco normal quantization error: median %.4f deg, max %.4f deg (qn=%d, %zu %s)\n",
-			       q.median_degrees, q.max_degrees, drc.normal_bits, q.compared, noun(q.compared, "normal", "normals"));
-		}
-	}
-	vn_io_mesh_free(&mesh);
-	return 0;
+	const vn_io_result res = vn_io_convert(a.in, a.out, &a.o, &report, &err);
+	for (const char* line = report.warnings; line && *line && !a.quiet; line += strcspn(line, "\n") + 1)
+		fprintf(stderr, "%s: warning: %.*s\n", prog, (int)strcspn(line, "\n"), line);
+	if (report.stats)
+		fputs(report.stats, stdout);
+	*triangles = report.triangles;
+	vn_io_convert_report_free(&report);
+	if (res == vn_io_success)
+		return 0;
+	fprintf(stderr, "%s: error: %s\n", prog, err.message);
+	/* A usage error: the command line asks for what cannot be done. */
+	return res == vn_io_error_option || res == vn_io_error_same_file || res == vn_io_error_format ? 2 : 1;
 }
-
 /* ------------------------------------------------------------------ many files, and '-'
  *
  * Each file is converted in a child process (fork, then convert_one): a
@@ -675,7 +303,6 @@ typedef struct job {
 	const char *in, *out;           /* as converted */
 	const char *in_name, *out_name; /* as messages name them (temporaries of '-': "<stdin>") */
 	const vn_io_format *in_format, *out_format;
-	int apply_transforms;
 	pid_t pid;
 	int fd;      /* the child's stderr, read end */
 	char* text;  /* what it wrote there */
@@ -819,10 +446,11 @@ static void start(batch* b, size_t i, unsigned threads, outcome* o)
 		a.out = j->out;
 		a.in_format = j->in_format;
 		a.out_format = j->out_format;
-		a.apply_transforms = j->apply_transforms;
 		a.threads = threads;
-		a.gltf.image_names_from_output = !b->stdio;
-		a.stdio = b->stdio;
+		a.o.image_names_from_output = !b->stdio;
+		a.o.input_is_copy = b->stdio;
+		/* An option refused only when it applies to no file of the batch (plan). */
+		a.o.ignore_misfits = 1;
 		const int status = convert_one(a, &o->triangles);
 		exit(status);
 	}
@@ -947,7 +575,6 @@ static void add_job(batch* b, const char* path, const char* relative, const vn_i
 	j->out = j->out_name = joined(under, (size_t)-1, relative_out);
 	j->in_format = in_format;
 	j->out_format = out_format;
-	j->apply_transforms = a->apply_transforms && transforms_apply(in_format, out_format);
 	free(under);
 	free(relative_out);
 }
@@ -1035,14 +662,11 @@ static void plan(batch* b)
 		add_job(b, in, slash ? slash + 1 : in, a->in_format);
 	}
 	/* An option is refused only when it applies to no file of the batch. */
-	const char* misfit = NULL;
+	char misfit[512];
 	size_t fits = 0;
-	for (size_t i = 0; i < b->count; ++i) {
-		const char* m = option_misfit(a, b->jobs[i].in_format, b->jobs[i].out_format);
-		fits += !m;
-		misfit = m ? m : misfit;
-	}
-	if (misfit && !fits)
+	for (size_t i = 0; i < b->count; ++i)
+		fits += !vn_io_convert_misfit(&a->o, b->jobs[i].in_format, b->jobs[i].out_format, misfit, sizeof misfit);
+	if (b->count && !fits)
 		die(2, "%s, and no file of this batch is converted so: leave it out", misfit);
 	const job** sorted = (const job**)malloc((b->count ? b->count : 1) * sizeof *sorted);
 	if (!sorted)
@@ -1057,7 +681,7 @@ static void plan(batch* b)
 	free(sorted);
 	for (size_t i = 0; i < b->count; ++i) {
 		const job* j = &b->jobs[i];
-		if (!a->in_place && vn_io_same_file(j->in, j->out))
+		if (!a->o.in_place && vn_io_same_file(j->in, j->out))
 			die(2, "output '%s' is the input; pass --in-place to overwrite it", j->out);
 		char* folder = joined(j->out, (size_t)(strrchr(j->out, '/') - j->out), "");
 		make_folders(folder);
@@ -1107,7 +731,6 @@ static int convert_stdio(args* a)
 	memset(&j, 0, sizeof j);
 	j.in_format = a->in_format;
 	j.out_format = a->out_format;
-	j.apply_transforms = a->apply_transforms;
 	char extension[64];
 	snprintf(extension, sizeof extension, "/stdin%.*s", (int)strcspn(a->in_format->extensions, " "),
 	         a->in_format->extensions);
@@ -1184,7 +807,6 @@ int main(int argc, char** argv)
 	else if (!strcmp(a.in, "-") || !strcmp(a.out, "-"))
 		status = convert_stdio(&a);
 	else {
-		a.apply_transforms = a.apply_transforms && transforms_apply(a.in_format, a.out_format);
 		size_t triangles;
 		status = convert_one(a, &triangles);
 	}

@@ -478,7 +478,7 @@ int main(int argc, char** argv)
 		} else if (!strcmp(s, "--method") && has) {
 			R.methods = parse_list(argv[++i], method_name_i, "method");
 		} else if ((!strcmp(s, "-r") || !strcmp(s, "--repeat")) && has) {
-			if (!tool_parse_uint(argv[++i], 1, 10000, &repeat))
+			if (!vn_io_parse_uint(argv[++i], 1, 10000, &repeat))
 				die(2, "--repeat needs a whole number from 1 to 10000, not '%s'", argv[i]);
 		} else if (!strcmp(s, "-q") || !strcmp(s, "--quiet")) {
 			quiet = 1;
