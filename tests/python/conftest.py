@@ -65,5 +65,7 @@ def c_normals(kind, method, positions, faces, crease=None):
         else:
             np.asarray(faces, dtype=np.uint32).tofile(files[1])
         args = [raw, kind, method] + files + ([] if crease is None else [repr(float(crease))])
-        out = subprocess.run(args, check=True, stdout=subprocess.PIPE).stdout
+        # vn_raw carries its own sanitizer runtime: not the one preloaded for python
+        env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+        out = subprocess.run(args, check=True, stdout=subprocess.PIPE, env=env).stdout
     return np.frombuffer(out, dtype=np.float64).reshape(-1, 3)
