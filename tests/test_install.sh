@@ -47,4 +47,19 @@ export PKG_CONFIG_PATH=$(dirname "$pc")
 [ "$(pkg-config --modversion vn)" = "$(awk '/^#define VN_VERSION_STRING/ { gsub(/"/, "", $3); print $3 }' "$S/src/vn.h")" ] || { echo "FAIL: vn.pc version"; exit 1; }
 cc -o "$T/pc" "$S/tests/consumer/main.c" $(pkg-config --define-variable=prefix="$T/prefix" --cflags --libs vn)
 LD_LIBRARY_PATH=$(dirname "$lib") "$T/pc" | grep -qx "success 0 0 1" || { echo "FAIL: pkg-config consumer"; exit 1; }
+# The Python package beside the library: /usr/bin/python3 imports it from the
+# prefix's dist-packages and loads the installed libvn, no VN_LIBRARY needed.
+py=$(find "$T/prefix" -path '*-packages/vn/__init__.py' | head -1)
+[ -n "$py" ] && [ -f "$(dirname "$py")/_install.py" ] || { echo "FAIL: Python package not installed"; exit 1; }
+got=$(cd "$T" && env -u VN_LIBRARY PYTHONPATH="$(dirname "$(dirname "$py")")" /usr/bin/python3 -c \
+  'import vn; print(vn.library().path); print(vn.vertex_normals([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]).tolist())')
+[ "$got" = "$(readlink -f "$lib" | sed 's/\.[0-9]*$//')
+[[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]" ] || { echo "FAIL: installed Python package: $got"; exit 1; }
+# pip install --no-build-isolation of python/ (a copy: pip writes build/ beside it) into a venv
+if /usr/bin/python3 -m venv --system-site-packages "$T/venv" 2>/dev/null; then
+  cp -r "$S/python" "$T/python"
+  "$T/venv/bin/pip" install -q --no-index --no-build-isolation "$T/python" >/dev/null || { echo "FAIL: pip install ./python"; exit 1; }
+  v=$(cd "$T" && VN_LIBRARY="$lib" "$T/venv/bin/python" -c 'import vn; print(vn.__version__, vn.__file__)')
+  case $v in "$(pkg-config --modversion vn) $T/venv/"*) ;; *) echo "FAIL: pip-installed package: $v"; exit 1 ;; esac
+fi
 echo "install: 1 passed, 0 failed"

@@ -84,7 +84,7 @@ class VN_AddonPreferences(bpy.types.AddonPreferences):
         try:
             lib = binding.load_configured(bpy.path.abspath(self.library_path))
             layout.label(text="Using vn %s: %s" % (lib.version, lib.path), icon="CHECKMARK")
-        except binding.VnError as e:
+        except binding.Error as e:
             layout.label(text=str(e), icon="ERROR")
 
 
@@ -257,7 +257,7 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
             return {"CANCELLED"}
         try:
             lib = _library(context)
-        except binding.VnError as e:
+        except binding.Error as e:
             self.report({"ERROR"}, "vn: %s" % e)
             return {"CANCELLED"}
         # objects sharing a mesh: computed once (their vertex groups are the mesh's)
@@ -293,7 +293,7 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
                 meshes += 1
                 corners += c
                 marked += m
-        except binding.VnError as e:
+        except binding.Error as e:
             self.report({"ERROR"}, "vn: %s" % e)
             return {"CANCELLED"}
         finally:
@@ -373,10 +373,10 @@ def _compute(lib, mesh, s, selected_only=False, a=None, members=None):
     crease = min(s.crease_angle if s.use_crease else math.pi, mesh_io.auto_smooth_angle(mesh))
     # Face Influence without face strengths on the mesh: all medium, no effect
     strength = a.face_strength if s.use_face_influence else None
-    normals = lib.polygon_corner_normals(a.co, corner_vert, a.face_offsets, s.method.lower(),
-                                         crease, a.sharp_corner_flags(s.keep_sharp), dtype=np.float32,
-                                         face_strength=strength)
-    has_zero_rows = lib.last_stats["zero_normals"] > 0
+    normals, stats = lib.corner_normals(a.co, corner_vert, a.face_offsets, s.method.lower(),
+                                        crease, a.sharp_corner_flags(s.keep_sharp), dtype=np.float32,
+                                        face_strength=strength)
+    has_zero_rows = stats["zero_normals"] > 0
     changed = None
     if selected_only:
         changed = a.face_select[a.face_of_corner]
@@ -537,10 +537,10 @@ def _live_recompute(mesh):
         if members is None or members.any():
             _compute(_library(), mesh, live, a=a, members=members)
     except Exception as e:  # a handler's exception would be printed on every update
-        error = str(e) if isinstance(e, binding.VnError) else "%s: %s" % (type(e).__name__, e)
+        error = str(e) if isinstance(e, binding.Error) else "%s: %s" % (type(e).__name__, e)
         if error != live.error:  # once, not on every update (shown in the vn panel meanwhile)
             print("vn live: mesh %r not recomputed, its normals are stale: %s" % (mesh.name, error))
-            if not isinstance(e, binding.VnError):
+            if not isinstance(e, binding.Error):
                 traceback.print_exc()
             live.error = error
         live.state = ""  # retried on the next update, whatever it is (a failure may have written a part)

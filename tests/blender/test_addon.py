@@ -161,8 +161,8 @@ def reference(mesh, method, crease=math.pi):
     a = mesh_io.MeshArrays(mesh)
     # the flags independently of the add-on's own: marked edges and flat faces
     flags = a.edge_sharp[a.corner_edge] | ~a.face_smooth[a.face_of_corner]
-    n = lib.polygon_corner_normals(a.co, a.corner_vert, a.face_offsets, method.lower(), crease,
-                                   flags.astype(np.uint8))
+    n, _ = lib.corner_normals(a.co, a.corner_vert, a.face_offsets, method.lower(), crease,
+                              flags.astype(np.uint8))
     return a.to_loops(n)
 
 
@@ -738,12 +738,12 @@ b_obj = a_obj.copy()
 bpy.context.collection.objects.link(b_obj)
 b_obj.select_set(True)
 calls = []
-real = binding.Library.polygon_corner_normals
-binding.Library.polygon_corner_normals = lambda self, *a, **k: calls.append(1) or real(self, *a, **k)
+real = binding.Library.corner_normals
+binding.Library.corner_normals = lambda self, *a, **k: calls.append(1) or real(self, *a, **k)
 try:
     r = bpy.ops.mesh.vn_recompute_normals()
 finally:
-    binding.Library.polygon_corner_normals = real
+    binding.Library.corner_normals = real
 check(r_ok(r) and len(calls) == 1, "two objects, one mesh: computed %d time(s)" % len(calls))
 bpy.data.objects.remove(b_obj)
 
@@ -1192,13 +1192,13 @@ bpy.ops.mesh.vn_recompute_normals(method="MWELR", live=True)
 settle()
 n0 = recomputed()
 calls = []
-real = binding.Library.polygon_corner_normals
-binding.Library.polygon_corner_normals = lambda self, *a, **k: calls.append(1) or real(self, *a, **k)
+real = binding.Library.corner_normals
+binding.Library.corner_normals = lambda self, *a, **k: calls.append(1) or real(self, *a, **k)
 try:
     move_vertices(a_obj.data, 0.03, 8)
     settle()
 finally:
-    binding.Library.polygon_corner_normals = real
+    binding.Library.corner_normals = real
 compare("live, two objects, one mesh: recomputed", blender_normals(a_obj.data), reference(a_obj.data, "MWELR"))
 check(len(calls) == 1 and recomputed() == n0 + 1, "live, two objects, one mesh: computed %d time(s)" % len(calls))
 bpy.data.objects.remove(b_obj)

@@ -1,0 +1,287 @@
+"""vn: vertex normals with every weighting scheme of Jin, Lewis & West 2005.
+
+numpy arrays in, numpy arrays out, computed by vn's C library (libvn)
+through ctypes: exact in double precision, multithreaded, and with the GIL
+released during the computation, so Python threads run side by side.
+
+Functions
+---------
+methods         the schemes: name, description, reference
+vertex_normals  one unit normal per vertex
+corner_normals  one unit normal per face corner, split at sharp edges
+weld            the representative vertex of each position
+
+Meshes are given as ``positions, faces`` or as one object: anything with
+``.vertices`` and ``.faces`` (trimesh), an Open3D ``TriangleMesh``
+(``.vertices`` and ``.triangles``) or a meshio ``Mesh`` (``.points`` and
+triangle, quad and polygon ``.cells``). `vn.open3d.set_normals` writes the
+normals back into an Open3D mesh.
+
+The library is looked for in this order: the file named by the
+``VN_LIBRARY`` environment variable; ``lib/libvn.so`` beside this package;
+the library ``cmake --install`` put beside it; ``build/libvn.so`` of the
+source tree this package is in; the dynamic loader's search path.
+"""
+
+import collections
+import os
+
+import numpy as np
+
+from . import _binding
+from ._binding import Error
+
+__all__ = ["Error", "Method", "corner_normals", "library", "methods", "open3d", "vertex_normals", "weld"]
+__version__ = _binding.VERSION
+
+Method = collections.namedtuple("Method", "name description reference")
+Method.__doc__ = "A weighting scheme: its name (for method=), what it weights by, where it comes from."
+
+
+def _installed():
+    """The library path ``cmake --install`` wrote beside the package, or None."""
+    try:
+        from . import _install
+    except ImportError:
+        return None
+    return os.path.normpath(os.path.join(_binding.HERE, _install.LIBRARY))
+
+
+def library():
+    """The loaded libvn (`_binding.Library`): its ``path`` and ``version``.
+
+    Raises
+    ------
+    Error
+        When no library is found, or the one found is not a vn library of
+        this package's version.
+    """
+    env = os.environ.get(_binding.ENV_VAR, "")
+    if env:
+        origins = [(env, "the %s environment variable" % _binding.ENV_VAR)]
+    else:
+        origins = [(_binding.BUNDLED, "the package's lib folder"), (_installed(), "the installed package"),
+                   (os.path.join(_binding.HERE, os.pardir, os.pardir, "build", "libvn.so"), "the source tree")]
+        origins = [(path, origin) for path, origin in origins if path and os.path.exists(path)]
+    for path, origin in origins:
+        try:
+            return _binding.load(path)
+        except Error as e:
+            raise Error("%s (library path from %s)" % (e, origin)) from None
+    soname = "libvn.so.%d.%d" % _binding.ABI
+    try:
+        return _binding.load(soname, check_exports=False)
+    except Error:
+        raise Error("the vn library was not found: build it (cmake --build build), install it (cmake --install "
+                    "build) or set %s to the path of libvn.so (%s is not on the loader's path either)"
+                    % (_binding.ENV_VAR, soname)) from None
+
+
+def methods():
+    """The weighting schemes, in the order of ``vnconvert --list-methods``.
+
+    Returns
+    -------
+    list of Method
+        ``(name, description, reference)`` named tuples; ``name`` is what
+        ``method=`` takes (any case).
+
+    Examples
+    --------
+    >>> [m.name for m in vn.methods()]
+    ['mwe', 'mwa', 'mwselr', 'mwaat', 'mwelr', 'mwrelr', 'mewcsa']
+    """
+    return [Method(*m) for m in library().methods]
+
+
+def _mesh(positions, faces):
+    """(positions, faces) of a mesh object, or the two given."""
+    if faces is not None:
+        return positions, faces
+    if hasattr(positions, "vertices") and hasattr(positions, "faces"):
+        return positions.vertices, positions.faces
+    if hasattr(positions, "vertices") and hasattr(positions, "triangles"):  # Open3D
+        return np.asarray(positions.vertices), np.asarray(positions.triangles)
+    if hasattr(positions, "points") and hasattr(positions, "cells"):  # meshio
+        return positions.points, _meshio_faces(positions.cells)
+    raise Error("faces are missing: give positions and faces, or a mesh with .vertices and .faces")
+
+
+def _meshio_faces(cells):
+    """The triangle, quad and polygon blocks of meshio cells, as one face
+    array when they are all of one size, else as (indices, offsets). Other
+    cell types (lines, volumes) have no surface normal and are left out."""
+    blocks = []
+    for block in cells:
+        if block.type in ("triangle", "quad") or block.type.startswith("polygon"):
+            data = block.data
+            blocks.extend([np.asarray(data)] if np.ndim(data) == 2 else [np.asarray(f)[None] for f in data])
+    if not blocks:
+        raise Error("the meshio mesh has no triangle, quad or polygon cells")
+    if len({b.shape[1] for b in blocks}) == 1:
+        return np.concatenate(blocks)
+    sizes = np.concatenate([np.full(len(b), b.shape[1]) for b in blocks])
+    return np.concatenate([b.ravel() for b in blocks]), np.concatenate([[0], np.cumsum(sizes)])
+
+
+def _faces(faces):
+    """(indices, offsets, shape): offsets None for triangles; shape the
+    faces' (m, k) shape, or None for polygons."""
+    if isinstance(faces, tuple) and len(faces) == 2 and np.ndim(faces[0]) == 1 and np.ndim(faces[1]) == 1 \
+            and len(faces[0]) != len(faces[1]):
+        return faces[0], faces[1], None
+    f = np.asarray(faces)
+    if f.ndim != 2:
+        raise Error("faces must be an (m, k) integer array or (indices, offsets), not of shape %s" % (f.shape,))
+    if f.shape[1] == 3:
+        return f, None, f.shape
+    return f, np.arange(f.shape[0] + 1, dtype=np.int64) * f.shape[1], f.shape
+
+
+def _positions(positions):
+    if hasattr(positions, "vertices") or hasattr(positions, "points"):  # a mesh
+        positions = positions.vertices if hasattr(positions, "vertices") else positions.points
+    p = np.asarray(positions)
+    if p.ndim != 2 or p.shape[1] != 3:
+        raise Error("positions must be an (n, 3) array, not of shape %s" % (p.shape,))
+    return p
+
+
+def vertex_normals(positions, faces=None, method="mwa", *, threads=0, out=None):
+    """Unit normals of the vertices of a mesh.
+
+    Parameters
+    ----------
+    positions : (n, 3) array_like, or a mesh
+        Vertex positions. float64 and float32 arrays are read in place (rows
+        with any byte stride); anything else is converted once to float64.
+        A mesh object instead: anything with ``.vertices`` and ``.faces``,
+        an Open3D ``TriangleMesh`` or a meshio ``Mesh`` (then ``faces`` is
+        left out).
+    faces : (m, k) array_like of integers, or tuple (indices, offsets)
+        Face corners counter-clockwise, any integer dtype. (m, 3) are
+        triangles; (m, k) faces of k corners. Polygons of mixed sizes: the
+        flat ``indices`` of every corner and ``offsets`` (m + 1 entries,
+        face f is ``indices[offsets[f]:offsets[f + 1]]``); a tuple whose two
+        parts have equal lengths is read as two faces instead.
+    method : str, default "mwa"
+        A name from `methods` (any case): "mwe", "mwa", "mwselr", "mwaat",
+        "mwelr", "mwrelr" or "mewcsa".
+    threads : int, default 0
+        Worker threads; 0 uses one per core, 1 the calling thread only.
+        The result does not depend on it, bit for bit.
+    out : (n, 3) float64 or float32 ndarray, optional
+        Written in place (rows with any byte stride) and returned.
+
+    Returns
+    -------
+    (n, 3) ndarray
+        float64 unit normals (or `out`). A vertex no face contributes to
+        (isolated, or only in degenerate faces or faces touching a NaN or
+        infinite position) gets (0, 0, 0): never NaN.
+
+    Raises
+    ------
+    Error
+        Wrong shapes or types, an index out of range, an unknown method; the
+        message is the library's. Nothing is written into `out` then.
+
+    Examples
+    --------
+    >>> import numpy as np, vn
+    >>> p = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.]])
+    >>> vn.vertex_normals(p, [[0, 1, 2, 3]])[0]
+    array([0., 0., 1.])
+    >>> vn.vertex_normals(p, [[0, 1, 2], [0, 2, 3]], "mwaat", threads=1)[2]
+    array([0., 0., 1.])
+    """
+    positions, faces = _mesh(positions, faces)
+    idx, off, _ = _faces(faces)
+    return library().vertex_normals(_positions(positions), idx, off, method, threads, out)[0]
+
+
+def corner_normals(positions, faces=None, method="mwa", *, crease_angle=None, sharp_edges=None, threads=0):
+    """Unit normals of the corners of a mesh's faces, split at sharp edges.
+
+    A corner's normal sums the method's contributions of the faces around
+    its vertex that are reached from the corner's face without crossing a
+    sharp edge. An edge is sharp when it is a boundary or non-manifold edge,
+    flagged in `sharp_edges`, or creased. Edges are identified by vertex
+    index: weld first (`weld`) when a mesh splits vertices along seams.
+
+    Parameters
+    ----------
+    positions, faces, method, threads
+        As for `vertex_normals`.
+    crease_angle : float, optional
+        Radians: an edge whose two faces' normals differ by more is sharp.
+        None (or pi and above): no crease. 0 makes every non-flat edge sharp.
+    sharp_edges : array_like of bool, optional
+        One flag per corner, shaped as `faces` (or flat, one per index): the
+        edge from that corner to the next corner of its face is sharp.
+
+    Returns
+    -------
+    ndarray
+        float64 unit normals: (m, k, 3) for (m, k) faces, (len(indices), 3)
+        for ``(indices, offsets)``. (0, 0, 0) for a corner no face
+        contributes to; never NaN.
+
+    Raises
+    ------
+    Error
+        As `vertex_normals`; also a negative or NaN crease angle, or
+        sharp_edges of the wrong size.
+
+    Examples
+    --------
+    A square folded by 90 degrees along its diagonal: with a crease at 60
+    degrees each triangle's corners get its own normal.
+
+    >>> p = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [1, 1, 1.]])
+    >>> vn.corner_normals(p, [[0, 1, 2], [0, 2, 3]], crease_angle=np.radians(60))[1]
+    array([[ 0.70710678, -0.70710678,  0.        ],
+           [ 0.70710678, -0.70710678,  0.        ],
+           [ 0.70710678, -0.70710678,  0.        ]])
+    """
+    positions, faces = _mesh(positions, faces)
+    idx, off, shape = _faces(faces)
+    crease = np.pi if crease_angle is None else crease_angle
+    n = library().corner_normals(_positions(positions), idx, off, method, crease, sharp_edges, threads)[0]
+    return n if shape is None else n.reshape(shape + (3,))
+
+
+def weld(positions, epsilon=0.0):
+    """The representative vertex of each position: welding by position.
+
+    Two vertices are one when their positions differ by at most `epsilon`
+    in every coordinate, or through a chain of such pairs. Vertices with a
+    NaN coordinate are never welded.
+
+    Parameters
+    ----------
+    positions : (n, 3) array_like, or a mesh (as for `vertex_normals`)
+    epsilon : float, default 0.0
+        In the positions' unit; 0 welds exactly equal positions (-0 == +0).
+
+    Returns
+    -------
+    (n,) uint32 ndarray
+        ``remap[i]``: the lowest-numbered vertex of i's group, so
+        ``remap[remap] == remap``. ``remap[faces]`` are the faces on welded
+        vertices.
+
+    Raises
+    ------
+    Error
+        A negative, NaN or infinite epsilon; positions not (n, 3).
+
+    Examples
+    --------
+    >>> vn.weld([[0, 0, 0], [1, 0, 0], [0, 0, 0]])
+    array([0, 1, 0], dtype=uint32)
+    """
+    return library().weld_positions(_positions(positions), epsilon)
+
+
+from . import open3d  # noqa: E402 (vn.open3d.set_normals; it needs vertex_normals)

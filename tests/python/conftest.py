@@ -1,0 +1,71 @@
+"""Shared by the vn package's tests: the meshes and vn_raw, the C side."""
+
+import os
+import subprocess
+import tempfile
+
+import numpy as np
+import pytest
+
+SOURCE = os.environ.get("VN_SOURCE_DIR", os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
+SANITIZED = bool(os.environ.get("VN_SANITIZED"))
+
+
+def read_off(path):
+    """(positions float64 (n, 3), faces: (m, 3) when all are triangles, else
+    (indices, offsets)) of an OFF file, parsed as strtod does (correctly rounded)."""
+    with open(path) as f:
+        words = [w for line in f for w in line.split("#")[0].split()]
+    assert words[0] == "OFF"
+    n, m = int(words[1]), int(words[2])
+    p = np.array(words[4:4 + 3 * n], dtype=np.float64).reshape(n, 3)
+    rest, faces = words[4 + 3 * n:], []
+    for _ in range(m):
+        k = int(rest[0])
+        faces.append([int(w) for w in rest[1:1 + k]])
+        rest = rest[1 + k:]
+    if all(len(f) == 3 for f in faces):
+        return p, np.array(faces)
+    return p, (np.concatenate(faces), np.cumsum([0] + [len(f) for f in faces]))
+
+
+@pytest.fixture(scope="session")
+def torus():
+    return read_off(os.path.join(SOURCE, "samples", "torus.off"))
+
+
+@pytest.fixture(scope="session")
+def sphere_quads():
+    return read_off(os.path.join(SOURCE, "samples", "sphere-quads.off"))
+
+
+def grid(k, jitter=0.0, seed=1):
+    """A k x k vertex height field: 2 (k - 1)^2 triangles, rows of faces
+    int64, z bumpy so that the methods differ."""
+    x, y = np.meshgrid(np.linspace(0, 1, k), np.linspace(0, 1, k), indexing="ij")
+    z = 0.1 * np.sin(7 * x) * np.cos(5 * y)
+    p = np.stack([x, y, z], axis=-1).reshape(-1, 3)
+    if jitter:
+        p += np.random.default_rng(seed).uniform(-jitter, jitter, p.shape)
+    v = np.arange(k * k).reshape(k, k)
+    a, b, c, d = v[:-1, :-1].ravel(), v[1:, :-1].ravel(), v[1:, 1:].ravel(), v[:-1, 1:].ravel()
+    return p, np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+
+
+def c_normals(kind, method, positions, faces, crease=None):
+    """vn_raw's normals (float64 rows): the same library called from C."""
+    raw = os.environ["VN_RAW"]
+    with tempfile.TemporaryDirectory() as d:
+        files = [os.path.join(d, "p"), os.path.join(d, "i")]
+        np.ascontiguousarray(positions, dtype=np.float64).tofile(files[0])
+        if isinstance(faces, tuple):
+            np.asarray(faces[0], dtype=np.uint32).tofile(files[1])
+            files.append(os.path.join(d, "o"))
+            np.asarray(faces[1], dtype=np.uint32).tofile(files[2])
+        else:
+            np.asarray(faces, dtype=np.uint32).tofile(files[1])
+        args = [raw, kind, method] + files + ([] if crease is None else [repr(float(crease))])
+        # vn_raw carries its own sanitizer runtime: not the one preloaded for python
+        env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+        out = subprocess.run(args, check=True, stdout=subprocess.PIPE, env=env).stdout
+    return np.frombuffer(out, dtype=np.float64).reshape(-1, 3)
