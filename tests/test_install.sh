@@ -55,6 +55,11 @@ got=$(cd "$T" && env -u VN_LIBRARY PYTHONPATH="$(dirname "$(dirname "$py")")" /u
   'import vn; print(vn.library().path); print(vn.vertex_normals([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]).tolist())')
 [ "$got" = "$(readlink -f "$lib" | sed 's/\.[0-9]*$//')
 [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]" ] || { echo "FAIL: installed Python package: $got"; exit 1; }
+# vn.convert through the installed libvnio.so (found beside libvn): the bytes
+# of the conversion libvnio.so made above.
+(cd "$T" && env -u VN_LIBRARY -u VN_LIBVNIO PYTHONPATH="$(dirname "$(dirname "$py")")" /usr/bin/python3 -c \
+  'import sys, vn; vn.convert(sys.argv[1], "py.glb")' "$S/samples/torus.off") && cmp -s "$T/py.glb" "$T/torus.glb" \
+  || { echo "FAIL: vn.convert of the installed package"; exit 1; }
 # pip install --no-build-isolation of python/ (a copy: pip writes build/ beside it) into a venv
 if /usr/bin/python3 -m venv --system-site-packages "$T/venv" 2>/dev/null; then
   cp -r "$S/python" "$T/python"

@@ -10,6 +10,7 @@ methods         the schemes: name, description, reference
 vertex_normals  one unit normal per vertex
 corner_normals  one unit normal per face corner, split at sharp edges
 weld            the representative vertex of each position
+convert         a mesh file to another format with new normals, as vnconvert
 
 Meshes are given as ``positions, faces`` or as one object: anything with
 ``.vertices`` and ``.faces`` (trimesh), an Open3D ``TriangleMesh``
@@ -20,7 +21,9 @@ normals back into an Open3D mesh.
 The library is looked for in this order: the file named by the
 ``VN_LIBRARY`` environment variable; ``lib/libvn.so`` beside this package;
 the library ``cmake --install`` put beside it; ``build/libvn.so`` of the
-source tree this package is in; the dynamic loader's search path.
+source tree this package is in; the dynamic loader's search path. `convert`
+uses libvnio.so: the file named by ``VN_LIBVNIO``, else the one in libvn's
+folder.
 """
 
 import collections
@@ -28,10 +31,11 @@ import os
 
 import numpy as np
 
-from . import _binding
+from . import _binding, _convert
 from ._binding import Error
+from ._convert import Report
 
-__all__ = ["Error", "Method", "corner_normals", "library", "methods", "open3d", "vertex_normals", "weld"]
+__all__ = ["Error", "Method", "Report", "convert", "corner_normals", "library", "methods", "open3d", "vertex_normals", "weld"]
 __version__ = _binding.VERSION
 
 Method = collections.namedtuple("Method", "name description reference")
@@ -282,6 +286,54 @@ def weld(positions, epsilon=0.0):
     array([0, 1, 0], dtype=uint32)
     """
     return library().weld_positions(_positions(positions), epsilon)
+
+
+def convert(src, dst, method="mwa", **options):
+    """Converts the mesh file `src` to `dst` with new normals, as
+    ``vnconvert SRC DST --method METHOD ...`` does: the same C code, so the
+    same output bytes, warnings and messages.
+
+    Parameters
+    ----------
+    src, dst : str or os.PathLike
+        The formats follow the extensions (``.off``, ``.obj``, ``.ply``,
+        ``.stl``, ``.gltf``, ``.glb``, ``.drc``) unless given. `dst` is
+        written atomically: on failure it is left as it was.
+    method : str, default "mwa"
+        A name from `methods` (any case).
+    **options
+        vnconvert's flags by keyword, ``-`` spelled ``_``: ``threads=4``,
+        ``crease_angle=30`` (degrees), ``weld_epsilon=1e-6``,
+        ``format="glb"``, ``input_format="off"``, ``weld_scope="mesh"``,
+        ``tangents="drop"``, ``draco="on"``, ``meshopt="off"``,
+        ``draco_qp=11`` (also ``draco_qn``, ``draco_qt``, ``draco_qc``,
+        ``draco_cl``). Switches take True: ``no_weld``, ``in_place``,
+        ``apply_transforms``. Values are passed as ``str(value)`` and
+        checked as vnconvert checks them; None or False leaves an option
+        out. ``stats=True`` fills `Report.stats` (``vnconvert --stats``).
+
+    Returns
+    -------
+    Report
+        Warnings, counts (vertices, faces, triangles, welded vertices, hard
+        edges, split vertices, zero normals, degenerate faces), timings and
+        the formats as resolved.
+
+    Raises
+    ------
+    Error
+        vnconvert's one-line message, naming the file ("in.off: cannot
+        open: No such file or directory"), or the keyword vnconvert has no
+        flag for. Nothing is written then.
+
+    Examples
+    --------
+    >>> r = vn.convert("torus.off", "torus.glb", "mwselr", crease_angle=40)
+    >>> r.triangles, r.output_format
+    (1920, 'glb')
+    """
+    io = _convert.io_library(library().path)
+    return io.convert(src, dst, io.options(method, options))
 
 
 from . import open3d  # noqa: E402 (vn.open3d.set_normals; it needs vertex_normals)
