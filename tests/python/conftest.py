@@ -52,6 +52,14 @@ def grid(k, jitter=0.0, seed=1):
     return p, np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
 
 
+def native(args, **kwargs):
+    """subprocess.run of one of the build's programs, without the sanitizer
+    runtime preloaded for python: an ASan build's programs carry their own,
+    and two runtimes in one process abort."""
+    env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+    return subprocess.run([str(a) for a in args], stdout=subprocess.PIPE, env=env, **kwargs)
+
+
 def c_normals(kind, method, positions, faces, crease=None):
     """vn_raw's normals (float64 rows): the same library called from C."""
     raw = os.environ["VN_RAW"]
@@ -65,7 +73,5 @@ def c_normals(kind, method, positions, faces, crease=None):
         else:
             np.asarray(faces, dtype=np.uint32).tofile(files[1])
         args = [raw, kind, method] + files + ([] if crease is None else [repr(float(crease))])
-        # vn_raw carries its own sanitizer runtime: not the one preloaded for python
-        env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
-        out = subprocess.run(args, check=True, stdout=subprocess.PIPE, env=env).stdout
+        out = native(args, check=True).stdout
     return np.frombuffer(out, dtype=np.float64).reshape(-1, 3)

@@ -10,7 +10,7 @@ import pytest
 
 import vn
 from vn import _convert
-from conftest import SOURCE
+from conftest import SOURCE, native
 
 VNCONVERT = os.environ.get("VNCONVERT")
 needs_vnconvert = pytest.mark.skipif(not VNCONVERT, reason="VNCONVERT: the build has no tools (VN_BUILD_TOOLS=OFF)")
@@ -22,9 +22,7 @@ ISOLATED = "OFF\n8 1 0\n0 0 0\n1 0 0\n0 1 0\n5 5 5\n6 6 6\n7 7 7\n8 8 8\n9 9 9\n
 def vnconvert(*args):
     """(exit status, stdout, stderr) of build/vnconvert, run without the
     sanitizer runtime preloaded for python (it carries its own)."""
-    env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
-    p = subprocess.run([VNCONVERT] + [str(a) for a in args],
-                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env, universal_newlines=True)
+    p = native([VNCONVERT] + list(args), stderr=subprocess.PIPE, universal_newlines=True)
     return p.returncode, p.stdout, p.stderr
 
 
@@ -36,8 +34,7 @@ def vnconvert_lines(stderr, kind):
 def test_struct_layout():
     """Every field of the ctypes copies at the C compiler's offset, and the
     same sizes: fails when vn_convert.h changes and _convert.py does not."""
-    out = subprocess.run([os.environ["VN_CONVERT_LAYOUT"]], check=True, stdout=subprocess.PIPE,
-                         universal_newlines=True).stdout
+    out = native([os.environ["VN_CONVERT_LAYOUT"]], check=True, universal_newlines=True).stdout
     c = {}
     for line in out.splitlines():
         struct, field, value = line.split()
