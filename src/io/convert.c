@@ -449,17 +449,6 @@ static vn_io_result convert_drc(conversion* c, vn_io_error* error)
 	return vn_io_success;
 }
 
-/* Triangles of mesh once its polygons are fan-triangulated. */
-static size_t triangle_count(const vn_io_mesh* mesh)
-{
-	size_t n = 0;
-	for (size_t f = 0; f < mesh->face_count; f++) {
-		const size_t k = mesh->face_offsets[f + 1] - mesh->face_offsets[f];
-		n += k >= 3 ? k - 2 : 0;
-	}
-	return n;
-}
-
 /* Every other pair: read into a vn_io_mesh, compute, write. */
 static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* error)
 {
@@ -519,7 +508,7 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 		add(&c->warnings, "%zu of %zu %s %s no normal (isolated, or only degenerate faces); %s%s\n", st.zero_normals,
 		    mesh->vertex_count, noun(mesh->vertex_count, "vertex", "vertices"), noun(st.zero_normals, "has", "have"),
 		    had_normals ? "the input's normal kept" : "written as ", had_normals ? "" : c->out_format->no_normal);
-	const size_t corners = 3 * triangle_count(mesh);
+	const size_t corners = 3 * (size_t)vn_io_mesh_triangle_count(mesh);
 	/* Draco 1.5.5's decoder refuses more points than 3 per triangle: the
 	 * writer then keeps only the vertices faces use. */
 	if (!(c->out_format->holds & vn_io_holds_loose_vertices) && mesh->vertex_count > corners)

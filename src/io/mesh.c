@@ -172,3 +172,13 @@ int vn_io_mesh_is_triangles(const vn_io_mesh* mesh)
 			return 0;
 	return 1;
 }
+
+uint64_t vn_io_mesh_triangle_count(const vn_io_mesh* mesh)
+{
+	uint64_t n = 0;
+	for (size_t f = 0; f < mesh->face_count; f++) {
+		const uint32_t k = mesh->face_offsets[f + 1] - mesh->face_offsets[f];
+		n += k >= 3 ? k - 2 : 0;
+	}
+	return n;
+}

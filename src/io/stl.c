@@ -358,11 +358,7 @@ vn_io_result vn_io_stl_write(FILE* out, const char* path, const vn_io_mesh* mesh
                              vn_io_error* error)
 {
 	(void)settings; /* STL has none */
-	uint64_t triangles = 0;
-	for (size_t f = 0; f < mesh->face_count; f++) {
-		const uint32_t corners = mesh->face_offsets[f + 1] - mesh->face_offsets[f];
-		triangles += corners >= 3 ? corners - 2 : 0;
-	}
+	const uint64_t triangles = vn_io_mesh_triangle_count(mesh);
 	/* An STL without triangles holds nothing (and vn reads it as an error). */
 	if (triangles == 0)
 		return vn_io_fail(error, vn_io_error_unsupported,

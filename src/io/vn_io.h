@@ -138,6 +138,10 @@ void vn_io_mesh_free(vn_io_mesh* mesh);
 /* True when every face has exactly 3 corners (a mesh with no faces is not). */
 int vn_io_mesh_is_triangles(const vn_io_mesh* mesh);
 
+/* The triangles of mesh once its polygons are fan-triangulated (a face of
+ * k >= 3 corners makes k - 2; faces of fewer make none). */
+uint64_t vn_io_mesh_triangle_count(const vn_io_mesh* mesh);
+
 /* Appends an attribute with room for vertex_count * components values of
  * component_type (zeroed) and returns it, or NULL when out of memory or the
  * type is unknown. name is copied (truncated to fit). */

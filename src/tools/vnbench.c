@@ -168,11 +168,7 @@ int main(int argc, char** argv)
 
 	const size_t nv = mesh.vertex_count, nf = mesh.face_count;
 	const int tri = vn_io_mesh_is_triangles(&mesh);
-	size_t triangles = 0;
-	for (size_t f = 0; f < nf; ++f) {
-		const uint32_t k = mesh.face_offsets[f + 1] - mesh.face_offsets[f];
-		triangles += k >= 3 ? k - 2 : 0;
-	}
+	const size_t triangles = (size_t)vn_io_mesh_triangle_count(&mesh);
 	if (!triangles)
 		die(1, "%s: every face has fewer than 3 corners", path);
 	float* pos32 = f64 ? NULL : (float*)malloc(3 * sizeof(float) * nv);
