@@ -3,7 +3,8 @@
  * the defaults, its output is vnconvert's byte for byte, errors come back
  * as vnconvert's one-line messages with nothing written, options are set
  * and checked as vnconvert's flags are, warnings and --stats come back in
- * the report.
+ * the report; vn_io_batch_plan names a batch's outputs and refuses what
+ * vnconvert --out-dir refuses, before anything is written.
  *
  *   test_convert VNCONVERT    (run from tests/)
  */
@@ -18,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "test_files.h"
@@ -315,6 +317,109 @@ static void test_warnings_and_stats_in_the_report(void** state)
 	assert_null(r.stats);
 }
 
+/* ------------------------------------------------------------------ batch plans */
+
+/* A folder of three models, a file of no format vn reads, a hidden file
+ * and a subfolder, with and without recursion; a file named with
+ * --input-format. */
+static void test_batch_plan_names_outputs(void** state)
+{
+	(void)state;
+	char in[128], path[256]; /* in_folder's slots are reused */
+	snprintf(in, sizeof in, "%.100s", in_folder("plan_in"));
+	assert_int_equal(mkdir(in, 0777), 0);
+	snprintf(path, sizeof path, "%s/sub", in);
+	assert_int_equal(mkdir(path, 0777), 0);
+	const char* names[] = {"b.off", "a.Glb", "notes.txt", ".hidden.off", "sub/c.drc"};
+	for (size_t i = 0; i < sizeof names / sizeof *names; ++i) {
+		snprintf(path, sizeof path, "%s/%s", in, names[i]);
+		write_text(path, "x");
+	}
+	char out[256];
+	snprintf(out, sizeof out, "%s", in_folder("plan_out/"));
+	vn_convert_options o;
+	memset(&o, 0, sizeof o);
+	vn_batch_plan plan;
+	vn_io_error error;
+	const char* inputs[] = {in, "data/off/cube.off"};
+	assert_int_equal(vn_io_batch_plan(inputs, 2, out, 0, &o, &plan, &error), vn_io_success);
+	assert_int_equal(plan.count, 3);
+	assert_int_equal(plan.skipped, 1);
+	assert_int_equal(plan.unentered, 1);
+	snprintf(path, sizeof path, "%s/a.Glb", in);
+	assert_string_equal(plan.files[0].input, path);
+	assert_string_equal(plan.files[0].output, in_folder("plan_out/a.Glb"));
+	assert_string_equal(plan.files[0].input_format, "glb");
+	assert_string_equal(plan.files[0].output_format, "glb");
+	assert_string_equal(plan.files[1].output, in_folder("plan_out/b.off"));
+	assert_string_equal(plan.files[2].input, "data/off/cube.off");
+	assert_string_equal(plan.files[2].output, in_folder("plan_out/cube.off"));
+	assert_true(exists(out));
+	vn_io_batch_plan_free(&plan);
+	assert_null(plan.files);
+	assert_int_equal(plan.count, 0);
+	/* Recursive, to one format: the subfolder's layout, made under out. */
+	o.output_format = "drc";
+	assert_int_equal(vn_io_batch_plan(inputs, 1, out, 1, &o, &plan, &error), vn_io_success);
+	assert_int_equal(plan.count, 3);
+	assert_int_equal(plan.unentered, 0);
+	assert_string_equal(plan.files[0].output, in_folder("plan_out/a.drc"));
+	assert_string_equal(plan.files[2].output, in_folder("plan_out/sub/c.drc"));
+	assert_string_equal(plan.files[2].input_format, "drc");
+	assert_true(exists(in_folder("plan_out/sub")));
+	vn_io_batch_plan_free(&plan);
+	/* --input-format names the format of a file named, whatever its name. */
+	o.output_format = NULL;
+	o.input_format = "off";
+	snprintf(path, sizeof path, "%s/notes.txt", in);
+	const char* named[] = {path};
+	assert_int_equal(vn_io_batch_plan(named, 1, out, 0, &o, &plan, &error), vn_io_success);
+	assert_int_equal(plan.count, 1);
+	assert_string_equal(plan.files[0].output, in_folder("plan_out/notes.txt")); /* the input's own extension */
+	assert_string_equal(plan.files[0].output_format, "off");
+	vn_io_batch_plan_free(&plan);
+	vn_io_batch_plan_free(NULL);
+}
+
+static void test_batch_plan_refusals(void** state)
+{
+	(void)state;
+	vn_batch_plan plan;
+	vn_io_error error;
+	char text[512];
+	const char* twice[] = {"data/off/cube.off", "../samples/torus.off", "data/off/cube.off"};
+	assert_int_equal(vn_io_batch_plan(twice, 3, in_folder("refused"), 0, NULL, &plan, &error), vn_io_error_option);
+	snprintf(text, sizeof text,
+	         "'data/off/cube.off' and 'data/off/cube.off' would both be written to '%s': convert them into "
+	         "different folders",
+	         in_folder("refused/cube.off"));
+	assert_string_equal(error.message, text);
+	assert_null(plan.files);
+	assert_false(exists(in_folder("refused"))); /* nothing made before the checks */
+	const char* self[] = {"data/off/cube.off"};
+	assert_int_equal(vn_io_batch_plan(self, 1, "data/off", 0, NULL, &plan, &error), vn_io_error_same_file);
+	assert_string_equal(error.message, "output 'data/off/cube.off' is the input; pass --in-place to overwrite it");
+	vn_convert_options o;
+	memset(&o, 0, sizeof o);
+	o.in_place = 1;
+	assert_int_equal(vn_io_batch_plan(self, 1, "data/off", 0, &o, &plan, &error), vn_io_success);
+	vn_io_batch_plan_free(&plan);
+	/* --tangents applies to glTF to glTF only: refused for OFF files alone. */
+	o.in_place = 0;
+	o.tangents = "drop";
+	assert_int_equal(vn_io_batch_plan(self, 1, in_folder("refused"), 0, &o, &plan, &error), vn_io_error_option);
+	assert_string_equal(error.message, "--tangents applies only to glTF to glTF conversions (.gltf or .glb in and "
+	                                   "out), and no file of this batch is converted so: leave it out");
+	const char* dash[] = {"-"};
+	assert_int_equal(vn_io_batch_plan(dash, 1, in_folder("refused"), 0, NULL, &plan, &error), vn_io_error_option);
+	const char* unknown[] = {"data/model.xyz"};
+	assert_int_equal(vn_io_batch_plan(unknown, 1, in_folder("refused"), 0, NULL, &plan, &error), vn_io_error_format);
+	assert_int_equal(vn_io_batch_plan(self, 1, "", 0, NULL, &plan, &error), vn_io_error_option);
+	const char* none[] = {in_folder("no_such_folder/")};
+	assert_int_equal(vn_io_batch_plan(none, 1, in_folder("refused"), 0, NULL, &plan, &error), vn_io_error_format);
+	assert_false(exists(in_folder("refused")));
+}
+
 int main(int argc, char** argv)
 {
 	if (argc != 2) {
@@ -336,6 +441,8 @@ int main(int argc, char** argv)
 	    cmocka_unit_test(test_options_set_as_vnconvert_parses_them),
 	    cmocka_unit_test(test_fields_out_of_range),
 	    cmocka_unit_test(test_warnings_and_stats_in_the_report),
+	    cmocka_unit_test(test_batch_plan_names_outputs),
+	    cmocka_unit_test(test_batch_plan_refusals),
 	};
 	const int failed = cmocka_run_group_tests(tests, NULL, NULL);
 	remove_tree(folder);

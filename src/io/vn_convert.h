@@ -109,6 +109,50 @@ VN_IO_API int vn_io_convert_option_arity(const char* name);
 VN_IO_API vn_io_result vn_io_convert_option(vn_convert_options* options, const char* name, const char* value,
                                             vn_io_error* error);
 
+/* ------------------------------------------------------------------ batches
+ *
+ * A batch (vnconvert --out-dir, the Python package's convert with out_dir,
+ * vn.dask) converts many files into one folder. vn_io_batch_plan says which
+ * file goes where and makes every check before the first conversion; each
+ * file is then one vn_io_convert(input, output) with input_format and
+ * output_format set from its vn_batch_file, ignore_misfits and
+ * image_names_from_output set, as vnconvert's batch does (same bytes). */
+
+typedef struct vn_batch_file {
+	char* input;               /* as named, or FOLDER/NAME for a folder's file */
+	char* output;              /* OUT_DIR/PATH/STEM.EXT */
+	const char* input_format;  /* format names (static text) */
+	const char* output_format;
+} vn_batch_file;
+
+typedef struct vn_batch_plan {
+	vn_batch_file* files; /* count of them, in the order of the inputs, a folder's files in name order */
+	size_t count;
+	size_t skipped;   /* folder entries of no format vn reads (passed over) */
+	size_t unentered; /* subfolders not entered (recursive 0) */
+} vn_batch_plan;
+
+/* Plans converting inputs[0 .. count) into the folder out_dir. An input is
+ * a file, or a folder whose files of a format vn reads (by extension;
+ * hidden entries passed over) are taken in name order; with recursive its
+ * subfolders too, their layout kept under out_dir. A file goes to
+ * out_dir/STEM.EXT, EXT being options->output_format's first extension,
+ * else the input's own. options->input_format applies to the files named,
+ * not to a folder's. Refuses, before anything is written, with
+ * vn_io_error_option: '-', two inputs that would have one output, an option
+ * given in `options` that applies to no file (one that applies to some
+ * applies to those); vn_io_error_same_file: an output that is its input
+ * (unless options->in_place); vn_io_error_format: a file named whose
+ * extension names no format. Then creates out_dir and the folders of the
+ * outputs (vn_io_error_write when it cannot). options NULL: the defaults.
+ * *plan is zeroed, then filled on success; free it with
+ * vn_io_batch_plan_free. */
+VN_IO_API vn_io_result vn_io_batch_plan(const char* const* inputs, size_t count, const char* out_dir, int recursive,
+                                        const vn_convert_options* options, vn_batch_plan* plan, vn_io_error* error);
+
+/* Frees what the plan holds and zeroes it; NULL is fine. */
+VN_IO_API void vn_io_batch_plan_free(vn_batch_plan* plan);
+
 /* What an option given in `options` that does not apply to converting `in`
  * to `out` applies to ("--tangents applies only to glTF to glTF
  * conversions (.gltf or .glb in and out)"), into text; 0 when every option

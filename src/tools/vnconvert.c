@@ -9,12 +9,10 @@
 #define _DEFAULT_SOURCE
 #include "common.h"
 
-#include <dirent.h>
 #include <poll.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <sys/mman.h>
-#include <sys/stat.h>
 #include <sys/wait.h>
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -268,6 +266,13 @@ static void progress(void* context, const char* what, const char* path)
 		fprintf(stderr, "%s: %s %s\n", prog, what, path);
 }
 
+/* The exit status of a failure: 2 for a usage error (the command line
+ * asks for what cannot be done), else 1. */
+static int exit_status(vn_io_result r)
+{
+	return r == vn_io_error_option || r == vn_io_error_same_file || r == vn_io_error_format ? 2 : 1;
+}
+
 /* Converts a.in to a.out: exit status 0, 1 (*triangles: how many it wrote
  * on success) or 2, with every message on stderr (warnings; an error in
  * one line) and the --stats text on stdout. */
@@ -290,8 +295,7 @@ static int convert_one(args a, size_t* triangles)
 	if (res == vn_io_success)
 		return 0;
 	fprintf(stderr, "%s: error: %s\n", prog, err.message);
-	/* A usage error: the command line asks for what cannot be done. */
-	return res == vn_io_error_option || res == vn_io_error_same_file || res == vn_io_error_format ? 2 : 1;
+	return exit_status(res);
 }
 /* ------------------------------------------------------------------ many files, and '-'
  *
@@ -359,6 +363,7 @@ typedef struct batch {
 	size_t ok, failed, skipped, unentered, triangles;
 	double start;
 	int bar;                            /* a progress bar is on the terminal's last line */
+	vn_batch_plan plan;                 /* the files of a batch (not '-') */
 } batch;
 
 static void clear_bar(batch* b)
@@ -532,160 +537,28 @@ static char* joined(const char* text, size_t n, const char* tail)
 	return s;
 }
 
-/* Creates folder path and its missing parents. */
-static void make_folders(const char* path)
-{
-	char* p = joined(path, (size_t)-1, "");
-	for (char* c = p + 1;; ++c)
-		if (*c == '/' || !*c) {
-			const char end = *c;
-			*c = '\0';
-			struct stat st;
-			if (mkdir(p, 0777) != 0 && errno != EEXIST)
-				die(1, "cannot create the folder '%s': %s", p, strerror(errno));
-			if (stat(p, &st) != 0 || !S_ISDIR(st.st_mode))
-				die(1, "'%s' is not a folder, so the outputs cannot go there", p);
-			if (!(*c = end))
-				break;
-		}
-	free(p);
-}
-
-/* Adds the job for file path, whose output goes to OUT_DIR/relative with
- * the output's extension; format NULL: path's extension names it. */
-static void add_job(batch* b, const char* path, const char* relative, const vn_io_format* format)
-{
-	const args* a = b->a;
-	const char* name = strrchr(relative, '/') ? strrchr(relative, '/') + 1 : relative;
-	const char* dot = strrchr(name, '.');
-	const size_t stem = (size_t)(dot && dot != name ? dot - relative : (ptrdiff_t)strlen(relative));
-	/* The output's extension: --format's, else the input's own. */
-	char extension[64];
-	const vn_io_format* in_format = format ? format : vn_io_format_for_path(path);
-	const vn_io_format* out_format = a->out_format ? a->out_format : in_format;
-	if (a->out_format || !dot || dot == name)
-		snprintf(extension, sizeof extension, "%.*s", (int)strcspn(out_format->extensions, " "), out_format->extensions);
-	else
-		snprintf(extension, sizeof extension, "%s", dot);
-	char* under = joined(a->out_dir, (size_t)-1, "/");
-	char* relative_out = joined(relative, stem, extension);
-	job* j = &b->jobs[b->count++];
-	memset(j, 0, sizeof *j);
-	j->in = j->in_name = joined(path, (size_t)-1, "");
-	j->out = j->out_name = joined(under, (size_t)-1, relative_out);
-	j->in_format = in_format;
-	j->out_format = out_format;
-	free(under);
-	free(relative_out);
-}
-
-static int by_name(const struct dirent** x, const struct dirent** y)
-{
-	return strcmp((*x)->d_name, (*y)->d_name);
-}
-
-/* The files of folder path (relative: its place under OUT_DIR, "" or
- * ending with '/') that vn reads, by extension, in name order; its
- * subfolders too with --recursive. Hidden entries are passed over. */
-static void add_folder(batch* b, const char* path, const char* relative, size_t* room)
-{
-	struct dirent** entries;
-	const int n = scandir(path, &entries, NULL, by_name);
-	if (n < 0)
-		die(1, "cannot read the folder '%s': %s", path, strerror(errno));
-	for (int i = 0; i < n; ++i) {
-		const char* name = entries[i]->d_name;
-		struct stat st;
-		char* base = joined(path, (size_t)-1, path[strlen(path) - 1] == '/' ? "" : "/");
-		char* full = joined(base, (size_t)-1, name);
-		char* under = joined(relative, (size_t)-1, name);
-		if (name[0] == '.' || stat(full, &st) != 0) {
-			/* hidden, or a dangling link */
-		} else if (S_ISDIR(st.st_mode)) {
-			char* sub = joined(under, (size_t)-1, "/");
-			if (b->a->recursive)
-				add_folder(b, full, sub, room);
-			else
-				b->unentered++;
-			free(sub);
-		} else if (!vn_io_format_for_path(name)) {
-			b->skipped++;
-		} else {
-			if (b->count == *room) {
-				*room = 2 * *room + 16;
-				if (!(b->jobs = (job*)realloc(b->jobs, *room * sizeof *b->jobs)))
-					die(1, "%s", "out of memory");
-			}
-			add_job(b, full, under, NULL);
-		}
-		free(base);
-		free(full);
-		free(under);
-		free(entries[i]);
-	}
-	free(entries);
-}
-
-static int by_output(const void* x, const void* y)
-{
-	const job *p = *(const job* const*)x, *q = *(const job* const*)y;
-	const int c = strcmp(p->out, q->out);
-	return c ? c : (p < q ? -1 : p > q);
-}
-
-/* The jobs of a batch, each checked before any is run: options that apply
- * to none, two inputs for one output, an output that is its input. */
+/* The jobs of a batch, each checked before any is run (vn_io_batch_plan). */
 static void plan(batch* b)
 {
 	args* a = b->a;
-	size_t room = a->input_count;
-	b->jobs = (job*)calloc(room, sizeof *b->jobs);
+	vn_io_error err;
+	const vn_io_result r =
+	    vn_io_batch_plan(a->inputs, a->input_count, a->out_dir, a->recursive, &a->o, &b->plan, &err);
+	if (r != vn_io_success)
+		die(exit_status(r), "%s", err.message);
+	b->count = b->plan.count;
+	b->skipped = b->plan.skipped;
+	b->unentered = b->plan.unentered;
+	b->jobs = (job*)calloc(b->count ? b->count : 1, sizeof *b->jobs);
 	if (!b->jobs)
 		die(1, "%s", "out of memory");
-	for (size_t i = 0; i < a->input_count; ++i) {
-		const char* in = a->inputs[i];
-		struct stat st;
-		if (!strcmp(in, "-"))
-			die(2, "%s", "'-' (standard input) is for one file: give IN OUT without --out-dir");
-		if (stat(in, &st) == 0 && S_ISDIR(st.st_mode)) {
-			add_folder(b, in, "", &room);
-			continue;
-		}
-		if (!a->in_format && !vn_io_format_for_path(in))
-			unknown_extension(in, 1);
-		if (b->count == room) {
-			room = 2 * room + 16;
-			if (!(b->jobs = (job*)realloc(b->jobs, room * sizeof *b->jobs)))
-				die(1, "%s", "out of memory");
-		}
-		const char* slash = strrchr(in, '/');
-		add_job(b, in, slash ? slash + 1 : in, a->in_format);
-	}
-	/* An option is refused only when it applies to no file of the batch. */
-	char misfit[512];
-	size_t fits = 0;
-	for (size_t i = 0; i < b->count; ++i)
-		fits += !vn_io_convert_misfit(&a->o, b->jobs[i].in_format, b->jobs[i].out_format, misfit, sizeof misfit);
-	if (b->count && !fits)
-		die(2, "%s, and no file of this batch is converted so: leave it out", misfit);
-	const job** sorted = (const job**)malloc((b->count ? b->count : 1) * sizeof *sorted);
-	if (!sorted)
-		die(1, "%s", "out of memory");
-	for (size_t i = 0; i < b->count; ++i)
-		sorted[i] = &b->jobs[i];
-	qsort(sorted, b->count, sizeof *sorted, by_output);
-	for (size_t i = 1; i < b->count; ++i)
-		if (!strcmp(sorted[i - 1]->out, sorted[i]->out))
-			die(2, "'%s' and '%s' would both be written to '%s': convert them into different folders",
-			    sorted[i - 1]->in, sorted[i]->in, sorted[i]->out);
-	free(sorted);
 	for (size_t i = 0; i < b->count; ++i) {
-		const job* j = &b->jobs[i];
-		if (!a->o.in_place && vn_io_same_file(j->in, j->out))
-			die(2, "output '%s' is the input; pass --in-place to overwrite it", j->out);
-		char* folder = joined(j->out, (size_t)(strrchr(j->out, '/') - j->out), "");
-		make_folders(folder);
-		free(folder);
+		const vn_batch_file* f = &b->plan.files[i];
+		job* j = &b->jobs[i];
+		j->in = j->in_name = f->input;
+		j->out = j->out_name = f->output;
+		j->in_format = vn_io_format_by_name(f->input_format);
+		j->out_format = vn_io_format_by_name(f->output_format);
 	}
 }
 
@@ -696,7 +569,6 @@ static int convert_batch(args* a)
 	b.a = a;
 	b.start = tool_now();
 	plan(&b);
-	make_folders(a->out_dir);
 	const int status = b.count ? run(&b) : 0;
 	if (!a->quiet) {
 		char n[32];
@@ -710,10 +582,7 @@ static int convert_batch(args* a)
 		fprintf(stderr, "; %s %s in %.2f s\n", grouped(b.triangles, n), noun(b.triangles, "triangle", "triangles"),
 		        tool_now() - b.start);
 	}
-	for (size_t i = 0; i < b.count; ++i) {
-		free((char*)b.jobs[i].in);
-		free((char*)b.jobs[i].out);
-	}
+	vn_io_batch_plan_free(&b.plan);
 	free(b.jobs);
 	return status;
 }
