@@ -11,6 +11,7 @@ vertex_normals  one unit normal per vertex
 corner_normals  one unit normal per face corner, split at sharp edges
 weld            the representative vertex of each position
 convert         a mesh file to another format with new normals, as vnconvert
+                (a batch into a folder with out_dir; on a Dask cluster: vn.dask)
 
 Meshes are given as ``positions, faces`` or as one object: anything with
 ``.vertices`` and ``.faces`` (trimesh), an Open3D ``TriangleMesh``
@@ -31,11 +32,12 @@ import os
 
 import numpy as np
 
-from . import _binding, _convert
+from . import _batch, _binding, _convert
 from ._binding import Error
+from ._batch import Batch, FileResult
 from ._convert import Report
 
-__all__ = ["Error", "Method", "Report", "convert", "corner_normals", "library", "methods", "open3d", "vertex_normals", "weld"]
+__all__ = ["Batch", "Error", "FileResult", "Method", "Report", "convert", "corner_normals", "library", "methods", "open3d", "vertex_normals", "weld"]
 __version__ = _binding.VERSION
 
 Method = collections.namedtuple("Method", "name description reference")
@@ -288,19 +290,43 @@ def weld(positions, epsilon=0.0):
     return library().weld_positions(_positions(positions), epsilon)
 
 
-def convert(src, dst, method="mwa", **options):
+def convert(src, dst=None, method="mwa", *, out_dir=None, recursive=False, overwrite=True, progress=None,
+            **options):
     """Converts the mesh file `src` to `dst` with new normals, as
     ``vnconvert SRC DST --method METHOD ...`` does: the same C code, so the
-    same output bytes, warnings and messages.
+    same output bytes, warnings and messages. With `out_dir`, converts a
+    batch as ``vnconvert --out-dir OUT_DIR SRC...`` does.
 
     Parameters
     ----------
-    src, dst : str or os.PathLike
+    src : str or os.PathLike, or a list of them with `out_dir`
         The formats follow the extensions (``.off``, ``.obj``, ``.ply``,
-        ``.stl``, ``.gltf``, ``.glb``, ``.drc``) unless given. `dst` is
-        written atomically: on failure it is left as it was.
+        ``.stl``, ``.gltf``, ``.glb``, ``.drc``) unless given. In a batch,
+        a folder stands for its files of those formats, in name order.
+    dst : str or os.PathLike
+        Written atomically: on failure it is left as it was. Not given
+        with `out_dir`.
     method : str, default "mwa"
         A name from `methods` (any case).
+    out_dir : str or os.PathLike, optional
+        A batch: each file of `src` goes to ``OUT_DIR/STEM.EXT`` (EXT:
+        `format`'s, else the input's own), as vnconvert plans it, checked
+        whole before the first file (two inputs for one output, an output
+        that is its input, an option that applies to no file). Files are
+        converted side by side on ``threads`` Python threads (default: one
+        per core), one C thread each. A failing file is reported in the
+        result; the others are still converted. A crash of the C code
+        would end the process: for isolation per file, run vnconvert or
+        `vn.dask`.
+    recursive : bool, default False
+        Batch: enter subfolders, keeping their layout under `out_dir`.
+    overwrite : bool, default True
+        Batch: False skips files whose output exists and is not older
+        than the input (a rerun after an interruption: outputs are
+        written atomically, so one that exists is whole).
+    progress : None, False or callable, default None
+        Batch: None draws a bar on stderr when it is a terminal; a
+        callable is called as ``progress(done, total, file_result)``.
     **options
         vnconvert's flags by keyword, ``-`` spelled ``_``: ``threads=4``,
         ``crease_angle=30`` (degrees), ``weld_epsilon=1e-6``,
@@ -310,29 +336,45 @@ def convert(src, dst, method="mwa", **options):
         ``draco_cl``). Switches take True: ``no_weld``, ``in_place``,
         ``apply_transforms``. Values are passed as ``str(value)`` and
         checked as vnconvert checks them; None or False leaves an option
-        out. ``stats=True`` fills `Report.stats` (``vnconvert --stats``).
+        out. ``stats=True`` fills `Report.stats` (``vnconvert --stats``;
+        one file only).
 
     Returns
     -------
     Report
-        Warnings, counts (vertices, faces, triangles, welded vertices, hard
-        edges, split vertices, zero normals, degenerate faces), timings and
-        the formats as resolved.
+        One file: warnings, counts (vertices, faces, triangles, welded
+        vertices, hard edges, split vertices, zero normals, degenerate
+        faces), timings and the formats as resolved.
+    Batch
+        With `out_dir`: a `FileResult` per file (converted, failed with
+        vnconvert's message, or done before), and the totals
+        (`Batch.summary`).
 
     Raises
     ------
     Error
         vnconvert's one-line message, naming the file ("in.off: cannot
         open: No such file or directory"), or the keyword vnconvert has no
-        flag for. Nothing is written then.
+        flag for. Nothing is written then. In a batch, only what refuses
+        the whole batch raises.
 
     Examples
     --------
     >>> r = vn.convert("torus.off", "torus.glb", "mwselr", crease_angle=40)
     >>> r.triangles, r.output_format
     (1920, 'glb')
+    >>> b = vn.convert(["models/"], out_dir="out", format="glb", recursive=True)
+    >>> print(b.summary())  # doctest: +SKIP
     """
     io = _convert.io_library(library().path)
+    if out_dir is not None:
+        if dst is not None:
+            raise Error("give dst (one file) or out_dir (a batch), not both")
+        return _batch.run_local(io, src, out_dir, method, recursive, overwrite, progress, options)
+    if dst is None:
+        raise Error("convert() needs dst, the output file (or out_dir for a batch)")
+    if recursive or not overwrite or progress is not None:
+        raise Error("recursive, overwrite and progress are for a batch: give out_dir")
     return io.convert(src, dst, io.options(method, options))
 
 

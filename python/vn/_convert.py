@@ -45,6 +45,16 @@ class _ConvertReport(_c.Structure):
                 ("draco_normal_max_degrees", _c.c_double)]
 
 
+class _BatchFile(_c.Structure):
+    _fields_ = [("input", _c.c_char_p), ("output", _c.c_char_p), ("input_format", _c.c_char_p),
+                ("output_format", _c.c_char_p)]
+
+
+class _BatchPlan(_c.Structure):
+    _fields_ = [("files", _c.POINTER(_BatchFile)), ("count", _c.c_size_t), ("skipped", _c.c_size_t),
+                ("unentered", _c.c_size_t)]
+
+
 class _Error(_c.Structure):
     _fields_ = [("message", _c.c_char * 512)]
 
@@ -107,7 +117,17 @@ class IoLibrary:
         lib.vn_io_convert_option.argtypes = [P(_ConvertOptions), _c.c_char_p, _c.c_char_p, P(_Error)]
         lib.vn_io_convert_option_arity.restype = _c.c_int
         lib.vn_io_convert_option_arity.argtypes = [_c.c_char_p]
+        lib.vn_io_batch_plan.restype = _c.c_int
+        lib.vn_io_batch_plan.argtypes = [P(_c.c_char_p), _c.c_size_t, _c.c_char_p, _c.c_int, P(_ConvertOptions),
+                                         P(_BatchPlan), P(_Error)]
+        lib.vn_io_batch_plan_free.restype = None
+        lib.vn_io_batch_plan_free.argtypes = [P(_BatchPlan)]
         self._lib = lib
+
+    def arity(self, flag):
+        """1 when vnconvert flag `flag` ("--draco-qp") takes a value, 0 for
+        a switch, -1 when it is no option of a conversion."""
+        return self._lib.vn_io_convert_option_arity(flag.encode())
 
     def options(self, method, options):
         """A vn_convert_options set flag by flag as vnconvert's command line
@@ -132,6 +152,22 @@ class IoLibrary:
             if self._lib.vn_io_convert_option(_c.byref(o), flag, text, _c.byref(error)):
                 raise Error(error.message.decode(errors="replace"))
         return o
+
+    def plan(self, inputs, out_dir, recursive, options):
+        """vn_io_batch_plan: ([(input, output, input_format, output_format)],
+        skipped, unentered), paths as str; the output folders are made."""
+        paths = [os.fsencode(p) for p in inputs]
+        array = (_c.c_char_p * max(len(paths), 1))(*paths)
+        plan, error = _BatchPlan(), _Error()
+        if self._lib.vn_io_batch_plan(array, len(paths), os.fsencode(out_dir), int(bool(recursive)),
+                                      _c.byref(options), _c.byref(plan), _c.byref(error)):
+            raise Error(error.message.decode(errors="replace"))
+        try:
+            files = [(os.fsdecode(f.input), os.fsdecode(f.output), f.input_format.decode(), f.output_format.decode())
+                     for f in plan.files[:plan.count]]
+            return files, plan.skipped, plan.unentered
+        finally:
+            self._lib.vn_io_batch_plan_free(_c.byref(plan))
 
     def convert(self, src, dst, options):
         report, error = _ConvertReport(), _Error()

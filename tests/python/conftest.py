@@ -75,3 +75,55 @@ def c_normals(kind, method, positions, faces, crease=None):
         args = [raw, kind, method] + files + ([] if crease is None else [repr(float(crease))])
         out = native(args, check=True).stdout
     return np.frombuffer(out, dtype=np.float64).reshape(-1, 3)
+
+
+def write_off(path, positions, faces):
+    """An OFF file of the mesh (repr of each float: read back exactly)."""
+    with open(path, "w") as f:
+        f.write("OFF\n%d %d 0\n" % (len(positions), len(faces)))
+        f.write("\n".join("%r %r %r" % tuple(p) for p in positions.tolist()))
+        f.write("\n" + "\n".join("3 %d %d %d" % tuple(t) for t in faces.tolist()) + "\n")
+
+
+@pytest.fixture(scope="session")
+def models(tmp_path_factory):
+    """A folder of models as a batch meets them: every format vn reads, from
+    the samples and test data (Blender, Draco and glTF files with images),
+    generated height fields in a subfolder, files that fail (malformed, a
+    NaN position, glTF 1.0) and files of no format vn reads."""
+    import shutil
+    root = tmp_path_factory.mktemp("models")
+    data = os.path.join(SOURCE, "tests", "data")
+    for src in [os.path.join(SOURCE, "samples", "torus.off"), os.path.join(SOURCE, "samples", "sphere-quads.off"),
+                os.path.join(data, "gltf", "shapes.glb"), os.path.join(data, "gltf", "quantized.glb"),
+                os.path.join(data, "draco", "colored.drc"), os.path.join(data, "obj", "blender_cube.obj"),
+                os.path.join(data, "obj", "blender_cube.mtl"), os.path.join(data, "ply", "blender_binary.ply"),
+                os.path.join(data, "stl", "test_sphere.stl"), os.path.join(data, "obj", "README.md")]:
+        shutil.copy(src, root)
+    shutil.copytree(os.path.join(data, "gltf", "wild"), root / "wild")
+    os.mkdir(root / "fields")
+    for k in range(4):
+        write_off(root / "fields" / ("field%d.off" % k), *grid(40 + 10 * k, jitter=0.002, seed=k))
+    (root / "bad.off").write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n")
+    (root / "nan.off").write_text("OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n")
+    return root
+
+
+def same_trees(a, b):
+    """The relative paths of the files under a, after checking b holds the
+    same files with the same bytes."""
+    def files(root):
+        return sorted(os.path.relpath(os.path.join(d, n), root) for d, _, names in os.walk(root) for n in names)
+    fa = files(a)
+    assert fa == files(b)
+    for f in fa:
+        with open(os.path.join(a, f), "rb") as x, open(os.path.join(b, f), "rb") as y:
+            assert x.read() == y.read(), f
+    return fa
+
+
+def batch_lines(stderr):
+    """{input: message} of vnconvert --out-dir's FAIL lines, and its summary line."""
+    fails = dict(line[5:].split(": ", 1) for line in stderr.splitlines() if line.startswith("FAIL "))
+    summary = [line for line in stderr.splitlines() if line.startswith("vnconvert: ") and "converted" in line]
+    return fails, summary[-1]

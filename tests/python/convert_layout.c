@@ -62,5 +62,15 @@ int main(void)
 	FIELD(vn_convert_report, draco_normal_median_degrees);
 	FIELD(vn_convert_report, draco_normal_max_degrees);
 	SIZE(vn_convert_report);
+	FIELD(vn_batch_file, input);
+	FIELD(vn_batch_file, output);
+	FIELD(vn_batch_file, input_format);
+	FIELD(vn_batch_file, output_format);
+	SIZE(vn_batch_file);
+	FIELD(vn_batch_plan, files);
+	FIELD(vn_batch_plan, count);
+	FIELD(vn_batch_plan, skipped);
+	FIELD(vn_batch_plan, unentered);
+	SIZE(vn_batch_plan);
 	return 0;
 }

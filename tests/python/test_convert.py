@@ -10,7 +10,7 @@ import pytest
 
 import vn
 from vn import _convert
-from conftest import SOURCE, native
+from conftest import SOURCE, batch_lines, native, same_trees
 
 VNCONVERT = os.environ.get("VNCONVERT")
 needs_vnconvert = pytest.mark.skipif(not VNCONVERT, reason="VNCONVERT: the build has no tools (VN_BUILD_TOOLS=OFF)")
@@ -40,7 +40,8 @@ def test_struct_layout():
         struct, field, value = line.split()
         c.setdefault(struct, {})[field] = int(value)
     for struct, cls in (("vn_convert_options", _convert._ConvertOptions),
-                        ("vn_convert_report", _convert._ConvertReport)):
+                        ("vn_convert_report", _convert._ConvertReport), ("vn_batch_file", _convert._BatchFile),
+                        ("vn_batch_plan", _convert._BatchPlan)):
         py = {name: getattr(cls, name).offset for name, _ in cls._fields_}
         py["sizeof"] = __import__("ctypes").sizeof(cls)
         assert py == c[struct]
@@ -162,7 +163,9 @@ def test_bad_method(tmp_path):
 
 @pytest.mark.parametrize("options, message", [
     (dict(crease=30), "convert() has no option crease (vnconvert has no --crease)"),
-    (dict(out_dir="x"), "convert() has no option out_dir (vnconvert has no --out-dir)"),
+    (dict(out_dir="x"), "give dst (one file) or out_dir (a batch), not both"),
+    (dict(recursive=True), "recursive, overwrite and progress are for a batch: give out_dir"),
+    (dict(out="x"), "convert() has no option out (vnconvert has no --out)"),
     ({"crease-angle": 30}, "convert() has no option crease-angle (vnconvert has no --crease-angle)"),
     (dict(no_weld=1), "option no_weld is a switch: True or False, not 1"),
 ])
@@ -231,3 +234,76 @@ def test_libvnio_from_env(monkeypatch):
     monkeypatch.setenv("VN_LIBVNIO", vn.library().path)
     with pytest.raises(vn.Error, match="is not vn's I/O library: it does not export vn_io_convert"):
         vn.convert(TORUS, "unused.glb")
+
+
+# ------------------------------------------------------------------ batches
+
+
+@needs_vnconvert
+@pytest.mark.parametrize("options, flags, failing", [
+    ({}, [], ["bad.off", "nan.off", "wild/gltf1.gltf"]),
+    # A .gltf whose buffer has no data can stay .gltf, but not become .glb.
+    (dict(format="glb", method="mwselr", crease_angle=30), ["-f", "glb", "-m", "mwselr", "--crease-angle", "30"],
+     ["bad.off", "nan.off", "wild/gltf1.gltf", "wild/no-data.gltf"])])
+def test_batch_is_vnconvert_s(tmp_path, models, options, flags, failing):
+    """vn.convert(out_dir=...) and vnconvert --out-dir on one folder: the
+    same files, byte for byte, the same failures with the same messages,
+    and the counts of vnconvert's summary."""
+    options = dict(options)
+    b = vn.convert([models], out_dir=tmp_path / "py", recursive=True, threads=2, **options)
+    status, _, err = vnconvert("--out-dir", tmp_path / "c", "-r", models, "-j", "2", *flags)
+    assert status == 1  # some files fail
+    names = same_trees(tmp_path / "py", tmp_path / "c")
+    fails, summary = batch_lines(err)
+    assert {f.input: f.message for f in b.failed} == fails
+    assert sorted(fails) == [str(models / n) for n in failing]
+    assert summary.startswith("vnconvert: %d files converted, %d failed, %d skipped (not a format vn reads); %s "
+                              "triangles in " % (len(b.converted), len(failing), b.skipped,
+                                                 format(b.triangles, ",")))
+    assert len(b.converted) + len(failing) == 24 and b.skipped == 6 and b.unentered == 0
+    assert [f.input for f in b.files] == sorted(f.input for f in b.files)  # the plan's order: names
+    assert all(f.output_bytes == os.path.getsize(f.output) for f in b.converted)
+    assert {f.input: f.triangles for f in b.converted}[str(models / "torus.off")] == 1920
+    assert len(names) > len(b.converted)  # images copied beside .gltf outputs
+    assert b.triangles == sum(f.triangles for f in b.converted)
+
+
+def test_batch_resumes(tmp_path, models):
+    """overwrite=False: outputs there and not older than their inputs are
+    left alone; a missing output, or one older than its input, is made
+    again."""
+    import shutil
+    fields, out = tmp_path / "fields", tmp_path / "out"
+    shutil.copytree(models / "fields", fields)
+    first = vn.convert(fields, out_dir=out, format="ply")
+    assert [f.status for f in first.files] == ["converted"] * 4
+    stamps = {f.output: os.stat(f.output).st_mtime_ns for f in first.files}
+    again = vn.convert(fields, out_dir=out, format="ply", overwrite=False)
+    assert [f.status for f in again.files] == ["done"] * 4
+    assert {f.output: os.stat(f.output).st_mtime_ns for f in again.files} == stamps
+    os.remove(first.files[1].output)
+    newer = stamps[first.files[2].output] + 10 ** 9
+    os.utime(first.files[2].input, ns=(newer, newer))
+    third = vn.convert(fields, out_dir=out, format="ply", overwrite=False)
+    assert [f.status for f in third.files] == ["done", "converted", "converted", "done"]
+    assert os.stat(first.files[0].output).st_mtime_ns == stamps[first.files[0].output]
+
+
+def test_batch_refused_before_any_work(tmp_path, models):
+    out = tmp_path / "out"
+    with pytest.raises(vn.Error) as e:
+        vn.convert([models / "torus.off", models / "fields", models / "torus.off"], out_dir=out)
+    assert str(e.value) == "'%s' and '%s' would both be written to '%s': convert them into different folders" % (
+        models / "torus.off", models / "torus.off", out / "torus.off")
+    with pytest.raises(vn.Error, match="^--tangents applies only to glTF to glTF .*no file of this batch"):
+        vn.convert(models / "fields", out_dir=out, tangents="drop")
+    with pytest.raises(vn.Error, match="^stats is for one file"):
+        vn.convert(models / "fields", out_dir=out, stats=True)
+    assert not out.exists()
+
+
+def test_batch_progress_callback(tmp_path, models):
+    seen = []
+    b = vn.convert(models / "fields", out_dir=tmp_path, progress=lambda *a: seen.append(a))
+    assert sorted((done, total) for done, total, _ in seen) == [(1, 4), (2, 4), (3, 4), (4, 4)]
+    assert sorted(r.output for _, _, r in seen) == [f.output for f in b.files]
