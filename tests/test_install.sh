@@ -60,6 +60,12 @@ got=$(cd "$T" && env -u VN_LIBRARY PYTHONPATH="$(dirname "$(dirname "$py")")" /u
 (cd "$T" && env -u VN_LIBRARY -u VN_LIBVNIO PYTHONPATH="$(dirname "$(dirname "$py")")" /usr/bin/python3 -c \
   'import sys, vn; vn.convert(sys.argv[1], "py.glb")' "$S/samples/torus.off") && cmp -s "$T/py.glb" "$T/torus.glb" \
   || { echo "FAIL: vn.convert of the installed package"; exit 1; }
+# vn.dask installed with it: a batch on a local cluster, vnconvert's bytes.
+if /usr/bin/python3 -c 'import distributed' 2>/dev/null; then
+  (cd "$T" && env -u VN_LIBRARY -u VN_LIBVNIO PYTHONPATH="$(dirname "$(dirname "$py")")" /usr/bin/python3 -m vn.dask \
+    --local 1 -q --out-dir dask -f glb "$S/samples/torus.off") && cmp -s "$T/dask/torus.glb" "$T/torus.glb" \
+    || { echo "FAIL: python3 -m vn.dask of the installed package"; exit 1; }
+fi
 # pip install --no-build-isolation of python/ (a copy: pip writes build/ beside it) into a venv
 if /usr/bin/python3 -m venv --system-site-packages "$T/venv" 2>/dev/null; then
   cp -r "$S/python" "$T/python"

@@ -10,6 +10,7 @@
 # the median of RUNS runs into an emptied folder:
 #   loop      for f in IN/*; do vnconvert "$f" OUT/...; done   (one thread each)
 #   vnconvert vnconvert --out-dir OUT -j N -r IN
+#   vn.convert vn.convert(IN, out_dir=OUT, recursive=True, threads=N)  (one process)
 #   vn.dask   python3 -m vn.dask --scheduler ADDRESS --out-dir OUT -r IN --overwrite
 # vn.dask's time includes planning and connecting, not starting the cluster.
 set -euo pipefail
@@ -69,6 +70,11 @@ echo "|---|---:|---:|"
 row "shell loop over vnconvert" "$(median loop)"
 for n in 1 2; do
   row "vnconvert --out-dir -j $n" "$(median "$VNC" --out-dir "$OUT/out" --format "$FORMAT" -q -r -j "$n" "$IN")"
+done
+for n in 1 2; do
+  row "vn.convert(out_dir=...), threads=$n" "$(median $PY -c 'import sys, vn
+vn.convert(sys.argv[1], out_dir=sys.argv[2], format=sys.argv[3], recursive=True, threads=int(sys.argv[4]))' \
+    "$IN" "$OUT/out" "$FORMAT" "$n")"
 done
 
 dask scheduler --host 127.0.0.1 --port 0 --dashboard-address :0 --scheduler-file "$OUT/scheduler.json" \
