@@ -203,7 +203,7 @@ def vertex_normals(positions, faces=None, method="mwa", *, threads=0, out=None):
     """
     positions, faces = _mesh(positions, faces)
     idx, off, _ = _faces(faces)
-    return library().vertex_normals(_positions(positions), idx, off, method, threads, out)[0]
+    return library().vertex_normals(_positions(positions), idx, off, method, threads, out, stats=False)[0]
 
 
 def corner_normals(positions, faces=None, method="mwa", *, crease_angle=None, sharp_edges=None, threads=0):

@@ -9,6 +9,7 @@ ctypes releases the GIL for the duration of each call.
 
 import ctypes
 import os
+import threading
 
 import numpy as np
 
@@ -66,6 +67,7 @@ def _declare(lib):
         "vn_method_description": (c.c_char_p, [c.c_int]),
         "vn_method_reference": (c.c_char_p, [c.c_int]),
         "vn_method_from_name": (c.c_int, [c.c_char_p, _P(c.c_int)]),
+        "vn_workspace_size": (c.c_size_t, [c.c_size_t, _P(_Options)]),
         "vn_weld_positions": (c.c_int, [c.c_void_p, _P(_Positions), c.c_double, _P(_Options)]),
         "vn_triangle_normals": (c.c_int, [_P(_Vectors), _P(_Positions), c.c_void_p, c.c_size_t, c.c_int,
                                           _P(_Options), _P(_Stats)]),
@@ -123,16 +125,20 @@ def _rows(a):
 
 
 def _indices(a, what):
-    """a as contiguous uint32: copied unless it already is. Values that do
-    not fit (negative, above 2^32 - 1) are refused here, before a cast could
-    wrap them onto valid vertices."""
+    """a as contiguous uint32: read in place when it is uint32, or int32
+    without a negative value (Open3D's triangles), else copied once. Values
+    that do not fit (negative, above 2^32 - 1) are refused here, before a
+    cast could wrap them onto valid vertices."""
     a = np.asarray(a)
     if a.dtype == np.uint32:
         return np.ascontiguousarray(a).ravel()
     if a.size and a.dtype.kind not in "iu":
         raise Error("%s must be integers, not %s" % (what, a.dtype))
-    if a.size and (a.min() < 0 or a.max() > _UINT32_MAX):
+    # One pass: the bits of every value OR-ed show a sign or a bit above 31.
+    if a.size and int(np.bitwise_or.reduce(a, axis=None)) & ~_UINT32_MAX:
         raise Error("%s: index out of range (%d)" % (what, a.min() if a.min() < 0 else a.max()))
+    if a.dtype == np.int32:
+        return np.ascontiguousarray(a).ravel().view(np.uint32)
     return np.ascontiguousarray(a, dtype=np.uint32).ravel()
 
 
@@ -141,6 +147,9 @@ class Library:
 
     def __init__(self, path, check_exports=True):
         self.path = path
+        # Each Python thread's work memory for vertex normals, kept from call
+        # to call: a call then allocates (and page-faults) nothing of its own.
+        self._workspaces = threading.local()
         if check_exports:
             if os.path.isdir(path):
                 raise Error("cannot load the vn library: %s is a directory, not libvn.so" % path)
@@ -223,6 +232,16 @@ class Library:
         o.threads = threads or os.cpu_count() or 1
         return o
 
+    def _workspace(self, vertex_count, options):
+        """Sets options' workspace to this thread's, grown to what a call
+        for vertex_count vertices needs (kept: the largest mesh's ~32 bytes
+        a vertex)."""
+        size = self._lib.vn_workspace_size(vertex_count, ctypes.byref(options))
+        buffer = getattr(self._workspaces, "buffer", None)
+        if buffer is None or buffer.size < size:
+            buffer = self._workspaces.buffer = np.empty(size, dtype=np.uint8)
+        options.workspace, options.workspace_size = buffer.ctypes.data, buffer.size
+
     @staticmethod
     def _offsets(face_offsets, index_count):
         off = _indices(face_offsets, "face offsets")
@@ -242,28 +261,31 @@ class Library:
                                                 ctypes.byref(opt)), "vn_weld_positions")
         return remap
 
-    def vertex_normals(self, co, corner_vert, face_offsets, method, threads=None, out=None):
+    def vertex_normals(self, co, corner_vert, face_offsets, method, threads=None, out=None, stats=True):
         """(normals, stats): unit normals per vertex, (n, 3) float64 or
-        written into out (float32 or float64 rows), and vn_stats as a dict.
+        written into out (float32 or float64 rows), and vn_stats as a dict
+        (None with stats False: the library then skips counting).
         face_offsets None: triangles (vn_triangle_normals), else polygons
         (vn_polygon_normals)."""
         method = self.method_index(method)
         co, pos = self._positions(co)
         idx = _indices(corner_vert, "faces")
         out, vec = self._vectors(out, pos.count, np.float64)
-        opt, stats = self._options(threads), _Stats()
+        opt, counts = self._options(threads), _Stats() if stats else None
+        self._workspace(pos.count, opt)
+        counted = None if counts is None else ctypes.byref(counts)
         if face_offsets is None:
             if idx.size % 3:
                 raise Error("triangles need 3 indices each, not %d in all" % idx.size)
             r = self._lib.vn_triangle_normals(ctypes.byref(vec), ctypes.byref(pos), idx.ctypes.data, idx.size,
-                                              method, ctypes.byref(opt), ctypes.byref(stats))
+                                              method, ctypes.byref(opt), counted)
             self._check(r, "vn_triangle_normals")
         else:
             off = self._offsets(face_offsets, idx.size)
             r = self._lib.vn_polygon_normals(ctypes.byref(vec), ctypes.byref(pos), idx.ctypes.data, off.ctypes.data,
-                                             off.size - 1, method, ctypes.byref(opt), ctypes.byref(stats))
+                                             off.size - 1, method, ctypes.byref(opt), counted)
             self._check(r, "vn_polygon_normals")
-        return out, {f: getattr(stats, f) for f, _ in _Stats._fields_}
+        return out, None if counts is None else {f: getattr(counts, f) for f, _ in _Stats._fields_}
 
     def corner_normals(self, co, corner_vert, face_offsets, method, crease_angle=np.pi,
                        sharp_edges=None, threads=None, dtype=np.float64, face_strength=None):

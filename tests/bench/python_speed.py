@@ -18,13 +18,13 @@ call, three times over (vnbench: 3 x --repeat calls after one warm-up):
       uint32 (passed in place), int32 (Open3D's triangles) and int64
       (numpy's default), the last two converted by the binding, in every
       call, after a range check. Returns a new (n, 3) float64 array (or, in
-      one column, writes into a float32 array allocated once: out=). No
-      workspace is passed, so the library allocates its work memory in every
-      call; the binding always asks for vn_stats.
-  vnbench MESH.ply -m METHOD -j T -r K --float64 --alloc: the same mesh
+      one column, writes into a float32 array allocated once: out=). The
+      binding passes each Python thread's workspace, kept from call to
+      call, and no vn_stats (vn.vertex_normals has no use for them).
+  vnbench MESH.ply -m METHOD -j T -r K --float64: the same mesh
       (binary PLY with double positions, written here), timed in C around
-      vn_triangle_normals: float64 positions, the work memory allocated in
-      every call (--alloc), as the binding does; no vn_stats; float32
+      vn_triangle_normals: float64 positions, one workspace reused by every
+      call, as the binding does; no vn_stats; float32
       normals written into one buffer reused by all calls. "overhead" is
       vn.vertex_normals's time over vnbench's, less 1.
   The C call from ctypes: vn_triangle_normals called through ctypes with
@@ -136,10 +136,9 @@ def timed(cases, repeat, rounds=ROUNDS):
 
 
 def vnbench(build, mesh, method, threads, repeat, triangles):
-    """vnbench's median in seconds (float64 positions, work memory allocated
-    in every call)."""
+    """vnbench's median in seconds (float64 positions, one workspace)."""
     cmd = [os.path.join(build, "vnbench"), mesh, "-m", method, "-j", str(threads), "-r", str(ROUNDS * repeat),
-           "--float64", "--alloc", "--csv"]
+           "--float64", "--csv"]
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.splitlines()
     row = dict(zip(out[0].split(","), out[1].split(",")))
     if int(row["triangles"]) != triangles:
@@ -151,7 +150,7 @@ def c_call(vn, p, faces, out):
     """A function of (method, threads, stats) giving a call of
     vn_triangle_normals straight through ctypes, as vnbench makes it: the
     structs of vn's binding, built once; no Python work per call but the
-    ctypes call; vn_stats passed or not."""
+    ctypes call; one workspace; vn_stats passed or not."""
     from vn import _binding
     lib = vn.library()
     pos = _binding._Positions(p.ctypes.data, len(p), 0, 1)  # float64, packed
@@ -161,6 +160,7 @@ def c_call(vn, p, faces, out):
     def make(method, threads, with_stats):
         opt = _binding._Options()
         opt.threads = threads
+        lib._workspace(len(p), opt)
         args = (ctypes.byref(vec), ctypes.byref(pos), faces.ctypes.data, faces.size, lib.method_index(method),
                 ctypes.byref(opt), ctypes.byref(stats) if with_stats else None)
 
@@ -268,14 +268,14 @@ def main():
         return " / ".join("%+.0f%%" % (100 * (res[n][0] / over - 1)) for n in names)
 
     print("\nOverhead: vn.vertex_normals's time over the other's, less 1, for uint32 / int32 / int64 faces.\n")
-    print("| method | threads | vnbench --float64 --alloc | C call from ctypes | C call, vn_stats "
+    print("| method | threads | vnbench --float64 | C call from ctypes | C call, vn_stats "
           "| vn, uint32 faces, float32 out= | vn, uint32 faces | vn, int32 faces | vn, int64 faces "
           "| overhead over vnbench | overhead over the C call | page faults per call |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     try:
         for method, threads in configs:
             t = base[method, threads] = vnbench(build, ply, method, threads, K, nt)
-            rows.append(("vnbench --float64 --alloc", method, threads, t, float("nan"), float("nan")))
+            rows.append(("vnbench --float64", method, threads, t, float("nan"), float("nan")))
             cases = [("C call from ctypes", direct(method, threads, False), None),
                      ("C call from ctypes, vn_stats", direct(method, threads, True), None),
                      ("vn.vertex_normals, uint32 faces, float32 out=",

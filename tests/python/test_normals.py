@@ -1,8 +1,10 @@
 """vn.vertex_normals, corner_normals, weld and methods: hand-computed
 results, vn's C results bit for bit, every input layout, and errors."""
 
+import ctypes
 import math
 import re
+import threading
 
 import numpy as np
 import pytest
@@ -145,6 +147,41 @@ def test_float64_contiguous_positions_are_not_copied(monkeypatch, torus):
     assert np.shares_memory(seen[1][0], wide) and seen[1][1].stride == 32
 
 
+def test_int32_faces_are_not_copied(monkeypatch, torus):
+    """Open3D's int32 triangles are read in place (after the range check);
+    int64 is copied once to the library's uint32."""
+    p, f = torus
+    seen = []
+    real = vn._binding._indices
+    monkeypatch.setattr(vn._binding, "_indices", lambda a, what: seen.append(real(a, what)) or seen[-1])
+    f32, f64 = f.astype(np.int32), f.astype(np.int64)
+    assert np.array_equal(vn.vertex_normals(p, f32), vn.vertex_normals(p, f64))
+    assert np.shares_memory(seen[0], f32) and seen[0].dtype == np.uint32
+    assert not np.shares_memory(seen[1], f64)
+
+
+def test_workspace_kept_per_thread(torus, sphere_quads):
+    """A thread's work memory is kept from call to call (no allocation in
+    the library) and grown for a larger mesh; results are unchanged."""
+    lib = vn.library()
+    p, f = torus
+    first = vn.vertex_normals(p, f, "mwa", threads=1)
+    buffer = lib._workspaces.buffer
+    assert buffer.size >= lib._lib.vn_workspace_size(len(p), ctypes.byref(lib._options(1)))
+    assert np.array_equal(vn.vertex_normals(p, f, "mwa", threads=1), first)
+    assert lib._workspaces.buffer is buffer
+    big = grid(200)
+    vn.vertex_normals(*big, threads=1)
+    assert lib._workspaces.buffer is not buffer and lib._workspaces.buffer.size > buffer.size
+    assert np.array_equal(vn.vertex_normals(p, f, "mwa", threads=1), first)
+    other = {}
+    t = threading.Thread(target=lambda: other.update(n=vn.vertex_normals(p, f, "mwa", threads=1),
+                                                     b=lib._workspaces.buffer))
+    t.start()
+    t.join()
+    assert np.array_equal(other["n"], first) and other["b"] is not lib._workspaces.buffer
+
+
 def test_threads_give_identical_results():
     p, f = grid(300, jitter=0.001)  # 90000 vertices: several threads' worth
     for method in ("mwa", "mewcsa"):
@@ -208,6 +245,9 @@ def test_empty_meshes():
     ((TETRA_P, [[0, 1, 2, 4]]), {}, "vn_polygon_normals: index out of range"),
     ((TETRA_P, [[0, 1, -1]]), {}, "faces: index out of range (-1)"),
     ((TETRA_P, np.array([[0, 1, 2 ** 32]])), {}, "faces: index out of range (4294967296)"),
+    ((TETRA_P, np.array([[0, 1, -2]], dtype=np.int32)), {}, "faces: index out of range (-2)"),  # read in place else
+    ((TETRA_P, np.array([[0, 1, 2 ** 63]], dtype=np.uint64)), {}, "faces: index out of range (9223372036854775808)"),
+    ((TETRA_P, np.array([[0, -2 ** 63, 1]], dtype=np.int64)), {}, "faces: index out of range (-9223372036854775808)"),
     ((TETRA_P, [[0, 1, 2]], "mwq"), {}, "method 'mwq': unknown method"),
     ((TETRA_P, [[0, 1, 2]], 7), {}, "method 7: unknown method"),
     ((TETRA_P[:, :2], [[0, 1, 2]]), {}, "positions must be an (n, 3) array, not of shape (4, 2)"),
