@@ -38,6 +38,8 @@ static const expect expected[NM][NR] = {
     {{2642, 4704, 564, 0, 0}, {12530, 23688, 1356, 0, 0}, {50294, 97776, 2796, 0, 0}},   /* cosine_mt */
     {{3182, 5916, 452, 0, 13}, {15322, 29634, 1010, 0, 9}, {62670, 123288, 2056, 0, 17}}, /* perlin_mt */
     {{908, 1572, 200, 0, 300}, {2042, 3786, 304, 0, 598}, {3840, 7248, 460, 0, 614}},    /* turbulence_mt */
+    {{266, 528, 0, 0, 0}, {1106, 2208, 0, 0, 0}, {4514, 9024, 0, 0, 0}},                 /* ellipsoid_tp */
+    {{3868, 7128, 644, 0, 0}, {18566, 35706, 1462, 0, 0}, {75522, 148100, 2980, 0, 0}},  /* gyroid_mt */
 };
 
 /* The largest angle (degrees) between a face normal and its vertices' mean
@@ -55,6 +57,8 @@ static const double face_bound[NM][NR] = {
     {21, 12, 6.5},    /* cosine_mt */
     {180, 180, 180},  /* perlin_mt */
     {180, 180, 180},  /* turbulence_mt */
+    {14.5, 8.0, 6.0}, /* ellipsoid_tp */
+    {45, 21, 10.5},   /* gyroid_mt */
 };
 
 /* The documented parameters (ensemble.c), repeated as literals. */
@@ -64,6 +68,8 @@ static const double hf_size = 2.0, hf_z = 1.0 / 3.0, hf_amplitude = 0.5;
 static const unsigned hf_octaves = 3;
 static const double torus_big = 1.0, torus_small = 0.6;
 static const double noise_offset[3] = {0.37, 0.61, 0.23};
+static const double ellipsoid_axes[3] = {1.0, 0.75, 0.5}, ellipsoid_jitter = 0.15;
+static const double gyroid_dilation = 1.5 * 3.14159265358979323846, gyroid_offset[3] = {0.3, 0.5, 0.7};
 
 /* ---------------------------------------------------------------- helpers */
 
@@ -173,9 +179,21 @@ static double hf_f(vn_model m, double x, double y)
 	return hh < 0 ? vn_perlin_noise(p, NULL) : vn_fbm_noise(p, hf_octaves, hh, NULL);
 }
 
-/* The MT models' implicit functions f(p) and isovalues. */
-static const double mt_iso[4] = {0.64, 0.0, 0.0, 0.15};
-static const unsigned mt_cells[4][NR] = {{13, 29, 59}, {13, 29, 59}, {13, 29, 59}, {10, 14, 18}};
+/* The MT models' implicit functions f(p) and isovalues, indexed by mt_index. */
+#define NMT 5
+static const vn_model mt_models[NMT] = {vn_model_sphere_mt, vn_model_cosine_mt, vn_model_perlin_mt,
+                                        vn_model_turbulence_mt, vn_model_gyroid_mt};
+static const double mt_iso[NMT] = {0.64, 0.0, 0.0, 0.15, 0.0};
+static const unsigned mt_cells[NMT][NR] = {{13, 29, 59}, {13, 29, 59}, {13, 29, 59}, {10, 14, 18}, {13, 29, 59}};
+
+static int mt_index(vn_model m)
+{
+	for (int i = 0; i < NMT; ++i)
+		if (mt_models[i] == m)
+			return i;
+	fail_msg("%s is not a marching-tetrahedra model", vn_model_name(m));
+	return -1;
+}
 
 static void turbulence_point(const double p[3], double q[3])
 {
@@ -197,6 +215,10 @@ static double mt_f(vn_model m, const double p[3])
 		for (int k = 0; k < 3; ++k)
 			q[k] = p[k] + noise_offset[k];
 		return vn_perlin_noise(q, NULL);
+	case vn_model_gyroid_mt:
+		for (int k = 0; k < 3; ++k)
+			q[k] = gyroid_dilation * p[k] + gyroid_offset[k];
+		return sin(q[0]) * cos(q[1]) + sin(q[1]) * cos(q[2]) + sin(q[2]) * cos(q[0]);
 	default:
 		turbulence_point(p, q);
 		return vn_turbulence_noise(q, 4, NULL);
@@ -267,8 +289,11 @@ static void check_gradient(scalar3 f, const void* ctx, const double p[3], const 
 static void names(void** state)
 {
 	(void)state;
-	static const char* const model_names[NM] = {"sphere_tp", "torus_tp",  "perlin_hf", "fractal09_hf", "fractal05_hf",
-	                                            "fractal01_hf", "sphere_mt", "cosine_mt", "perlin_mt", "turbulence_mt"};
+	static const char* const model_names[NM] = {"sphere_tp",    "torus_tp",  "perlin_hf", "fractal09_hf",
+	                                            "fractal05_hf", "fractal01_hf", "sphere_mt", "cosine_mt",
+	                                            "perlin_mt",    "turbulence_mt", "ellipsoid_tp", "gyroid_mt"};
+	assert_int_equal(VN_MODEL_PAPER_COUNT, 10);
+	assert_int_equal(vn_model_ellipsoid_tp, VN_MODEL_PAPER_COUNT); /* the paper's ten keep their values */
 	for (int m = 0; m < NM; ++m) {
 		assert_string_equal(vn_model_name((vn_model)m), model_names[m]);
 		assert_non_null(vn_model_description((vn_model)m));
@@ -378,9 +403,9 @@ static void height_field_grids(void** state)
 static void closed_and_cut_models(void** state)
 {
 	(void)state;
-	static const vn_model closed[] = {vn_model_sphere_tp, vn_model_torus_tp, vn_model_sphere_mt};
+	static const vn_model closed[] = {vn_model_sphere_tp, vn_model_torus_tp, vn_model_sphere_mt, vn_model_ellipsoid_tp};
 	for (int r = 0; r < NR; ++r) {
-		for (size_t k = 0; k < 3; ++k) {
+		for (size_t k = 0; k < 4; ++k) {
 			vn_model_mesh mesh = gen(closed[k], (vn_resolution)r);
 			for (size_t i = 0; i < mesh.vertex_count; ++i)
 				assert_int_equal(mesh.boundary[i], 0);
@@ -392,6 +417,12 @@ static void closed_and_cut_models(void** state)
 			boundary += mesh.boundary[i];
 		assert_true(boundary > 0);
 		assert_int_equal(boundary, expected[vn_model_cosine_mt][r].boundary);
+		vn_model_free(&mesh, NULL);
+		mesh = gen(vn_model_gyroid_mt, (vn_resolution)r);
+		boundary = 0;
+		for (size_t i = 0; i < mesh.vertex_count; ++i)
+			boundary += mesh.boundary[i];
+		assert_int_equal(boundary, expected[vn_model_gyroid_mt][r].boundary);
 		vn_model_free(&mesh, NULL);
 	}
 }
@@ -527,13 +558,96 @@ static void check_tp(vn_model m, vn_resolution r)
 	vn_model_free(&mesh, NULL);
 }
 
+/* The ellipsoid: every vertex on x^2/a^2 + y^2/b^2 + z^2/c^2 = 1 with the
+ * normal of its gradient (x/a^2, y/b^2, z/c^2), the poles first and last,
+ * and every ring vertex's parameters (u = acos(z / c), v = atan2(y / b,
+ * x / a)) within the jitter of its grid point, with an irregular spread. */
+static void check_ellipsoid(vn_resolution r)
+{
+	const unsigned bands = tp_grid[r][0], segs = tp_grid[r][1];
+	const double pi = 3.14159265358979323846, *ax = ellipsoid_axes;
+	vn_model_mesh mesh = gen(vn_model_ellipsoid_tp, r);
+	double lo = 1, hi = -1;
+	for (size_t k = 0; k < mesh.vertex_count; ++k) {
+		const double* p = mesh.positions + 3 * k;
+		const double g[3] = {p[0] / (ax[0] * ax[0]), p[1] / (ax[1] * ax[1]), p[2] / (ax[2] * ax[2])};
+		const double level = p[0] * g[0] + p[1] * g[1] + p[2] * g[2];
+		if (fabs(level - 1) > 1e-14 || angle(g, mesh.normals + 3 * k) > 1e-12)
+			fail_msg("%s: vertex %zu off the surface (%g) or its normal", instance(vn_model_ellipsoid_tp, r), k,
+			         level - 1);
+		if (k == 0 || k + 1 == mesh.vertex_count) {
+			assert_true(p[0] == 0 && p[1] == 0 && p[2] == (k ? -ax[2] : ax[2]));
+			continue;
+		}
+		const double u = acos(p[2] / ax[2]) * bands / pi - (double)(1 + (k - 1) / segs);
+		double v = atan2(p[1] / ax[1], p[0] / ax[0]) * segs / (2 * pi) - (double)((k - 1) % segs);
+		v -= segs * round(v / segs); /* the seam */
+		if (fabs(u) > ellipsoid_jitter + 1e-9 || fabs(v) > ellipsoid_jitter + 1e-9)
+			fail_msg("%s: vertex %zu jittered by (%g, %g) steps", instance(vn_model_ellipsoid_tp, r), k, u, v);
+		lo = u < lo ? u : lo, hi = u > hi ? u : hi;
+	}
+	assert_true(lo < -0.8 * ellipsoid_jitter && hi > 0.8 * ellipsoid_jitter);
+	vn_model_free(&mesh, NULL);
+}
+
 static void tp_normals_are_pu_cross_pv(void** state)
 {
 	(void)state;
 	for (int r = 0; r < NR; ++r) {
 		check_tp(vn_model_sphere_tp, (vn_resolution)r);
 		check_tp(vn_model_torus_tp, (vn_resolution)r);
+		check_ellipsoid((vn_resolution)r);
 	}
+}
+
+/* vn_model_generate is vn_model_generate_grid on vn_model_grid's grid;
+ * other grids give other meshes, out-of-range ones an error. */
+static void any_grid(void** state)
+{
+	(void)state;
+	static const unsigned smallest[NM] = {3, 3, 2, 2, 2, 2, 2, 2, 2, 2, 3, 2};
+	for (int m = 0; m < NM; ++m) {
+		for (int r = 0; r < NR; ++r) {
+			vn_model_mesh a = gen((vn_model)m, (vn_resolution)r), b;
+			assert_int_equal(vn_model_generate_grid((vn_model)m, vn_model_grid((vn_model)m, (vn_resolution)r), NULL, &b),
+			                 vn_result_success);
+			assert_int_equal(a.vertex_count, b.vertex_count);
+			assert_int_equal(a.triangle_count, b.triangle_count);
+			assert_memory_equal(a.positions, b.positions, 3 * a.vertex_count * sizeof(double));
+			assert_memory_equal(a.indices, b.indices, 3 * a.triangle_count * sizeof(uint32_t));
+			vn_model_free(&a, NULL);
+			vn_model_free(&b, NULL);
+		}
+		vn_model_mesh mesh;
+		const unsigned most = m >= vn_model_sphere_mt && m != vn_model_ellipsoid_tp ? VN_MODEL_CELLS_MAX : VN_MODEL_GRID_MAX;
+		assert_int_equal(vn_model_generate_grid((vn_model)m, smallest[m] - 1, NULL, &mesh), vn_result_invalid_argument);
+		assert_null(mesh.positions);
+		assert_int_equal(vn_model_generate_grid((vn_model)m, most + 1, NULL, &mesh), vn_result_invalid_argument);
+		assert_int_equal(vn_model_generate_grid((vn_model)m, smallest[m], NULL, &mesh), vn_result_success);
+		vn_model_free(&mesh, NULL);
+	}
+	/* The documented grids; a TP grid of n bands has 2 n segments. */
+	static const unsigned tp[NR] = {12, 24, 48}, hf[NR] = {16, 32, 64};
+	for (int r = 0; r < NR; ++r) {
+		assert_int_equal(vn_model_grid(vn_model_torus_tp, (vn_resolution)r), tp[r]);
+		assert_int_equal(vn_model_grid(vn_model_ellipsoid_tp, (vn_resolution)r), tp[r]);
+		assert_int_equal(vn_model_grid(vn_model_perlin_hf, (vn_resolution)r), hf[r]);
+		assert_int_equal(vn_model_grid(vn_model_gyroid_mt, (vn_resolution)r), mt_cells[NMT - 1][r]);
+		assert_int_equal(vn_model_grid(vn_model_turbulence_mt, (vn_resolution)r), mt_cells[3][r]);
+	}
+	vn_model_mesh mesh = {0, 0, NULL, NULL, NULL, NULL};
+	assert_int_equal(vn_model_generate_grid(vn_model_torus_tp, 20, NULL, &mesh), vn_result_success);
+	assert_int_equal(mesh.vertex_count, 20 * 40);
+	assert_int_equal(mesh.triangle_count, 2 * 20 * 40);
+	vn_model_free(&mesh, NULL);
+	assert_int_equal(vn_model_generate_grid(vn_model_sphere_mt, 37, NULL, &mesh), vn_result_success);
+	assert_true(mesh.vertex_count > expected[vn_model_sphere_mt][vn_resolution_medium].vertices);
+	assert_true(mesh.vertex_count < expected[vn_model_sphere_mt][vn_resolution_high].vertices);
+	vn_model_free(&mesh, NULL);
+	assert_int_equal(vn_model_grid(vn_model_count, vn_resolution_low), 0);
+	assert_int_equal(vn_model_grid(vn_model_sphere_tp, vn_resolution_count), 0);
+	assert_int_equal(vn_model_generate_grid(vn_model_count, 20, NULL, &mesh), vn_result_invalid_argument);
+	assert_int_equal(vn_model_generate_grid(vn_model_sphere_tp, 20, NULL, NULL), vn_result_invalid_argument);
 }
 
 typedef struct hf_ctx {
@@ -598,9 +712,9 @@ static void check_mt_normals(vn_model m, vn_resolution r)
 static void mt_normals_match_differences(void** state)
 {
 	(void)state;
-	for (int m = vn_model_sphere_mt; m < NM; ++m)
+	for (int i = 0; i < NMT; ++i)
 		for (int r = 0; r < NR; ++r)
-			check_mt_normals((vn_model)m, (vn_resolution)r);
+			check_mt_normals(mt_models[i], (vn_resolution)r);
 }
 
 /* MT vertex k lies on a grid edge: coordinates exactly on a grid plane stay
@@ -609,14 +723,18 @@ static void mt_normals_match_differences(void** state)
  * marching.c never acts on this ensemble, and |f - iso| is within the
  * interpolation error bound documented in docs/ENSEMBLE.md:
  *   smooth f:   t (1 - t) l^2 M2 / 2, M2 bounding |f''| along the edge
- *               (sphere 2, cosine (1.5 pi)^2, perlin 16: sampled max 12.4);
+ *               (sphere 2, cosine (1.5 pi)^2, perlin 16: sampled max 12.4,
+ *               gyroid 4 (1.5 pi)^2: each sin a cos b term's is at most
+ *               (|d_a| + |d_b|)^2 <= 2 (d_a^2 + d_b^2) along unit d);
  *   turbulence: 2 t (1 - t) l L, L = 8 bounding |grad f| (4 octaves times
  *               max |grad noise| <= 4, sampled max 2.97, times 1/2). */
 static void check_mt_vertex(vn_model m, vn_resolution r, const double* p)
 {
-	static const double m2[3] = {2.0, 1.5 * 1.5 * 3.14159265358979323846 * 3.14159265358979323846, 16.0};
-	const unsigned n = mt_cells[m - vn_model_sphere_mt][r];
-	const double iso = mt_iso[m - vn_model_sphere_mt];
+	const double pi2 = 3.14159265358979323846 * 3.14159265358979323846;
+	static const double m2[NMT] = {2.0, 1.5 * 1.5 * pi2, 16.0, 0.0, 4 * 1.5 * 1.5 * pi2};
+	const int i_m = mt_index(m);
+	const unsigned n = mt_cells[i_m][r];
+	const double iso = mt_iso[i_m];
 	double a[3], b[3], t = -1;
 	for (int k = 0; k < 3; ++k) {
 		const double s = (p[k] + 1) * n / 2;
@@ -640,7 +758,7 @@ static void check_mt_vertex(vn_model m, vn_resolution r, const double* p)
 	assert_true(fabs(t - lerp_t) <= 1e-9);
 	const double l = sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
 	const double bound = m == vn_model_turbulence_mt ? 2 * t * (1 - t) * l * 8.0
-	                                                 : t * (1 - t) * l * l * m2[m - vn_model_sphere_mt] / 2;
+	                                                 : t * (1 - t) * l * l * m2[i_m] / 2;
 	if (fabs(fp - iso) > bound + 1e-12)
 		fail_msg("%s: |f - iso| = %g exceeds %g", instance(m, r), fabs(fp - iso), bound);
 }
@@ -648,11 +766,11 @@ static void check_mt_vertex(vn_model m, vn_resolution r, const double* p)
 static void mt_vertices_on_grid_edges(void** state)
 {
 	(void)state;
-	for (int m = vn_model_sphere_mt; m < NM; ++m) {
+	for (int i = 0; i < NMT; ++i) {
 		for (int r = 0; r < NR; ++r) {
-			vn_model_mesh mesh = gen((vn_model)m, (vn_resolution)r);
+			vn_model_mesh mesh = gen(mt_models[i], (vn_resolution)r);
 			for (size_t k = 0; k < mesh.vertex_count; ++k)
-				check_mt_vertex((vn_model)m, (vn_resolution)r, mesh.positions + 3 * k);
+				check_mt_vertex(mt_models[i], (vn_resolution)r, mesh.positions + 3 * k);
 			vn_model_free(&mesh, NULL);
 		}
 	}
@@ -985,6 +1103,7 @@ int main(void)
 	    cmocka_unit_test(faces_follow_exact_normals),
 	    cmocka_unit_test(height_fields_face_up),
 	    cmocka_unit_test(tp_normals_are_pu_cross_pv),
+	    cmocka_unit_test(any_grid),
 	    cmocka_unit_test(hf_normals_match_differences),
 	    cmocka_unit_test(mt_normals_match_differences),
 	    cmocka_unit_test(mt_vertices_on_grid_edges),

@@ -39,6 +39,43 @@ for f in "$T"/figs-a/hist_*.svg "$T/figs-a/fig4_turbulence_aliasing.svg"; do
 done
 check "docs/figures charts are current (vneval --svg-dir)" [ $same -eq 1 ]
 
+# docs/ACCURACY.md (every scheme, every model, the targets, the convergence
+# study) and its figures are what vneval --accuracy-md produces now.
+ROOT="$(cd "$(dirname "$0")/.." && pwd)"
+mkdir -p "$T/acc"
+"$EVAL" -q --accuracy-md "$T/acc/ACCURACY.md"
+check "accuracy report exits 0" [ $? -eq 0 ]
+check "docs/ACCURACY.md is current (vneval --accuracy-md)" cmp -s "$T/acc/ACCURACY.md" "$ROOT/docs/ACCURACY.md"
+same=1 n=0
+for f in "$T"/acc/figures/*.svg; do
+  n=$((n + 1))
+  cmp -s "$f" "$DOC/$(basename "$f")" || { same=0; echo "stale: docs/figures/$(basename "$f")"; }
+done
+check "accuracy figures are current (4 convergence plots, 6 histograms)" [ $same -eq 1 -a $n -eq 10 ]
+NK=$("$VNC" --list-methods | wc -l)
+for m in sphere_mt torus_tp ellipsoid_tp gyroid_mt; do
+  svg="$T/acc/figures/convergence_$m.svg"
+  check "convergence plot of $m: a legend row per scheme, a line per inexact one" \
+    [ "$(grep -c '>[a-z]*: \(order [-0-9.]*\|exact\)<' "$svg")" -eq "$NK" -a \
+      "$(grep -c '<polyline' "$svg")" -eq "$(grep -c ': order ' "$svg")" ]
+done
+# The seven's orders on the irregular MT sphere are about 1 (fitted in the report).
+order() { awk -F'|' -v k="$1" -v c="$2" '$2 == " " k " " && NF > 5 { gsub(/ /, "", $(c + 2)); print $(c + 2); exit }' "$T/acc/ACCURACY.md"; }
+for k in mwe mwa mwselr mwaat mwelr mwrelr; do
+  o=$(order $k 1)
+  check "$k converges as O(h) on sphere_mt (order $o in 0.9..1.2)" awk -v o="$o" 'BEGIN { exit !(o > 0.9 && o < 1.2) }'
+done
+check "MWSELR is exact on the TP torus (the smooth target's bar is exactness there)" [ "$(order mwselr 2)" = exact ]
+"$EVAL" -q --accuracy-md "$T/acc/x.md" --model sphere_tp 2>"$T/err"
+check "accuracy report refuses filters (exit 2, one line)" [ $? -eq 2 -a "$(wc -l <"$T/err")" -eq 1 ]
+
+# The new surfaces are not in the default run but are selected by name or "all".
+"$EVAL" -q --csv "$T/new.csv" --model ellipsoid_tp,gyroid_mt --method all
+check "new surfaces by name: 2 models x 3 resolutions x every method" \
+  [ "$(tail -n +2 "$T/new.csv" | wc -l)" -eq $((6 * NK)) ]
+"$EVAL" -q --csv "$T/all.csv" --model all --resolution low --method mwa
+check "--model all: twelve models" [ "$(tail -n +2 "$T/all.csv" | wc -l)" -eq 12 ]
+
 # Max (1999): MWSELR is exact on a sphere, at every resolution.
 for r in low medium high; do
   check "MWSELR median on sphere_tp $r <= 0.001 deg" le "$(col sphere_tp $r mwselr median_deg)" 0.001

@@ -45,6 +45,22 @@
  *   chosen for Table 3's 1501, 3758, 7136 triangles (we get 1572, 3786,
  *   7248: +4.7%, +0.7%, +1.6%).
  *
+ * Beyond the paper (appended, so the ten keep their values):
+ *   ellipsoid_tp   semi-axes (1, 0.75, 0.5) by the sphere's parameterization
+ *                  with every ring vertex jittered in (u, v) by up to 1/4
+ *                  of a grid step (a fixed integer hash, not random): rings
+ *                  of irregular shape, vertices exactly on the surface;
+ *                  exact normal normalize(bc sin u cos v, ac sin u sin v,
+ *                  ab cos u) (P_u x P_v / sin u, so the poles need no
+ *                  special case). Grids as the TP models.
+ *   gyroid_mt      the gyroid sin x cos y + sin y cos z + sin z cos x = 0
+ *                  at q = 1.5 pi p + (0.3, 0.5, 0.7) (1.5 periods across
+ *                  the box, cut by it), cells 13, 29, 59.
+ *
+ * vn_model_generate_grid generates any model on another grid (bands, side
+ * or cells) for convergence studies; the three resolutions are its
+ * vn_model_grid values.
+ *
  * Counts (vertices, triangles, boundary vertices):
  *   model          low                  medium                 high
  *   sphere_tp        266    528    0      1106   2208    0       4514   9024    0
@@ -57,6 +73,8 @@
  *   cosine_mt       2642   4704  564     12530  23688 1356      50294  97776 2796
  *   perlin_mt       3182   5916  452     15322  29634 1010      62670 123288 2056
  *   turbulence_mt    908   1572  200      2042   3786  304       3840   7248  460
+ *   ellipsoid_tp     266    528    0      1106   2208    0       4514   9024    0
+ *   gyroid_mt       3868   7128  644     18566  35706 1462      75522 148100 2980
  */
 #include <math.h>
 #include <stdlib.h>
@@ -80,6 +98,8 @@ static const struct {
     {"cosine_mt", "cosine sum sum_k cos(2 pi d x_k) = 0, d = 0.75, by marching tetrahedra (eq. 10)"},
     {"perlin_mt", "zero set of 3D Perlin noise by marching tetrahedra (section 3.1.3)"},
     {"turbulence_mt", "isosurface of Perlin turbulence by marching tetrahedra (section 3.1.3, Table 3)"},
+    {"ellipsoid_tp", "ellipsoid (1, 0.75, 0.5), jittered trigonometric parameterization (not in the paper)"},
+    {"gyroid_mt", "gyroid sin x cos y + sin y cos z + sin z cos x = 0 by marching tetrahedra (not in the paper)"},
 };
 
 static const char* const resolutions[vn_resolution_count] = {"low", "medium", "high"};
@@ -126,23 +146,65 @@ static uint32_t* put_triangle(uint32_t* out, uint32_t a, uint32_t b, uint32_t c)
 
 /* ---------------------------------------------------------------- TP (section 3.1.1) */
 
-/* Bands between the poles (sphere: latitude, torus: around the tube) and
- * segments around the z axis. */
-static const unsigned tp_grid[vn_resolution_count][2] = {{12, 24}, {24, 48}, {48, 96}};
+/* The grids are `bands` between the poles (sphere: latitude, torus: around
+ * the tube) by twice as many segments around the z axis (table `grids`). */
 
 #define TORUS_R 1.0
 #define TORUS_r 0.6
 
 /* The sphere P(u, v) = (sin u cos v, sin u sin v, cos u), u in [0, pi] from
- * the north pole, v in [0, 2 pi); P_u x P_v = sin u P points outward. Rings
- * 1 .. bands - 1 of `segments` vertices each, between the two poles (first
- * and last vertex), which take the exact radial normal (P_u x P_v vanishes
- * there). Quads (a, b, c, d) = ((j, i), (j+1, i), (j+1, i+1), (j, i+1)) are
+ * the north pole, v in [0, 2 pi); P_u x P_v = sin u P points outward. */
+static void sphere_vertex(unsigned j, unsigned i, unsigned bands, unsigned segs, double* p, double* n)
+{
+	const double u = VN_PI * j / bands, v = 2 * VN_PI * i / segs;
+	const double su = sin(u), cu = cos(u), sv = sin(v), cv = cos(v);
+	put3(p, su * cv, su * sv, cu);
+	/* P_u = (cu cv, cu sv, -su), P_v = (-su sv, su cv, 0). */
+	const double pu[3] = {cu * cv, cu * sv, -su}, pv[3] = {-su * sv, su * cv, 0};
+	cross_normal(n, pu, pv);
+}
+
+#define ELLIPSOID_A 1.0
+#define ELLIPSOID_B 0.75
+#define ELLIPSOID_C 0.5
+#define ELLIPSOID_JITTER 0.15
+
+/* A fixed value in [-ELLIPSOID_JITTER, ELLIPSOID_JITTER) for grid point (i, j)
+ * and coordinate k: an integer hash (Wang/Murmur-style mixing), so the mesh
+ * is irregular yet deterministic. 0.15 of a step keeps every parameter-space
+ * triangle counter-clockwise (its cross product stays >= 0.7^2 - 0.3 * 1.3). */
+static double jitter(unsigned i, unsigned j, unsigned k)
+{
+	uint32_t h = (uint32_t)i * 0x9E3779B1u ^ (uint32_t)j * 0x85EBCA77u ^ (uint32_t)k * 0xC2B2AE3Du;
+	h ^= h >> 15, h *= 0x2C1B3C6Du, h ^= h >> 12, h *= 0x297A2D39u, h ^= h >> 15;
+	return ELLIPSOID_JITTER * (2.0 * (double)h / 4294967296.0 - 1.0);
+}
+
+/* The ellipsoid P(u, v) = (a sin u cos v, b sin u sin v, c cos u) at the
+ * jittered grid point; P_u x P_v = sin u (bc sin u cos v, ac sin u sin v,
+ * ab cos u). */
+static void ellipsoid_vertex(unsigned j, unsigned i, unsigned bands, unsigned segs, double* p, double* n)
+{
+	const double u = VN_PI * (j + jitter(i, j, 0)) / bands, v = 2 * VN_PI * (i + jitter(i, j, 1)) / segs;
+	const double su = sin(u), cu = cos(u), sv = sin(v), cv = cos(v);
+	put3(p, ELLIPSOID_A * su * cv, ELLIPSOID_B * su * sv, ELLIPSOID_C * cu);
+	normalize_into(n, ELLIPSOID_B * ELLIPSOID_C * su * cv, ELLIPSOID_A * ELLIPSOID_C * su * sv,
+	               ELLIPSOID_A * ELLIPSOID_B * cu);
+}
+
+typedef void (*ring_vertex_fn)(unsigned j, unsigned i, unsigned bands, unsigned segs, double* p, double* n);
+
+/* A closed surface of revolution's topology, parameterized from the north
+ * pole (u = 0) to the south pole (u = pi): rings 1 .. bands - 1 of `segs`
+ * vertices each placed by `ring`, between the two poles (first and last
+ * vertex, at z = +-pole_z, normal (0, 0, +-1): P_u x P_v vanishes there).
+ * Quads (a, b, c, d) = ((j, i), (j+1, i), (j+1, i+1), (j, i+1)) are
  * counter-clockwise in (u, v), hence around P_u x P_v; the pole rows keep
  * the one triangle that does not collapse. */
-static vn_result sphere_tp(const vn_allocator* heap, vn_resolution r, vn_model_mesh* mesh)
+static vn_result pole_grid(const vn_allocator* heap, unsigned bands, double pole_z, ring_vertex_fn ring,
+                           vn_model_mesh* mesh)
 {
-	const unsigned bands = tp_grid[r][0], segs = tp_grid[r][1];
+	const unsigned segs = 2 * bands;
 	mesh->vertex_count = 2 + (size_t)(bands - 1) * segs;
 	mesh->triangle_count = 2 * (size_t)(bands - 1) * segs;
 	const vn_result res = vn_mesh_allocate(heap, mesh);
@@ -150,20 +212,13 @@ static vn_result sphere_tp(const vn_allocator* heap, vn_resolution r, vn_model_m
 		return res;
 
 	const uint32_t south = (uint32_t)mesh->vertex_count - 1;
-	put3(mesh->positions, 0, 0, 1), put3(mesh->normals, 0, 0, 1);
-	put3(mesh->positions + 3 * (size_t)south, 0, 0, -1), put3(mesh->normals + 3 * (size_t)south, 0, 0, -1);
-	for (unsigned j = 1; j < bands; ++j) {
-		const double u = VN_PI * j / bands;
+	put3(mesh->positions, 0, 0, pole_z), put3(mesh->normals, 0, 0, 1);
+	put3(mesh->positions + 3 * (size_t)south, 0, 0, -pole_z), put3(mesh->normals + 3 * (size_t)south, 0, 0, -1);
+	for (unsigned j = 1; j < bands; ++j)
 		for (unsigned i = 0; i < segs; ++i) {
-			const double v = 2 * VN_PI * i / segs;
-			const double su = sin(u), cu = cos(u), sv = sin(v), cv = cos(v);
 			const size_t k = 1 + (size_t)(j - 1) * segs + i;
-			put3(mesh->positions + 3 * k, su * cv, su * sv, cu);
-			/* P_u = (cu cv, cu sv, -su), P_v = (-su sv, su cv, 0). */
-			const double pu[3] = {cu * cv, cu * sv, -su}, pv[3] = {-su * sv, su * cv, 0};
-			cross_normal(mesh->normals + 3 * k, pu, pv);
+			ring(j, i, bands, segs, mesh->positions + 3 * k, mesh->normals + 3 * k);
 		}
-	}
 	uint32_t* out = mesh->indices;
 	for (unsigned j = 0; j < bands; ++j) {
 		for (unsigned i = 0; i < segs; ++i) {
@@ -184,9 +239,9 @@ static vn_result sphere_tp(const vn_allocator* heap, vn_resolution r, vn_model_m
  * u around the z axis, v around the tube; P_u x P_v =
  * r (R + r cos v) (cos v cos u, cos v sin u, sin v) points outward. Vertex
  * (u_i, v_j) is i * bands + j; both seams are welded. */
-static vn_result torus_tp(const vn_allocator* heap, vn_resolution r, vn_model_mesh* mesh)
+static vn_result torus_tp(const vn_allocator* heap, unsigned bands, vn_model_mesh* mesh)
 {
-	const unsigned bands = tp_grid[r][0], segs = tp_grid[r][1];
+	const unsigned segs = 2 * bands;
 	mesh->vertex_count = (size_t)bands * segs;
 	mesh->triangle_count = 2 * (size_t)bands * segs;
 	const vn_result res = vn_mesh_allocate(heap, mesh);
@@ -221,8 +276,6 @@ static vn_result torus_tp(const vn_allocator* heap, vn_resolution r, vn_model_me
 
 /* ---------------------------------------------------------------- HF (section 3.1.2) */
 
-static const unsigned hf_grid[vn_resolution_count] = {16, 32, 64};
-
 #define HF_SIZE 2.0
 #define HF_Z (1.0 / 3.0)
 #define HF_AMPLITUDE 0.5
@@ -236,9 +289,8 @@ static double hf_height(double h, double x, double y, double g[3])
 	return h < 0 ? vn_perlin_noise(p, g) : vn_fbm_noise(p, HF_OCTAVES, h, g);
 }
 
-static vn_result height_field(const vn_allocator* heap, vn_resolution r, double h, vn_model_mesh* mesh)
+static vn_result height_field(const vn_allocator* heap, unsigned n, double h, vn_model_mesh* mesh)
 {
-	const unsigned n = hf_grid[r];
 	mesh->vertex_count = (size_t)n * n;
 	mesh->triangle_count = 2 * (size_t)(n - 1) * (n - 1);
 	const vn_result res = vn_mesh_allocate(heap, mesh);
@@ -326,25 +378,38 @@ static double turbulence_f(const void* params, const double p[3], double* g)
 	return v;
 }
 
+/* The gyroid sin x cos y + sin y cos z + sin z cos x at q = d p + offset. */
+static double gyroid_f(const void* params, const double p[3], double* g)
+{
+	const field* s = (const field*)params;
+	double q[3];
+	field_point(s, p, q);
+	const double sx = sin(q[0]), cx = cos(q[0]), sy = sin(q[1]), cy = cos(q[1]), sz = sin(q[2]), cz = cos(q[2]);
+	if (g) {
+		put3(g, cx * cy - sz * sx, cy * cz - sx * sy, cz * cx - sy * sz);
+		field_gradient(s, g);
+	}
+	return sx * cy + sy * cz + sz * cx;
+}
+
 static const field cosine_field = {0.75, {0, 0, 0}, 0};
 static const field perlin_field = {1.0, {0.37, 0.61, 0.23}, 0};
 static const field turbulence_field = {0.5, {0.37, 0.61, 0.23}, 4};
+static const field gyroid_field = {1.5 * VN_PI, {0.3, 0.5, 0.7}, 0};
 
-static const struct {
+typedef struct mt_model {
 	vn_implicit_fn f;
 	const field* params;
 	double iso;
-	unsigned cells[vn_resolution_count];
-} mt_models[4] = {
-    {sphere_f, NULL, 0.64, {13, 29, 59}},
-    {cosine_f, &cosine_field, 0.0, {13, 29, 59}},
-    {perlin_f, &perlin_field, 0.0, {13, 29, 59}},
-    {turbulence_f, &turbulence_field, 0.15, {10, 14, 18}},
-};
+} mt_model;
 
-static vn_result marching_model(const vn_allocator* heap, unsigned k, vn_resolution r, vn_model_mesh* mesh)
+static const mt_model mt_sphere = {sphere_f, NULL, 0.64}, mt_cosine = {cosine_f, &cosine_field, 0.0},
+                      mt_perlin = {perlin_f, &perlin_field, 0.0}, mt_turbulence = {turbulence_f, &turbulence_field, 0.15},
+                      mt_gyroid = {gyroid_f, &gyroid_field, 0.0};
+
+static vn_result marching_model(const vn_allocator* heap, const mt_model* k, unsigned cells, vn_model_mesh* mesh)
 {
-	const vn_implicit s = {mt_models[k].f, mt_models[k].params, mt_models[k].iso, -1.0, 1.0, mt_models[k].cells[r]};
+	const vn_implicit s = {k->f, k->params, k->iso, -1.0, 1.0, cells};
 	return vn_marching_tetrahedra(&s, heap, mesh);
 }
 
@@ -386,27 +451,57 @@ static vn_result mark_boundary(const vn_allocator* heap, vn_model_mesh* mesh)
 
 /* ---------------------------------------------------------------- entry points */
 
-static vn_result generate(const vn_allocator* heap, vn_model m, vn_resolution r, vn_model_mesh* mesh)
+enum family { tp, hf, mt };
+
+/* Each model's family and grid (bands, side, cells) at the three resolutions. */
+static const struct {
+	enum family family;
+	unsigned grid[vn_resolution_count];
+} grids[vn_model_count] = {
+    {tp, {12, 24, 48}}, {tp, {12, 24, 48}}, {hf, {16, 32, 64}}, {hf, {16, 32, 64}},
+    {hf, {16, 32, 64}}, {hf, {16, 32, 64}}, {mt, {13, 29, 59}}, {mt, {13, 29, 59}},
+    {mt, {13, 29, 59}}, {mt, {10, 14, 18}}, {tp, {12, 24, 48}}, {mt, {13, 29, 59}},
+};
+
+/* The smallest and largest grid of each family (vn_paper.h). */
+static const unsigned grid_min[3] = {3, 2, 2}, grid_max[3] = {VN_MODEL_GRID_MAX, VN_MODEL_GRID_MAX, VN_MODEL_CELLS_MAX};
+
+unsigned vn_model_grid(vn_model m, vn_resolution r)
+{
+	return (unsigned)m < vn_model_count && (unsigned)r < vn_resolution_count ? grids[m].grid[r] : 0;
+}
+
+static vn_result generate(const vn_allocator* heap, vn_model m, unsigned grid, vn_model_mesh* mesh)
 {
 	switch (m) {
 	case vn_model_sphere_tp:
-		return sphere_tp(heap, r, mesh);
+		return pole_grid(heap, grid, 1.0, sphere_vertex, mesh);
 	case vn_model_torus_tp:
-		return torus_tp(heap, r, mesh);
+		return torus_tp(heap, grid, mesh);
 	case vn_model_perlin_hf:
-		return height_field(heap, r, -1.0, mesh);
+		return height_field(heap, grid, -1.0, mesh);
 	case vn_model_fractal09_hf:
-		return height_field(heap, r, 0.9, mesh);
+		return height_field(heap, grid, 0.9, mesh);
 	case vn_model_fractal05_hf:
-		return height_field(heap, r, 0.5, mesh);
+		return height_field(heap, grid, 0.5, mesh);
 	case vn_model_fractal01_hf:
-		return height_field(heap, r, 0.1, mesh);
+		return height_field(heap, grid, 0.1, mesh);
+	case vn_model_sphere_mt:
+		return marching_model(heap, &mt_sphere, grid, mesh);
+	case vn_model_cosine_mt:
+		return marching_model(heap, &mt_cosine, grid, mesh);
+	case vn_model_perlin_mt:
+		return marching_model(heap, &mt_perlin, grid, mesh);
+	case vn_model_turbulence_mt:
+		return marching_model(heap, &mt_turbulence, grid, mesh);
+	case vn_model_ellipsoid_tp:
+		return pole_grid(heap, grid, ELLIPSOID_C, ellipsoid_vertex, mesh);
 	default:
-		return marching_model(heap, (unsigned)m - vn_model_sphere_mt, r, mesh);
+		return marching_model(heap, &mt_gyroid, grid, mesh);
 	}
 }
 
-vn_result vn_model_generate(vn_model m, vn_resolution r, const vn_allocator* allocator, vn_model_mesh* mesh)
+vn_result vn_model_generate_grid(vn_model m, unsigned grid, const vn_allocator* allocator, vn_model_mesh* mesh)
 {
 	if (!mesh)
 		return vn_result_invalid_argument;
@@ -414,15 +509,24 @@ vn_result vn_model_generate(vn_model m, vn_resolution r, const vn_allocator* all
 	if (allocator && !allocator->allocate != !allocator->deallocate)
 		return vn_result_invalid_argument;
 	const vn_allocator heap = allocator ? *allocator : (vn_allocator){NULL, NULL, NULL};
-	if ((unsigned)m >= vn_model_count || (unsigned)r >= vn_resolution_count)
+	if ((unsigned)m >= vn_model_count || grid < grid_min[grids[m].family] || grid > grid_max[grids[m].family])
 		return vn_result_invalid_argument;
 
-	vn_result res = generate(&heap, m, r, mesh);
+	vn_result res = generate(&heap, m, grid, mesh);
 	if (res == vn_result_success)
 		res = mark_boundary(&heap, mesh);
 	if (res != vn_result_success)
 		vn_mesh_release(&heap, mesh);
 	return res;
+}
+
+vn_result vn_model_generate(vn_model m, vn_resolution r, const vn_allocator* allocator, vn_model_mesh* mesh)
+{
+	if (mesh && (unsigned)r >= vn_resolution_count)
+		memset(mesh, 0, sizeof(*mesh));
+	if ((unsigned)r >= vn_resolution_count)
+		return vn_result_invalid_argument;
+	return vn_model_generate_grid(m, vn_model_grid(m, r), allocator, mesh);
 }
 
 void vn_model_free(vn_model_mesh* mesh, const vn_allocator* allocator)

@@ -1,7 +1,7 @@
 /* Marching tetrahedra (Jin et al. 2005 section 3.1.3): the isosurface
  * f = iso of an implicit function sampled on a regular grid.
  *
- * The ensemble's four MT models (ensemble.c, docs/ENSEMBLE.md), all in
+ * The ensemble's five MT models (ensemble.c, docs/ENSEMBLE.md), all in
  * the box [-1, 1]^3:
  *   model          f, iso                                     cells        triangles
  *   sphere_mt      x^2 + y^2 + z^2, 0.64                       13, 29, 59   3120, 15168, 63024
@@ -9,6 +9,8 @@
  *   perlin_mt      noise(p + (0.37, 0.61, 0.23)), 0            13, 29, 59   5916, 29634, 123288
  *   turbulence_mt  sum_{i<4} |noise(2^i q)| / 2^i, 0.15,       10, 14, 18   1572, 3786, 7248
  *                  q = p / 2 + (0.37, 0.61, 0.23)
+ *   gyroid_mt      sin x cos y + sin y cos z + sin z cos x,    13, 29, 59   7128, 35706, 148100
+ *                  0, at q = 1.5 pi p + (0.3, 0.5, 0.7)
  *
  * Subdivision. Each cube of the grid is split into the 6 tetrahedra of the
  * Freudenthal (Kuhn) subdivision: for every order (a, b, c) of the axes the

@@ -7,17 +7,21 @@
 #include <math.h>
 #include <stdio.h>
 
-/* Okabe-Ito, skipping yellow (too light on white); seven series also differ
- * by dash pattern so that they stay apart in grey-scale print. */
-static const char* const svg_colours[] = {"#000000", "#E69F00", "#56B4E9", "#009E73", "#0072B2", "#D55E00", "#CC79A7"};
-static const char* const svg_dashes[] = {"", "8,3", "2,2", "", "6,2,2,2", "4,4", ""};
-#define SVG_SERIES_MAX 7
+/* Okabe-Ito, skipping yellow (too light on white); the series also differ
+ * by dash pattern so that they stay apart in grey-scale print. Past the
+ * palette's seven (the paper's schemes) the colours repeat with new dashes. */
+static const char* const svg_colours[] = {"#000000", "#E69F00", "#56B4E9", "#009E73", "#0072B2", "#D55E00",
+                                          "#CC79A7", "#D55E00", "#0072B2", "#009E73", "#CC79A7", "#000000"};
+static const char* const svg_dashes[] = {"",    "8,3",       "2,2", "",   "6,2,2,2",         "4,4",
+                                         "",    "1,3", "12,3,2,3", "10,4", "3,2,3,2,8,2", "1,2"};
+#define SVG_SERIES_MAX 12
 
 typedef struct svg_panel {
 	double x, y, w, h;            /* plot area in SVG units */
 	double x0, x1, y0, y1;        /* data range */
 	int xlog;                     /* log10 x axis */
 	int categories;               /* bar chart: no x grid or x tick labels */
+	int ylog;                     /* log10 y axis */
 } svg_panel;
 
 static inline double svg_px(const svg_panel* p, double v)
@@ -29,7 +33,7 @@ static inline double svg_px(const svg_panel* p, double v)
 
 static inline double svg_py(const svg_panel* p, double v)
 {
-	double t = (v - p->y0) / (p->y1 - p->y0);
+	double t = p->ylog ? (log10(v) - log10(p->y0)) / (log10(p->y1) - log10(p->y0)) : (v - p->y0) / (p->y1 - p->y0);
 	t = t < 0 ? 0 : t > 1 ? 1 : t;
 	return p->y + p->h - t * p->h;
 }
@@ -44,6 +48,17 @@ static inline double svg_nice_max(double v)
 		if (4 * steps[i] * base >= v)
 			return 4 * steps[i] * base;
 	return 40 * base;
+}
+
+/* The label of decade 10^d: plain for 1e-3 .. 1e3, else 1eD. */
+static inline void svg_decade_label(char* label, size_t size, double d)
+{
+	if (d >= 0 && d <= 3)
+		snprintf(label, size, "%.0f", pow(10, d));
+	else if (d >= -3 && d < 0)
+		snprintf(label, size, "%.*f", (int)-d, pow(10, d));
+	else
+		snprintf(label, size, "1e%.0f", d);
 }
 
 static inline void svg_begin(FILE* f, double w, double h, const char* title)
@@ -76,10 +91,16 @@ static inline void svg_axes(FILE* f, const svg_panel* p, const char* xlabel, con
 			        p->y + p->h);
 		}
 	}
-	for (int i = 0; i <= 4; ++i) {
-		const double v = p->y0 + (p->y1 - p->y0) * i / 4;
-		fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n", p->x, svg_py(p, v), p->x + p->w,
-		        svg_py(p, v));
+	if (p->ylog) {
+		for (double d = ceil(log10(p->y0) - 1e-9); d <= log10(p->y1) + 1e-9; d += 1)
+			fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n", p->x, svg_py(p, pow(10, d)),
+			        p->x + p->w, svg_py(p, pow(10, d)));
+	} else {
+		for (int i = 0; i <= 4; ++i) {
+			const double v = p->y0 + (p->y1 - p->y0) * i / 4;
+			fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n", p->x, svg_py(p, v),
+			        p->x + p->w, svg_py(p, v));
+		}
 	}
 	fprintf(f, "</g>\n<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" stroke=\"black\"/>\n",
 	        p->x, p->y, p->w, p->h);
@@ -87,12 +108,7 @@ static inline void svg_axes(FILE* f, const svg_panel* p, const char* xlabel, con
 	if (p->xlog && !p->categories) {
 		for (double d = ceil(log10(p->x0) - 1e-9); d <= log10(p->x1) + 1e-9; d += 1) {
 			char label[32];
-			if (d >= 0 && d <= 3)
-				snprintf(label, sizeof(label), "%.0f", pow(10, d));
-			else if (d >= -3 && d < 0)
-				snprintf(label, sizeof(label), "%.*f", (int)-d, pow(10, d));
-			else
-				snprintf(label, sizeof(label), "1e%.0f", d);
+			svg_decade_label(label, sizeof(label), d);
 			fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">%s</text>\n", svg_px(p, pow(10, d)),
 			        p->y + p->h + 17, label);
 		}
@@ -103,9 +119,19 @@ static inline void svg_axes(FILE* f, const svg_panel* p, const char* xlabel, con
 			        p->y + p->h + 17, v);
 		}
 	}
-	for (int i = 0; i <= 4; ++i) {
-		const double v = p->y0 + (p->y1 - p->y0) * i / 4;
-		fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%g</text>\n", p->x - 6, svg_py(p, v) + 4, v);
+	if (p->ylog) {
+		for (double d = ceil(log10(p->y0) - 1e-9); d <= log10(p->y1) + 1e-9; d += 1) {
+			char label[32];
+			svg_decade_label(label, sizeof(label), d);
+			fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%s</text>\n", p->x - 6,
+			        svg_py(p, pow(10, d)) + 4, label);
+		}
+	} else {
+		for (int i = 0; i <= 4; ++i) {
+			const double v = p->y0 + (p->y1 - p->y0) * i / 4;
+			fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%g</text>\n", p->x - 6, svg_py(p, v) + 4,
+			        v);
+		}
 	}
 	fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">%s</text>\n", p->x + p->w / 2, p->y + p->h + 36,
 	        xlabel);
@@ -132,11 +158,26 @@ static inline void svg_cumulative(FILE* f, const svg_panel* p, const double* sor
 	fprintf(f, " %.1f,%.1f\"/>\n", svg_px(p, p->x1), svg_py(p, 1.0));
 }
 
-/* A legend box at (x, y): row i names series[i]. */
-static inline void svg_legend(FILE* f, double x, double y, const char* const* names, const int* series, int n)
+/* A line through n points (x[i], y[i]) with a dot at each. */
+static inline void svg_line(FILE* f, const svg_panel* p, const double* x, const double* y, int n, int series)
 {
-	fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"100\" height=\"%d\" fill=\"white\" stroke=\"#999999\"/>\n", x, y,
-	        18 * n + 8);
+	const int c = series % SVG_SERIES_MAX;
+	fprintf(f, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"1.8\" stroke-dasharray=\"%s\" points=\"",
+	        svg_colours[c], svg_dashes[c]);
+	for (int i = 0; i < n; ++i)
+		fprintf(f, "%s%.1f,%.1f", i ? " " : "", svg_px(p, x[i]), svg_py(p, y[i]));
+	fprintf(f, "\"/>\n");
+	for (int i = 0; i < n; ++i)
+		fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"2.5\" fill=\"%s\"/>\n", svg_px(p, x[i]), svg_py(p, y[i]),
+		        svg_colours[c]);
+}
+
+/* A legend box at (x, y), `width` wide: row i names series[i]. */
+static inline void svg_legend_width(FILE* f, double x, double y, double width, const char* const* names,
+                                    const int* series, int n)
+{
+	fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.0f\" height=\"%d\" fill=\"white\" stroke=\"#999999\"/>\n", x,
+	        y, width, 18 * n + 8);
 	for (int i = 0; i < n; ++i) {
 		const double ly = y + 14 + 18 * i;
 		const int c = series[i] % SVG_SERIES_MAX;
@@ -145,6 +186,11 @@ static inline void svg_legend(FILE* f, double x, double y, const char* const* na
 		        "stroke-dasharray=\"%s\"/>\n<text x=\"%.1f\" y=\"%.1f\">%s</text>\n",
 		        x + 6, ly - 4, x + 36, ly - 4, svg_colours[c], svg_dashes[c], x + 42, ly, names[i]);
 	}
+}
+
+static inline void svg_legend(FILE* f, double x, double y, const char* const* names, const int* series, int n)
+{
+	svg_legend_width(f, x, y, 100, names, series, n);
 }
 
 /* A bar at category i of n in panel p, with its value printed above it. */
