@@ -402,6 +402,21 @@ static unsigned all_of(int n)
 	return (1u << n) - 1;
 }
 
+/* The method columns of a Markdown table's header: " name |" for every
+ * selected method in [from, to), then the separator row: `lead` (the other
+ * columns') and `align` per method. */
+static void md_method_header(FILE* f, unsigned methods, int from, int to, const char* lead, const char* align)
+{
+	for (int k = from; k < to; ++k)
+		if (selected(methods, k))
+			fprintf(f, " %s |", vn_method_name((vn_method)k));
+	fprintf(f, "\n%s", lead);
+	for (int k = from; k < to; ++k)
+		if (selected(methods, k))
+			fprintf(f, "%s", align);
+	fprintf(f, "\n");
+}
+
 static void write_table(const run* R, const char* path)
 {
 	FILE* f = fopen(path, "w");
@@ -412,12 +427,7 @@ static void write_table(const run* R, const char* path)
 	if ((R->models & all_of(PAPER_MODELS)) == all_of(PAPER_MODELS) &&
 	    (R->methods & all_of(PAPER_METHODS)) == all_of(PAPER_METHODS) && R->resolutions == all_of(NR)) {
 		fprintf(f, "### Table 4 (vn)\n\n| model | resolution |");
-		for (int k = 0; k < PAPER_METHODS; ++k)
-			fprintf(f, " %s |", vn_method_name((vn_method)k));
-		fprintf(f, "\n|---|---|");
-		for (int k = 0; k < PAPER_METHODS; ++k)
-			fprintf(f, ":-:|");
-		fprintf(f, "\n");
+		md_method_header(f, ~0u, 0, PAPER_METHODS, "|---|---|", ":-:|");
 		for (int m = 0; m < PAPER_MODELS; ++m) {
 			const char* marks[NK];
 			table4_marks(R, m, marks);
@@ -430,14 +440,7 @@ static void write_table(const run* R, const char* path)
 	static const char* const stats[] = {"median", "RMS"};
 	for (int s = 0; s < 2; ++s) {
 		fprintf(f, "\n### %s angular discrepancy (degrees)\n\n| model | resolution |", stats[s]);
-		for (int k = 0; k < NK; ++k)
-			if (selected(R->methods, k))
-				fprintf(f, " %s |", vn_method_name((vn_method)k));
-		fprintf(f, "\n|---|---|");
-		for (int k = 0; k < NK; ++k)
-			if (selected(R->methods, k))
-				fprintf(f, "--:|");
-		fprintf(f, "\n");
+		md_method_header(f, R->methods, 0, NK, "|---|---|", "--:|");
 		for (int m = 0; m < NM; ++m)
 			for (int r = 0; r < NR; ++r) {
 				if (!selected(R->models, m) || !selected(R->resolutions, r))
@@ -693,12 +696,7 @@ static void md_ratios(FILE* f, const run* R)
 	}
 	fprintf(f, "Median of each scheme divided by the best median of the paper's seven on the same instance (below 1: "
 	           "better than all seven).\n\n| model | resolution | best of the seven |");
-	for (int k = PAPER_METHODS; k < NK; ++k)
-		fprintf(f, " %s |", vn_method_name((vn_method)k));
-	fprintf(f, "\n|---|---|---|");
-	for (int k = PAPER_METHODS; k < NK; ++k)
-		fprintf(f, "--:|");
-	fprintf(f, "\n");
+	md_method_header(f, ~0u, PAPER_METHODS, NK, "|---|---|---|", "--:|");
 	for (int m = 0; m < NM; ++m)
 		for (int r = 0; r < NR; ++r) {
 			const int b = best_of_paper(R, m, r);
@@ -740,12 +738,7 @@ static void md_convergence(FILE* f, const series* s)
 	for (int c = 0; c < NC; ++c) {
 		const char* name = vn_model_name(convergence[c].model);
 		fprintf(f, "\n### %s\n\n![convergence on %s](figures/convergence_%s.svg)\n\n| grid | h |", name, name, name);
-		for (int k = 0; k < NK; ++k)
-			fprintf(f, " %s |", vn_method_name((vn_method)k));
-		fprintf(f, "\n|--:|--:|");
-		for (int k = 0; k < NK; ++k)
-			fprintf(f, "--:|");
-		fprintf(f, "\n");
+		md_method_header(f, ~0u, 0, NK, "|--:|--:|", "--:|");
 		for (int i = 0; i < CONV_STEPS; ++i) {
 			fprintf(f, "| %u | %.4g |", convergence[c].grid[i], s[c].h[i]);
 			for (int k = 0; k < NK; ++k)
