@@ -48,6 +48,14 @@ static const struct {
      "Max 1999; Jin et al. 2005 eq. 7"},
     {"mewcsa", "mean edge weighted by cotangents of subtended angles (area gradient; sign not corrected)",
      "Desbrun et al. 1999; Jin et al. 2005 eq. 9"},
+    {"smewcsa", "sign-correct MEWCSA: oriented by MWSELR, which it falls back to where mean curvature is about zero",
+     "Desbrun et al. 1999; Meyer et al. 2003"},
+    {"quadric", "weighted least-squares quadric z = f(x, y) on the 1-ring, in MWA's tangent frame, refitted once",
+     "beyond Jin et al. 2005; O(h^2)"},
+    {"jet", "weighted least-squares cubic jet on the 2-ring, in MWA's tangent frame, refitted once",
+     "Cazals & Pouget 2003; O(h^3)"},
+    {"adaptive", "the cubic jet where it fits the 2-ring closely, else MWA: the choice when unsure",
+     "beyond Jin et al. 2005"},
 };
 
 const char* vn_method_name(vn_method m)
@@ -99,8 +107,28 @@ static vn_result prepare(vn_work* w, const vn_vectors* normals, const vn_positio
 	return vn_result_success;
 }
 
-static vn_result compute(vn_work* w, const vn_vectors* normals, vn_accumulate_fn accumulate, const vn_options* options,
-                         vn_stats* stats)
+/* The family's runner: the seven are one pass of their kernels; SMEWCSA
+ * combines two (cotangent.c); the fits seed with MWA, then fit (fit.c). */
+static vn_result run_method(const vn_work* w, const vn_options* o, vn_range_stats* st)
+{
+	const int poly = w->offsets != NULL;
+	const vn_accumulate_fn cot = poly ? vn_accumulate_cotangent_polygons : vn_accumulate_cotangent_triangles;
+	const vn_accumulate_fn weighted = poly ? vn_accumulate_weighted_polygons : vn_accumulate_weighted_triangles;
+	switch (w->method) {
+	case vn_method_mewcsa:
+		return vn_run(w, cot, o, st);
+	case vn_method_smewcsa:
+		return vn_smewcsa_run(w, cot, weighted, o, st);
+	case vn_method_quadric:
+	case vn_method_jet:
+	case vn_method_adaptive:
+		return vn_fit_run(w, o, st);
+	default:
+		return vn_run(w, weighted, o, st);
+	}
+}
+
+static vn_result compute(vn_work* w, const vn_vectors* normals, const vn_options* options, vn_stats* stats)
 {
 	static const vn_options defaults;
 	const vn_options* o = options ? options : &defaults;
@@ -112,7 +140,7 @@ static vn_result compute(vn_work* w, const vn_vectors* normals, vn_accumulate_fn
 	w->keep_existing = o->keep_existing != 0;
 
 	vn_range_stats st = {0, 0, 0, 0};
-	vn_result r = w->vertex_count ? vn_run(w, accumulate, o, &st) : vn_result_success;
+	vn_result r = w->vertex_count ? run_method(w, o, &st) : vn_result_success;
 	if (r == vn_result_success && stats) {
 		stats->faces = w->face_count;
 		stats->degenerate_faces = st.degenerate_faces;
@@ -145,9 +173,7 @@ vn_result vn_triangle_normals(const vn_vectors* normals, const vn_positions* pos
 	/* The triangle kernels check the indices as they scan them. */
 	w.indices = indices;
 	w.face_count = index_count / 3;
-	return compute(&w, normals,
-	               method == vn_method_mewcsa ? vn_accumulate_cotangent_triangles : vn_accumulate_weighted_triangles,
-	               options, stats);
+	return compute(&w, normals, options, stats);
 }
 
 vn_result vn_polygon_normals(const vn_vectors* normals, const vn_positions* positions, const uint32_t* indices,
@@ -171,7 +197,5 @@ vn_result vn_polygon_normals(const vn_vectors* normals, const vn_positions* posi
 	w.indices = indices;
 	w.offsets = face_offsets;
 	w.face_count = face_count;
-	return compute(&w, normals,
-	               method == vn_method_mewcsa ? vn_accumulate_cotangent_polygons : vn_accumulate_weighted_polygons,
-	               options, stats);
+	return compute(&w, normals, options, stats);
 }

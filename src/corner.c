@@ -98,6 +98,8 @@ typedef struct job {
 	                      nothing, NONE for a corner before the first face */
 	uint32_t* start;   /* nv + 1: counts, then where each vertex's corners end */
 	uint32_t* list;    /* n: corners by vertex, in corner order */
+	unsigned char* single; /* NULL, or per vertex: 1 when its corners make one fan of
+	                          usable, equally strong faces (its whole star) */
 	unsigned char* scratch; /* per worker, scratch_bytes each */
 	size_t scratch_bytes;
 	worker* workers;
@@ -377,6 +379,12 @@ static size_t small_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t k
 		for (uint32_t i = 0; i < SMALL; ++i)
 			label[i] = label[i] == drop ? keep : label[i];
 	}
+	if (j->single) {
+		uint32_t one = 1;
+		for (uint32_t i = 0; i < k; ++i)
+			one &= label[i] == 0;
+		j->single[v] = (unsigned char)one;
+	}
 	size_t zero = 0;
 	for (uint32_t r = 0; r < k; ++r) {
 		if (label[r] != r)
@@ -501,6 +509,12 @@ static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t 
 	for (uint32_t i = 0; i < k; ++i)
 		s->parent[i] = s->face[i] < UNUSABLE ? vn_find(s->parent, i) : NONE;
 	const int32_t star = j->strength ? fan_strengths(j, s, k) : 0;
+	if (j->single) {
+		int one = k > 0;
+		for (uint32_t i = 0; i < k; ++i)
+			one &= s->face[i] < UNUSABLE && s->parent[i] == s->parent[0] && (!j->strength || counts(j, s, i));
+		j->single[v] = (unsigned char)one;
+	}
 
 	/* The degenerate faces' corners: the sum over every usable face (the
 	 * strongest, with face strengths). */
@@ -686,6 +700,97 @@ static vn_result run(job* j, const vn_options* options, vn_stats* stats)
 	return vn_result_success;
 }
 
+/* run() with one of the seven (its kernels chosen here). */
+static vn_result run_seven(job* j, vn_method m, const vn_options* options, vn_stats* stats)
+{
+	j->w.method = m;
+	j->triangle = m == vn_method_mewcsa ? vn_cotangent_triangle : vn_weighted_triangle;
+	j->walk = m == vn_method_mewcsa ? vn_accumulate_cotangent_polygons : vn_accumulate_weighted_polygons;
+	return run(j, options, stats);
+}
+
+/* SMEWCSA per corner: its rule (vn_smewcsa_combine) on each corner's
+ * MEWCSA and MWSELR fan normals. */
+static vn_result run_smewcsa(job* j, const vn_options* options, vn_stats* stats)
+{
+	const vn_allocator heap = vn_heap(options ? &options->allocator : NULL);
+	const size_t n = j->n;
+	if (n > SIZE_MAX / 48)
+		return vn_result_out_of_memory;
+	double* buf = (double*)heap.allocate(heap.user, 6 * sizeof(double) * n);
+	if (!buf)
+		return vn_result_out_of_memory;
+	const vn_vectors user = j->out;
+	const vn_vectors h = {buf, 3 * sizeof(double), vn_scalar_float64};
+	const vn_vectors sd = {buf + 3 * n, 3 * sizeof(double), vn_scalar_float64};
+	j->out = h;
+	vn_result r = run_seven(j, vn_method_mewcsa, options, stats);
+	j->out = sd;
+	j->want_stats = 0;
+	if (r == vn_result_success)
+		r = run_seven(j, vn_method_mwselr, options, NULL);
+	if (r == vn_result_success) {
+		size_t zero = 0;
+		for (size_t c = 0; c < n; ++c) {
+			double v[3];
+			vn_smewcsa_combine(buf + 3 * c, buf + 3 * (n + c), v);
+			zero += v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
+			vn_store(&user, c, v);
+		}
+		if (stats)
+			stats->zero_normals = zero;
+	}
+	heap.deallocate(heap.user, buf);
+	return r;
+}
+
+/* The fits per corner: a corner whose fan is its vertex's whole star gets
+ * the vertex's fitted normal (the vertex-normal function's), any other its
+ * fan's MWA normal (the seed, per fan). */
+static vn_result run_fit(job* j, const vn_options* options, vn_stats* stats)
+{
+	const vn_allocator heap = vn_heap(options ? &options->allocator : NULL);
+	const size_t nv = j->nv;
+	if (nv > SIZE_MAX / 32)
+		return vn_result_out_of_memory;
+	unsigned char* block = (unsigned char*)heap.allocate(heap.user, 25 * nv);
+	if (!block)
+		return vn_result_out_of_memory;
+	double* fit = (double*)(void*)block;
+	const vn_method method = j->w.method;
+	j->single = block + 24 * nv;
+	vn_result r = run_seven(j, vn_method_mwa, options, stats);
+	if (r == vn_result_success) {
+		vn_options o;
+		memset(&o, 0, sizeof(o));
+		if (options)
+			o.threads = options->threads, o.simd = options->simd, o.allocator = options->allocator;
+		const vn_positions p = {j->w.positions, nv, j->w.stride, j->w.type};
+		const vn_vectors fv = {fit, 3 * sizeof(double), vn_scalar_float64};
+		r = j->w.offsets ? vn_polygon_normals(&fv, &p, j->w.indices, j->w.offsets, j->w.face_count, method, &o, NULL)
+		                 : vn_triangle_normals(&fv, &p, j->w.indices, j->n, method, &o, NULL);
+		for (size_t c = 0; r == vn_result_success && c < j->n; ++c)
+			if (j->single[j->w.indices[c]])
+				vn_store(&j->out, c, fit + 3 * (size_t)j->w.indices[c]);
+	}
+	heap.deallocate(heap.user, block);
+	return r;
+}
+
+static vn_result run_method(job* j, const vn_options* options, vn_stats* stats)
+{
+	switch (j->w.method) {
+	case vn_method_smewcsa:
+		return run_smewcsa(j, options, stats);
+	case vn_method_quadric:
+	case vn_method_jet:
+	case vn_method_adaptive:
+		return run_fit(j, options, stats);
+	default:
+		return run_seven(j, j->w.method, options, stats);
+	}
+}
+
 /* Checks shared by both entry points; fills j's common part. */
 static vn_result prepare(job* j, const vn_vectors* normals, const vn_positions* positions, vn_method method,
                          double crease_angle, const uint8_t* sharp_edges, const vn_options* options, vn_stats* stats)
@@ -739,8 +844,7 @@ vn_result vn_corner_normals(const vn_vectors* normals, const vn_positions* posit
 	j.w.indices = indices;
 	j.w.face_count = index_count / 3;
 	j.n = (uint32_t)index_count;
-	j.triangle = method == vn_method_mewcsa ? vn_cotangent_triangle : vn_weighted_triangle;
-	return run(&j, options, stats);
+	return run_method(&j, options, stats);
 }
 
 vn_result vn_polygon_corner_normals(const vn_vectors* normals, const vn_positions* positions,
@@ -770,6 +874,5 @@ vn_result vn_polygon_corner_normals(const vn_vectors* normals, const vn_position
 	j.w.offsets = face_offsets;
 	j.w.face_count = face_count;
 	j.n = (uint32_t)index_count;
-	j.walk = method == vn_method_mewcsa ? vn_accumulate_cotangent_polygons : vn_accumulate_weighted_polygons;
-	return run(&j, options, stats);
+	return run_method(&j, options, stats);
 }

@@ -11,7 +11,10 @@
  *
  * As in the paper the sign is not corrected: the vector points along the
  * outward normal where the mean curvature is positive and inward where it is
- * negative, which is the failure mode the paper reports. */
+ * negative, which is the failure mode the paper reports.
+ *
+ * SMEWCSA corrects it: the MEWCSA and MWSELR normals, each by its own pass
+ * of the kernels, combined per vertex by vn_smewcsa_combine (vn.h). */
 #include "internal.h"
 #include "simd.h"
 
@@ -145,4 +148,60 @@ static void cotangent_corner(vn_method method, double* acc, const double n[3], c
 void vn_accumulate_cotangent_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
 	VN_DISPATCH_RANGE(w, lo, hi, vn_polygons(w, range, st, cotangent_corner));
+}
+
+/* ---------------------------------------------------------------- SMEWCSA */
+
+/* cos 30 degrees: beyond it from the seed, the MEWCSA vector is mostly its
+ * tangential part (discretization error), so the mean curvature is about zero. */
+#define SMEWCSA_COS_MIN 0.86602540378443865
+
+void vn_smewcsa_combine(const double h[3], const double s[3], double n[3])
+{
+	const double d = vn_dot(h, s);
+	const int zero_h = h[0] == 0.0 && h[1] == 0.0 && h[2] == 0.0;
+	const int zero_s = s[0] == 0.0 && s[1] == 0.0 && s[2] == 0.0;
+	if (zero_s || (!zero_h && fabs(d) >= SMEWCSA_COS_MIN)) {
+		const double sign = d < 0.0 ? -1.0 : 1.0;
+		n[0] = sign * h[0], n[1] = sign * h[1], n[2] = sign * h[2];
+	} else {
+		memcpy(n, s, 3 * sizeof(double));
+	}
+}
+
+vn_result vn_smewcsa_run(const vn_work* work, vn_accumulate_fn mewcsa, vn_accumulate_fn seed, const vn_options* o,
+                         vn_range_stats* st)
+{
+	const vn_allocator heap = vn_heap(&o->allocator);
+	const uint32_t nv = work->vertex_count;
+	double* buf = (double*)heap.allocate(heap.user, 6 * sizeof(double) * (size_t)nv);
+	if (!buf)
+		return vn_result_out_of_memory;
+	const vn_vectors hv = {buf, 3 * sizeof(double), vn_scalar_float64};
+	const vn_vectors sv = {buf + 3 * (size_t)nv, 3 * sizeof(double), vn_scalar_float64};
+	vn_work w = *work;
+	w.keep_existing = 0;
+	w.out = &hv;
+	w.method = vn_method_mewcsa;
+	vn_range_stats first = {0, 0, 0, 0}, second = {0, 0, 0, 0};
+	vn_result r = vn_run(&w, mewcsa, o, &first);
+	w.out = &sv;
+	w.method = vn_method_mwselr;
+	w.want_stats = 0;
+	if (r == vn_result_success)
+		r = vn_run(&w, seed, o, &second);
+	if (r == vn_result_success) {
+		st->degenerate_faces += first.degenerate_faces;
+		st->nonfinite_vertices += first.nonfinite_vertices;
+		for (uint32_t v = 0; v < nv; ++v) {
+			double n[3];
+			vn_smewcsa_combine(buf + 3 * (size_t)v, buf + 3 * ((size_t)nv + v), n);
+			const int zero = n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0;
+			st->zero_normals += zero;
+			if (!(zero && work->keep_existing))
+				vn_store(work->out, v, n);
+		}
+	}
+	heap.deallocate(heap.user, buf);
+	return r;
 }

@@ -61,6 +61,25 @@ void vn_accumulate_weighted_polygons(const vn_work* w, uint32_t lo, uint32_t hi,
 void vn_accumulate_cotangent_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 void vn_accumulate_cotangent_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 
+/* cotangent.c: SMEWCSA, two passes (the MEWCSA and the seed kernels given)
+ * combined per vertex; the same contract as vn_run. */
+vn_result vn_smewcsa_run(const vn_work* w, vn_accumulate_fn mewcsa, vn_accumulate_fn seed, const vn_options* o,
+                         vn_range_stats* st);
+/* SMEWCSA's rule (vn.h) from the unit (or zero) MEWCSA normal h and seed s. */
+void vn_smewcsa_combine(const double h[3], const double s[3], double n[3]);
+
+/* fit.c: QUADRIC, JET and ADAPTIVE (w->method); the same contract as vn_run. */
+vn_result vn_fit_run(const vn_work* w, const vn_options* o, vn_range_stats* st);
+/* The fit of fit.c in the frame of the unit axis a: q holds m points, 3
+ * doubles each, relative to the vertex (the vertex itself, the origin, is
+ * one more); degree 2 (the quadric: 1, x, y, x^2, xy, y^2) or 3 (the jet:
+ * also the cubic monomials); h the length that
+ * scales coordinates. On success writes the unit normal n (n . a > 0) and
+ * the weighted RMS residual over h, and returns 1; returns 0 (nothing
+ * written) with fewer points than unknowns or an ill-conditioned system. */
+int vn_fit_frame(const double* q, uint32_t m, const double a[3], int degree, double h, double n[3],
+                 double* residual);
+
 /* One triangle's corner contributions: c[k] receives the vector the method's
  * triangle kernel adds to corner k's sum, computed with the same operations,
  * so sums of them formed in face order equal vn_triangle_normals' sums bit

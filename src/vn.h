@@ -84,6 +84,46 @@ typedef enum vn_method {
 	vn_method_mewcsa,  /* sum (p_next - p_prev) x N_f; on triangles the cotangent
 	                      formula (Desbrun et al. 1999, eq. 9). The sign is NOT
 	                      corrected: it points inward where mean curvature < 0. */
+
+	/* Beyond the paper (they keep the seven's indices). */
+	vn_method_smewcsa, /* MEWCSA with its sign corrected (Meyer et al. 2003): H =
+	                      the MEWCSA normal, S = the MWSELR normal; H flipped
+	                      when H . S < 0, and S where H is zero or more than
+	                      30 degrees from S: the mean curvature is about zero,
+	                      the cotangent vector's normal part no larger than its
+	                      tangential part (its discretization error). Two
+	                      passes: about twice MEWCSA's cost. */
+	vn_method_quadric, /* weighted least squares of z = f(x, y) = c + a x + b y
+	                      + d x^2 + e xy + g y^2 over the vertex and its 1-ring,
+	                      in the tangent frame of the vertex's MWA normal S, the
+	                      vertex at the origin, coordinates over the ring's mean
+	                      edge length h, weights 1 / (1 + |p|^2 / h^2); normal
+	                      (-a, -b, 1) in that frame; then one refit in the
+	                      frame of that normal. Exact on quadric height fields;
+	                      O(h^2) on irregular meshes, where the seven are O(h).
+	                      Falls back to S with fewer points than unknowns, an
+	                      ill-conditioned system or a normal over 60 degrees
+	                      from S. */
+	vn_method_jet,     /* the same with the cubic terms x^3, x^2 y, x y^2, y^3,
+	                      over the vertex and its 2-ring (Cazals & Pouget 2003,
+	                      osculating jets); O(h^3); falls back to QUADRIC. */
+	vn_method_adaptive, /* JET where its weighted RMS residual is below 0.03 h
+	                      (the surface is smooth at the mesh's scale), else S
+	                      (MWA, the paper's overall choice): the scheme to use
+	                      when unsure. */
+	/* The fits (QUADRIC, JET, ADAPTIVE): rings are the vertices sharing a
+	 * non-degenerate face (a polygon's corners when it has at most 8, else
+	 * its two edge neighbours); degenerate faces add nothing, so NaN never
+	 * enters. Boundary vertices fit their one-sided rings, non-manifold
+	 * ones the union of their sheets. A vertex whose S is zero gets zero;
+	 * every other normal is unit with a positive dot product with S.
+	 * Memory: about 9 bytes a corner + 1 a face + 28 a vertex + 4 a vertex
+	 * per thread from the allocator (the workspace serves the seed pass
+	 * only). Per corner (vn_corner_normals, vn_polygon_corner_normals): a
+	 * corner whose fan is its vertex's whole star (one fan, no degenerate
+	 * face, with face strengths all equally strong) gets the vertex's
+	 * fitted normal, any other corner its fan's MWA normal. SMEWCSA per
+	 * corner applies its rule to the corner's MEWCSA and MWSELR normals. */
 	vn_method_count
 } vn_method;
 

@@ -268,7 +268,7 @@ static void test_fields_out_of_range(void** state)
 	o.method = "mwz";
 	assert_int_equal(vn_io_convert("data/off/cube.off", in_folder("range.drc"), &o, NULL, &error),
 	                 vn_io_error_option);
-	assert_string_equal(error.message, "--method is one of mwe, mwa, mwselr, mwaat, mwelr, mwrelr, mewcsa, not 'mwz' "
+	assert_string_equal(error.message, "--method is one of mwe, mwa, mwselr, mwaat, mwelr, mwrelr, mewcsa, smewcsa, quadric, jet, adaptive, not 'mwz' "
 	                                   "(see --list-methods)");
 	memset(&o, 0, sizeof o);
 	o.crease = 1;

@@ -359,7 +359,7 @@ static void strides_and_types(void** state)
 static void names_and_results(void** state)
 {
 	(void)state;
-	static const char* names[] = {"mwe", "mwa", "mwselr", "mwaat", "mwelr", "mwrelr", "mewcsa"};
+	static const char* names[] = {"mwe", "mwa", "mwselr", "mwaat", "mwelr", "mwrelr", "mewcsa", "smewcsa", "quadric", "jet", "adaptive"};
 	for (unsigned m = 0; m < vn_method_count; ++m) {
 		assert_string_equal(vn_method_name((vn_method)m), names[m]);
 		assert_non_null(vn_method_description((vn_method)m));

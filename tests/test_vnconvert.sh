@@ -12,7 +12,7 @@ SAMPLES=$(cd "$(dirname "$0")/../samples" && pwd)
 # ---- information
 run "$VNC" --help;          check "--help exits 0 with usage" [ $rc -eq 0 ] && check "--help text" grep -q "usage: vnconvert IN OUT" "$T/stdout"
 run "$VNC" --version;       check "--version" grep -qE "^vnconvert [0-9]+\.[0-9]+\.[0-9]+" "$T/stdout"
-run "$VNC" --list-methods;  check "--list-methods lists 7" [ "$(wc -l <"$T/stdout")" -eq 7 ]
+run "$VNC" --list-methods;  check "--list-methods lists 11" [ "$(wc -l <"$T/stdout")" -eq 11 ]
 check "--list-methods names mewcsa with reference" grep -q "^mewcsa .*Desbrun" "$T/stdout"
 
 # ---- a normal conversion: NOFF with unit normals, same positions and faces
@@ -109,7 +109,7 @@ expect_usage "--draco-qc needs a whole number of bits from 1 to 30, not 'x'" "$S
 expect_usage "--draco-qn needs a whole number of bits from 2 to 30, not '1'" "$SAMPLES/torus.off" "$T/u.drc" --draco-qn 1
 expect_usage "--draco-cl needs a whole number from 0 to 10, not '11'" "$SAMPLES/torus.off" "$T/u.drc" --draco-cl 11
 expect_usage "--threads needs a whole number from 1 to 256, not '0'" "$SAMPLES/torus.off" "$T/u.off" --threads 0
-expect_usage "--method is one of mwe, mwa, mwselr, mwaat, mwelr, mwrelr, mewcsa, not 'nope'" "$SAMPLES/torus.off" "$T/u.off" --method nope
+expect_usage "--method is one of mwe, mwa, mwselr, mwaat, mwelr, mwrelr, mewcsa, smewcsa, quadric, jet, adaptive, not 'nope'" "$SAMPLES/torus.off" "$T/u.off" --method nope
 expect_usage "--format is one of off, obj, ply, stl, gltf, glb, drc, not 'fbx'" "$SAMPLES/torus.off" "$T/u.off" --format fbx
 expect_usage "--input-format is one of off, obj, ply, stl, gltf, glb, drc, not 'dae'" "$SAMPLES/torus.off" "$T/u.off" --input-format dae
 expect_usage "--draco-qp applies to Draco (.drc) output and to glTF to glTF conversions, and this one is off to off: leave it out" "$SAMPLES/torus.off" "$T/u.off" --draco-qp 12
@@ -199,7 +199,7 @@ check "--crease-angle to .glb: 24 vertices" [ "$(q "$T/cube-crease.glb" 'd["acce
 run "$VNB" "$SAMPLES/torus.off" --csv --repeat 3
 check "vnbench exits 0" [ $rc -eq 0 ]
 check "vnbench CSV header" [ "$(head -1 "$T/stdout")" = "method,threads,triangles,median_ns_per_tri,mtri_per_s" ]
-check "vnbench CSV has 7 rows of numbers" [ "$(grep -cE '^[a-z]+,1,1920,[0-9.]+,[0-9.]+$' "$T/stdout")" -eq 7 ]
+check "vnbench CSV has 11 rows of numbers" [ "$(grep -cE '^[a-z]+,1,1920,[0-9.]+,[0-9.]+$' "$T/stdout")" -eq 11 ]
 run "$VNB" "$SAMPLES/torus.off" --csv --repeat 3 --method mwa --threads 2
 check "vnbench one method" [ "$(grep -cE '^mwa,2,1920,' "$T/stdout")" -eq 1 ] && check "vnbench one row only" [ "$(wc -l <"$T/stdout")" -eq 2 ]
 run "$VNB" "$SAMPLES/torus.off" --repeat 0

@@ -50,6 +50,17 @@ METHODS = (
     ("MEWCSA", "Cotangent weights (MEWCSA)",
      "mean edge weighted by cotangents of subtended angles (area gradient; sign not corrected)",
      "Desbrun et al. 1999; Jin et al. 2005 eq. 9"),
+    ("SMEWCSA", "Sign-correct cotangent weights (SMEWCSA)",
+     "sign-correct MEWCSA: oriented by MWSELR, which it falls back to where mean curvature is about zero",
+     "Desbrun et al. 1999; Meyer et al. 2003"),
+    ("QUADRIC", "Quadric fit on the 1-ring (QUADRIC)",
+     "weighted least-squares quadric z = f(x, y) on the 1-ring, in MWA's tangent frame, refitted once",
+     "beyond Jin et al. 2005; O(h^2)"),
+    ("JET", "Cubic jet fit on the 2-ring (JET)",
+     "weighted least-squares cubic jet on the 2-ring, in MWA's tangent frame, refitted once",
+     "Cazals & Pouget 2003; O(h^3)"),
+    ("ADAPTIVE", "Adaptive: jet where smooth, else MWA (ADAPTIVE)",
+     "the cubic jet where it fits the 2-ring closely, else MWA: the choice when unsure", "beyond Jin et al. 2005"),
 )
 # MEWCSA turns 28.5% of Suzanne's corners by more than 90 degrees.
 _NOT_FOR_SHADING = {"MEWCSA": " Not for shading: it points inward where the surface is concave or saddle-shaped."}

@@ -95,7 +95,7 @@ def methods():
     Examples
     --------
     >>> [m.name for m in vn.methods()]
-    ['mwe', 'mwa', 'mwselr', 'mwaat', 'mwelr', 'mwrelr', 'mewcsa']
+    ['mwe', 'mwa', 'mwselr', 'mwaat', 'mwelr', 'mwrelr', 'mewcsa', 'smewcsa', 'quadric', 'jet', 'adaptive']
     """
     return [Method(*m) for m in library().methods]
 

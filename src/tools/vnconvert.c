@@ -33,7 +33,11 @@ static void usage(FILE* out)
 	        "\n"
 	        "options:\n"
 	        "  -m, --method M         weighting scheme (default mwa, the paper's overall choice);\n"
-	        "                         one of mwe mwa mwselr mwaat mwelr mwrelr mewcsa\n"
+	        "                         one of");
+	for (unsigned m = 0; m < vn_method_count; ++m)
+		fprintf(out, " %s", vn_method_name((vn_method)m));
+	fprintf(out,
+	        "\n"
 	        "      --list-methods     list the schemes with a description and reference\n"
 	        "      --list-conversions what each pair of formats keeps (a Markdown table)\n"
 	        "  -f, --format F         output format, overriding OUT's extension\n"

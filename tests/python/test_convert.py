@@ -223,7 +223,8 @@ def test_threads_convert_side_by_side(tmp_path):
     assert errors == []
     for i in alone:
         assert (tmp_path / ("thread%d.glb" % i)).read_bytes() == alone[i], methods[i]
-    assert len(set(alone.values())) == len(methods) - 1  # all differ but the two mwa
+    # the seven all differ (beyond them, ADAPTIVE is JET on this smooth torus)
+    assert len({alone[i] for i in range(7)}) == 7
 
 
 def test_libvnio_from_env(monkeypatch):

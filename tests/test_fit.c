@@ -1,0 +1,446 @@
+/* The schemes beyond the paper: SMEWCSA (cotangent.c), QUADRIC, JET and
+ * ADAPTIVE (fit.c). Hand-computed cases, exactness of the fit on polynomial
+ * height fields (through fit.c's internal vn_fit_frame), convergence orders
+ * on an irregularly sampled ellipsoid, orientation on a torus, degenerate
+ * rings, thread counts and per-corner results. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h" /* vn_fit_frame */
+
+#define PI 3.141592653589793
+
+static const vn_method fits[] = {vn_method_smewcsa, vn_method_quadric, vn_method_jet, vn_method_adaptive};
+
+static vn_result tri(const double* pos, size_t nv, const uint32_t* idx, size_t ni, vn_method m, unsigned threads,
+                     double* out)
+{
+	const vn_positions p = {pos, nv, 0, vn_scalar_float64};
+	const vn_vectors o = {out, 0, vn_scalar_float64};
+	vn_options opt;
+	memset(&opt, 0, sizeof(opt));
+	opt.threads = threads;
+	return vn_triangle_normals(&o, &p, idx, ni, m, &opt, NULL);
+}
+
+static void assert_vec(const double* got, double x, double y, double z, double tol)
+{
+	if (!(fabs(got[0] - x) <= tol && fabs(got[1] - y) <= tol && fabs(got[2] - z) <= tol))
+		fail_msg("got (%.17g, %.17g, %.17g), expected (%.17g, %.17g, %.17g)", got[0], got[1], got[2], x, y, z);
+}
+
+/* A deterministic value in [-1, 1). */
+static double jitter(uint32_t* s)
+{
+	*s = *s * 1664525u + 1013904223u;
+	return (double)(*s >> 8) / (double)(1u << 23) - 1.0;
+}
+
+/* ---------------------------------------------------------------- SMEWCSA by hand */
+
+/* A square pyramid, apex 0 over (or under: a dimple) the base 1..4 in z = 0,
+ * faces wound to face +z. */
+static const uint32_t pyramid_idx[] = {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1};
+
+static void smewcsa_flips_a_dimple(void** state)
+{
+	(void)state;
+	const double dimple[] = {0, 0, -1, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0};
+	double m[15], s[15];
+	assert_int_equal(tri(dimple, 5, pyramid_idx, 12, vn_method_mewcsa, 1, m), vn_result_success);
+	assert_int_equal(tri(dimple, 5, pyramid_idx, 12, vn_method_smewcsa, 1, s), vn_result_success);
+	assert_vec(m, 0, 0, -1, 0); /* MEWCSA points into the dimple */
+	assert_vec(s, 0, 0, 1, 0);
+}
+
+static void smewcsa_keeps_a_bump(void** state)
+{
+	(void)state;
+	const double bump[] = {0, 0, 1, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0};
+	double s[15];
+	assert_int_equal(tri(bump, 5, pyramid_idx, 12, vn_method_smewcsa, 1, s), vn_result_success);
+	assert_vec(s, 0, 0, 1, 0);
+	/* Base vertex 1 = (1,0,0), on the boundary: MEWCSA there is
+	 * (p2 - p0) x N_012 + (p0 - p4) x N_041 = (4, 0, -2) / sqrt 3, 71.6
+	 * degrees from MWSELR's (1, 0, 1) / sqrt 2 (mostly tangential: the
+	 * boundary's area gradient), so the result is MWSELR's. */
+	assert_vec(s + 3, 1 / sqrt(2.0), 0, 1 / sqrt(2.0), 1e-15);
+}
+
+/* Flat and irregular: the area gradient is zero up to rounding, so the
+ * result is MWSELR's (0, 0, 1), exactly. */
+static void smewcsa_flat_falls_back(void** state)
+{
+	(void)state;
+	const double flat[] = {0.1, -0.2, 0, 1, 0, 0, 0.3, 1.2, 0, -1.1, 0.2, 0, 0.1, -0.9, 0};
+	double s[15];
+	assert_int_equal(tri(flat, 5, pyramid_idx, 12, vn_method_smewcsa, 1, s), vn_result_success);
+	assert_vec(s, 0, 0, 1, 0);
+}
+
+/* ---------------------------------------------------------------- exactness of the fit */
+
+#define GRID 9
+
+/* z = f(x, y) on a jittered GRID x GRID grid (spacing 0.1, jitter 0.03). */
+static void height_grid(double (*f)(double, double), double pos[GRID * GRID][3])
+{
+	uint32_t s = 7;
+	for (int j = 0; j < GRID; ++j)
+		for (int i = 0; i < GRID; ++i) {
+			const double x = 0.1 * i + 0.03 * jitter(&s), y = 0.1 * j + 0.03 * jitter(&s);
+			pos[j * GRID + i][0] = x, pos[j * GRID + i][1] = y, pos[j * GRID + i][2] = f(x, y);
+		}
+}
+
+/* The 1-ring (ring 1) or 2-ring (ring 2) of grid vertex (i, j) in the
+ * triangulation split along (i, j)-(i+1, j+1), relative to the vertex. */
+static uint32_t grid_ring(double pos[GRID * GRID][3], int i, int j, int ring, double* q)
+{
+	static const int one[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}};
+	uint32_t m = 0;
+	for (int dj = -2; dj <= 2; ++dj)
+		for (int di = -2; di <= 2; ++di) {
+			int in = 0; /* di, dj a sum of `ring` or fewer 1-ring steps, not 0 */
+			for (int a = 0; a < 6; ++a) {
+				in |= di == one[a][0] && dj == one[a][1];
+				for (int b = 0; ring == 2 && b < 6; ++b)
+					in |= di == one[a][0] + one[b][0] && dj == one[a][1] + one[b][1] && (di || dj);
+			}
+			if (!in)
+				continue;
+			const double* p = pos[(j + dj) * GRID + i + di];
+			const double* o = pos[j * GRID + i];
+			q[3 * m] = p[0] - o[0], q[3 * m + 1] = p[1] - o[1], q[3 * m + 2] = p[2] - o[2];
+			++m;
+		}
+	return m;
+}
+
+static double quadric_field(double x, double y)
+{
+	return 0.7 * x * x - 1.3 * x * y + 0.4 * y * y + 0.25 * x - 0.6 * y;
+}
+
+static double cubic_field(double x, double y)
+{
+	return quadric_field(x, y) + 0.9 * x * x * x - 0.5 * x * x * y + 1.1 * x * y * y - 0.8 * y * y * y;
+}
+
+/* Every interior vertex (2-ring inside the grid): the fit in the frame of
+ * the height axis returns the analytic normal (-f_x, -f_y, 1), normalized. */
+static void check_exact(double (*f)(double, double), int degree, int ring, uint32_t members)
+{
+	double pos[GRID * GRID][3], q[3 * 24];
+	height_grid(f, pos);
+	const double up[3] = {0, 0, 1};
+	int checked = 0;
+	for (int j = 2; j < GRID - 2; ++j)
+		for (int i = 2; i < GRID - 2; ++i) {
+			const uint32_t m = grid_ring(pos, i, j, ring, q);
+			assert_int_equal(m, members);
+			double n[3], res;
+			assert_int_equal(vn_fit_frame(q, m, up, degree, 0.1, n, &res), 1);
+			const double x = pos[j * GRID + i][0], y = pos[j * GRID + i][1], e = 1e-6;
+			const double fx = (f(x + e, y) - f(x - e, y)) / (2 * e), fy = (f(x, y + e) - f(x, y - e)) / (2 * e);
+			/* central differences are exact to rounding on these polynomials up to e^2 f''' */
+			const double len = sqrt(fx * fx + fy * fy + 1);
+			assert_vec(n, -fx / len, -fy / len, 1 / len, 1e-9);
+			assert_true(res < 1e-12);
+			++checked;
+		}
+	assert_int_equal(checked, (GRID - 4) * (GRID - 4));
+}
+
+static void quadric_exact_on_quadric_field(void** state)
+{
+	(void)state;
+	check_exact(quadric_field, 2, 1, 6);
+}
+
+static void jet_exact_on_cubic_field(void** state)
+{
+	(void)state;
+	check_exact(cubic_field, 3, 2, 18);
+}
+
+/* The quadric is not exact on a cubic: the same check fails, as it must. */
+static void quadric_not_exact_on_cubic_field(void** state)
+{
+	(void)state;
+	double pos[GRID * GRID][3], q[3 * 24], n[3], res;
+	height_grid(cubic_field, pos);
+	const double up[3] = {0, 0, 1};
+	const uint32_t m = grid_ring(pos, 4, 4, 1, q);
+	assert_int_equal(vn_fit_frame(q, m, up, 2, 0.1, n, &res), 1);
+	assert_true(res > 1e-5);
+}
+
+/* ---------------------------------------------------------------- meshes made here */
+
+typedef struct grid_mesh {
+	double* pos;
+	uint32_t* idx;
+	double* exact;
+	size_t nv, ni;
+} grid_mesh;
+
+static void grid_free(grid_mesh* g)
+{
+	free(g->pos), free(g->idx), free(g->exact);
+}
+
+/* A torus (R = 1, r = 0.4) or an ellipsoid (semi-axes 1, 0.8, 0.6) on an
+ * nu x nv parameter grid, parameters jittered by up to `jit` of a cell, the
+ * positions on the surface, outward triangles, exact normals. The ellipsoid
+ * keeps its poles out (v in [0.1 pi, 0.9 pi]): an open band. */
+static grid_mesh make_surface(int torus, uint32_t nu, uint32_t nv, double jit)
+{
+	grid_mesh g;
+	const uint32_t rows = torus ? nv : nv + 1;
+	g.nv = (size_t)nu * rows;
+	g.pos = (double*)malloc(3 * sizeof(double) * g.nv);
+	g.exact = (double*)malloc(3 * sizeof(double) * g.nv);
+	g.idx = (uint32_t*)malloc(6 * sizeof(uint32_t) * (size_t)nu * nv);
+	uint32_t s = 11;
+	for (uint32_t j = 0; j < rows; ++j)
+		for (uint32_t i = 0; i < nu; ++i) {
+			const double u = 2 * PI * (i + jit * jitter(&s)) / nu;
+			const double jv = j + jit * jitter(&s);
+			double* p = g.pos + 3 * ((size_t)j * nu + i);
+			double* n = g.exact + 3 * ((size_t)j * nu + i);
+			if (torus) {
+				const double v = 2 * PI * jv / nv;
+				p[0] = (1 + 0.4 * cos(v)) * cos(u), p[1] = (1 + 0.4 * cos(v)) * sin(u), p[2] = 0.4 * sin(v);
+				n[0] = cos(v) * cos(u), n[1] = cos(v) * sin(u), n[2] = sin(v);
+			} else {
+				const double v = PI * (0.1 + 0.8 * jv / nv);
+				p[0] = sin(v) * cos(u), p[1] = 0.8 * sin(v) * sin(u), p[2] = 0.6 * cos(v);
+				n[0] = p[0], n[1] = p[1] / 0.64, n[2] = p[2] / 0.36;
+				const double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+				n[0] /= l, n[1] /= l, n[2] /= l;
+			}
+		}
+	g.ni = 0;
+	for (uint32_t j = 0; j < nv; ++j)
+		for (uint32_t i = 0; i < nu; ++i) {
+			const uint32_t a = j * nu + i, b = j * nu + (i + 1) % nu, c = ((j + 1) % rows) * nu + (i + 1) % nu,
+			               d = ((j + 1) % rows) * nu + i;
+			/* (u, v) is right-handed for the torus' outward normal; the
+			 * ellipsoid's v runs from the north pole, so it is reversed */
+			const uint32_t t[6] = {a, b, c, a, c, d}, r[6] = {a, c, b, a, d, c};
+			memcpy(g.idx + g.ni, torus ? t : r, sizeof(t));
+			g.ni += 6;
+		}
+	return g;
+}
+
+static double angle_deg(const double* a, const double* b)
+{
+	double c[3];
+	vn_cross(a, b, c);
+	return atan2(sqrt(vn_dot(c, c)), vn_dot(a, b)) * 180 / PI;
+}
+
+static int compare_double(const void* a, const void* b)
+{
+	const double x = *(const double*)a, y = *(const double*)b;
+	return (x > y) - (x < y);
+}
+
+/* Median error in degrees over the vertices away from the band's edges. */
+static double median_error(const grid_mesh* g, uint32_t nu, vn_method m)
+{
+	double* out = (double*)malloc(3 * sizeof(double) * g->nv);
+	double* err = (double*)malloc(sizeof(double) * g->nv);
+	assert_int_equal(tri(g->pos, g->nv, g->idx, g->ni, m, 1, out), vn_result_success);
+	const size_t rows = g->nv / nu;
+	size_t k = 0;
+	for (size_t v = 3 * nu; v < (rows - 3) * nu; ++v)
+		err[k++] = angle_deg(out + 3 * v, g->exact + 3 * v);
+	qsort(err, k, sizeof(double), compare_double);
+	const double med = err[k / 2];
+	free(out), free(err);
+	return med;
+}
+
+/* Measured orders of the median error between 3 resolutions (h halving). */
+static void check_order(vn_method m, double order)
+{
+	double e[3];
+	for (int r = 0; r < 3; ++r) {
+		const uint32_t nu = 32u << r, nv = 16u << r;
+		grid_mesh g = make_surface(0, nu, nv, 0.3);
+		e[r] = median_error(&g, nu, m);
+		grid_free(&g);
+	}
+	for (int r = 0; r < 2; ++r) {
+		const double got = log2(e[r] / e[r + 1]);
+		print_message("%s: median %g -> %g degrees, order %.3f\n", vn_method_name(m), e[r], e[r + 1], got);
+		if (fabs(got - order) > 0.3)
+			fail_msg("%s: order %.3f between resolutions %d and %d (errors %g, %g), expected %.1f +- 0.3",
+			         vn_method_name(m), got, r, r + 1, e[r], e[r + 1], order);
+	}
+}
+
+static void quadric_converges_as_h2(void** state)
+{
+	(void)state;
+	check_order(vn_method_quadric, 2);
+}
+
+static void jet_converges_as_h3(void** state)
+{
+	(void)state;
+	check_order(vn_method_jet, 3);
+}
+
+/* The seven are O(h) there: MWA's measured order is 1, not 2. */
+static void mwa_converges_as_h(void** state)
+{
+	(void)state;
+	check_order(vn_method_mwa, 1);
+}
+
+/* ---------------------------------------------------------------- orientation, threads, degenerate rings */
+
+static void torus_outward_everywhere(void** state)
+{
+	(void)state;
+	grid_mesh g = make_surface(1, 48, 20, 0.3);
+	double* out = (double*)malloc(3 * sizeof(double) * g.nv);
+	for (size_t k = 0; k < sizeof(fits) / sizeof(fits[0]); ++k) {
+		assert_int_equal(tri(g.pos, g.nv, g.idx, g.ni, fits[k], 1, out), vn_result_success);
+		size_t inner = 0;
+		for (size_t v = 0; v < g.nv; ++v) {
+			if (!(angle_deg(out + 3 * v, g.exact + 3 * v) < 60))
+				fail_msg("%s: vertex %zu is %.2f degrees off", vn_method_name(fits[k]), v,
+				         angle_deg(out + 3 * v, g.exact + 3 * v));
+			inner += g.pos[3 * v] * g.pos[3 * v] + g.pos[3 * v + 1] * g.pos[3 * v + 1] < 1; /* saddle side */
+		}
+		assert_int_equal(inner, 486); /* x^2 + y^2 < 1: the saddle-shaped inner half */
+	}
+	free(out);
+	grid_free(&g);
+}
+
+static void threads_bit_identical(void** state)
+{
+	(void)state;
+	grid_mesh g = make_surface(1, 256, 160, 0.3);
+	double* a = (double*)malloc(3 * sizeof(double) * g.nv);
+	double* b = (double*)malloc(3 * sizeof(double) * g.nv);
+	for (size_t k = 0; k < sizeof(fits) / sizeof(fits[0]); ++k) {
+		assert_int_equal(tri(g.pos, g.nv, g.idx, g.ni, fits[k], 1, a), vn_result_success);
+		for (unsigned t = 2; t <= 4; t += 2) {
+			assert_int_equal(tri(g.pos, g.nv, g.idx, g.ni, fits[k], t, b), vn_result_success);
+			assert_memory_equal(a, b, 3 * sizeof(double) * g.nv);
+		}
+	}
+	free(a), free(b);
+	grid_free(&g);
+}
+
+/* A tetrahedron (valence 3), one triangle, an isolated vertex (6), and a
+ * vertex (7) whose 1-ring (8..12) is collinear: too few points or an
+ * ill-conditioned system, so every fit gives the seed, MWA's normal, and
+ * SMEWCSA a unit vector; never NaN. */
+static void degenerate_rings(void** state)
+{
+	(void)state;
+	const double pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, /* tetrahedron 0..3 */
+	                      5, 0, 0, 6, 0, 0,                   /* 4, 5: with 13, a lone triangle */
+	                      9, 9, 9,                            /* 6: isolated */
+	                      0, 1, 5,                            /* 7: over a line */
+	                      -2, 0, 5, -1, 0, 5, 0, 0, 5, 1, 0, 5, 2, 0, 5, /* 8..12 */
+	                      5, 1, 0};
+	const uint32_t idx[] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3, 4, 5, 13,
+	                        7, 8, 9, 7, 9, 10, 7, 10, 11, 7, 11, 12};
+	double mwa[42], out[42];
+	assert_int_equal(tri(pos, 14, idx, 27, vn_method_mwa, 1, mwa), vn_result_success);
+	for (size_t k = 0; k < sizeof(fits) / sizeof(fits[0]); ++k) {
+		assert_int_equal(tri(pos, 14, idx, 27, fits[k], 1, out), vn_result_success);
+		for (int i = 0; i < 42; ++i)
+			assert_true(isfinite(out[i]));
+		assert_vec(out + 18, 0, 0, 0, 0); /* isolated */
+		assert_vec(out + 12, 0, 0, 1, 1e-15); /* the lone triangle */
+		if (fits[k] == vn_method_smewcsa)
+			continue;
+		assert_memory_equal(out, mwa, 4 * 3 * sizeof(double)); /* valence 3: 4 points < 6 unknowns */
+		assert_memory_equal(out + 21, mwa + 21, 3 * sizeof(double)); /* collinear */
+	}
+}
+
+/* ---------------------------------------------------------------- per corner */
+
+/* With nothing sharp on a closed mesh every corner gets its vertex's
+ * normal; with every edge creased (crease angle 0 on a jittered torus),
+ * every corner is a fan of its own: the fits give each its fan's MWA
+ * normal, and SMEWCSA its rule on the fan's MEWCSA and MWSELR normals. */
+static void corners_follow_the_vertex_rule(void** state)
+{
+	(void)state;
+	grid_mesh g = make_surface(1, 24, 12, 0.3);
+	double* vert = (double*)malloc(3 * sizeof(double) * g.nv);
+	double* c = (double*)malloc(3 * sizeof(double) * g.ni);
+	double* m1 = (double*)malloc(3 * sizeof(double) * g.ni);
+	double* m2 = (double*)malloc(3 * sizeof(double) * g.ni);
+	const vn_positions p = {g.pos, g.nv, 0, vn_scalar_float64};
+	const vn_vectors oc = {c, 0, vn_scalar_float64}, o1 = {m1, 0, vn_scalar_float64}, o2 = {m2, 0, vn_scalar_float64};
+	for (size_t k = 0; k < sizeof(fits) / sizeof(fits[0]); ++k) {
+		assert_int_equal(tri(g.pos, g.nv, g.idx, g.ni, fits[k], 1, vert), vn_result_success);
+		assert_int_equal(vn_corner_normals(&oc, &p, g.idx, g.ni, fits[k], PI, NULL, NULL, NULL), vn_result_success);
+		for (size_t i = 0; i < g.ni; ++i)
+			assert_memory_equal(c + 3 * i, vert + 3 * (size_t)g.idx[i], 3 * sizeof(double));
+		assert_int_equal(vn_corner_normals(&oc, &p, g.idx, g.ni, fits[k], 0, NULL, NULL, NULL), vn_result_success);
+		const int smew = fits[k] == vn_method_smewcsa;
+		assert_int_equal(vn_corner_normals(&o1, &p, g.idx, g.ni, smew ? vn_method_mewcsa : vn_method_mwa, 0, NULL,
+		                                   NULL, NULL),
+		                 vn_result_success);
+		assert_int_equal(vn_corner_normals(&o2, &p, g.idx, g.ni, vn_method_mwselr, 0, NULL, NULL, NULL),
+		                 vn_result_success);
+		size_t seed = 0;
+		for (size_t i = 0; i < g.ni; ++i) {
+			double want[3];
+			if (smew)
+				vn_smewcsa_combine(m1 + 3 * i, m2 + 3 * i, want);
+			else
+				memcpy(want, m1 + 3 * i, sizeof(want));
+			assert_memory_equal(c + 3 * i, want, sizeof(want));
+			seed += memcmp(c + 3 * i, m2 + 3 * i, sizeof(want)) == 0;
+		}
+		/* a corner alone: MEWCSA's (p_next - p_prev) x N lies in the face, 90
+		 * degrees from the face normal, so SMEWCSA falls back everywhere */
+		if (smew)
+			assert_int_equal(seed, g.ni);
+	}
+	free(m2), free(m1), free(c), free(vert);
+	grid_free(&g);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+	    cmocka_unit_test(smewcsa_flips_a_dimple),
+	    cmocka_unit_test(smewcsa_keeps_a_bump),
+	    cmocka_unit_test(smewcsa_flat_falls_back),
+	    cmocka_unit_test(quadric_exact_on_quadric_field),
+	    cmocka_unit_test(jet_exact_on_cubic_field),
+	    cmocka_unit_test(quadric_not_exact_on_cubic_field),
+	    cmocka_unit_test(quadric_converges_as_h2),
+	    cmocka_unit_test(jet_converges_as_h3),
+	    cmocka_unit_test(mwa_converges_as_h),
+	    cmocka_unit_test(torus_outward_everywhere),
+	    cmocka_unit_test(threads_bit_identical),
+	    cmocka_unit_test(degenerate_rings),
+	    cmocka_unit_test(corners_follow_the_vertex_rule),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
