@@ -48,8 +48,8 @@ const MethodWords kMethods[] = {
     {"MWRELR", "Square roots of edge-length reciprocals (MWRELR, Max 1999)", "as MWELR, with square roots"},
     {"MEWCSA", "Cotangent weights, not for shading (MEWCSA, Desbrun 1999)", "cotangent weights, not for shading"},
     {"SMEWCSA", "Cotangent weights, sign corrected (SMEWCSA, Meyer 2003)", "cotangent weights, oriented outward"},
-    {"QUADRIC", "Quadric fit on the 1-ring (QUADRIC)", "least-squares quadric over the 1-ring"},
-    {"JET", "Cubic jet fit on the 2-ring (JET, Cazals 2003)", "least-squares cubic over the 2-ring"},
+    {"QUADRIC", "Quadric fit on the 1-ring (QUADRIC)", "quadric fit over the 1-ring"},
+    {"JET", "Cubic jet fit on the 2-ring (JET, Cazals 2003)", "cubic fit over the 2-ring"},
     {"ADAPTIVE", "Adaptive: jet where smooth, else MWA (ADAPTIVE)", "cubic fit where smooth, else MWA"},
 };
 static_assert(sizeof kMethods / sizeof kMethods[0] == static_cast<size_t>(vn_method_count),

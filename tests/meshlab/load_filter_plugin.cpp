@@ -15,6 +15,8 @@
 #include <QPluginLoader>
 #include <QRegExp>
 
+#include "vn.h"
+
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -79,10 +81,11 @@ int main(int argc, char** argv)
 	check(par.hasParameter("onlySelected") && !par.getBool("onlySelected"), "onlySelected, default off (nothing selected)");
 	{
 		const RichEnum* e = dynamic_cast<const RichEnum*>(&par.getParameterByName("method"));
-		bool ok = e && e->enumvalues.size() == 7 && e->enumvalues[1] == "Angle weighted (MWA, default)" &&
+		bool ok = e && e->enumvalues.size() == static_cast<int>(vn_method_count) &&
+		          e->enumvalues[1] == "Angle weighted (MWA, default)" &&
 		          e->enumvalues[2] == "Sine and edge-length reciprocals (MWSELR, Max 1999)" &&
 		          e->enumvalues[6].contains("not for shading") && e->enumvalues[6].contains("MEWCSA");
-		for (int i = 0; ok && i < 7; ++i) ok = !e->enumvalues[i].contains("|E") && !e->enumvalues[i].contains("sin(");
+		for (int i = 0; ok && i < static_cast<int>(vn_method_count); ++i) ok = !e->enumvalues[i].contains("|E") && !e->enumvalues[i].contains("sin(");
 		check(ok, "method labels in plain words with the acronym, MEWCSA not for shading");
 		if (e)
 			for (const QString& l : e->enumvalues) std::printf("     %s\n", qUtf8Printable(l));
@@ -148,7 +151,8 @@ int main(int argc, char** argv)
 		md.setCurrentMesh(m->id());
 	}
 	par.setValue("method", IntValue(99));
-	check(apply(fp, a, par, md).contains("not one of 0..6"), "method 99: MLException");
+	check(apply(fp, a, par, md).contains(QString("not one of 0..%1").arg(static_cast<int>(vn_method_count) - 1)),
+	      "method 99: MLException");
 	std::printf("load_filter_plugin: %d failed\n", failures);
 	return failures ? 1 : 0;
 }
