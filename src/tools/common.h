@@ -52,10 +52,14 @@ static inline void tool_check_version(const char* prog)
 	}
 }
 
+/* One line per scheme: name (padded to the longest), description, [reference]. */
 static inline void tool_list_methods(FILE* out)
 {
+	int width = 0;
 	for (unsigned m = 0; m < vn_method_count; ++m)
-		fprintf(out, "%-7s %s [%s]\n", vn_method_name((vn_method)m), vn_method_description((vn_method)m),
+		width = (int)strlen(vn_method_name((vn_method)m)) > width ? (int)strlen(vn_method_name((vn_method)m)) : width;
+	for (unsigned m = 0; m < vn_method_count; ++m)
+		fprintf(out, "%-*s %s [%s]\n", width, vn_method_name((vn_method)m), vn_method_description((vn_method)m),
 		        vn_method_reference((vn_method)m));
 }
 
