@@ -389,12 +389,8 @@ static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long doubl
 	t1 = vec_scale(t1, 1 / vec_length(t1));
 	vec t2 = vec_cross(axis, t1);
 
-	long double* a = checked_calloc(rows * K_MAX, sizeof *a); /* row-major, rows x k */
-	long double* b = checked_calloc(rows, sizeof *b);
-	long double* z = checked_calloc(rows, sizeof *z);
-	long double* w = checked_calloc(rows, sizeof *w);
-	long double* x = checked_calloc(rows, sizeof *x);
-	long double* y = checked_calloc(rows, sizeof *y);
+	long double* a = checked_calloc(rows * (K_MAX + 5), sizeof *a); /* row-major, rows x k */
+	long double *b = a + rows * K_MAX, *z = b + rows, *w = z + rows, *x = w + rows, *y = x + rows;
 	w[0] = 1; /* the vertex itself: the origin */
 	for (size_t i = 0; i < m; i++) {
 		vec p = q[i];
@@ -489,11 +485,6 @@ static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long doubl
 		}
 	}
 	out->borderline = borderline;
-	free(y);
-	free(x);
-	free(w);
-	free(z);
-	free(b);
 	free(a);
 	return ok;
 }

@@ -1328,11 +1328,11 @@ static void test_beyond_the_paper(void** state)
 	check_mesh_paths(&m, worst, 1);
 	mesh_free(&m);
 
-	/* Noise of up to 4% of an edge in every direction: ADAPTIVE takes MWA at
+	/* Noise of up to 12% of an edge in every direction: ADAPTIVE takes MWA at
 	 * a part of the vertices, the jet elsewhere. */
 	mesh_init(&m, "noisy height field");
 	make_height_field(&m, 21, 30, 26, 0.07, 0.3);
-	mesh_jitter(&m, 22, 0.04 * 0.07);
+	mesh_jitter(&m, 25, 0.12 * 0.07);
 	check_mesh_paths(&m, worst, 1);
 	mesh_free(&m);
 
@@ -1380,15 +1380,16 @@ static void test_fits_on_a_plane(void** state)
 	mesh_free(&m);
 }
 
-/* Threads: any thread count gives bit-identical output and statistics. */
-static void check_threads(const mesh* m, int polygon)
+/* Threads: any thread count gives bit-identical output and statistics, for
+ * the methods below method_end. */
+static void check_threads(const mesh* m, int polygon, int method_end)
 {
 	size_t bytes = 3 * m->nv * sizeof(double);
 	double* one = malloc(bytes);
 	double* many = malloc(bytes);
 	assert_true(one && many);
 	size_t differ = 0;
-	for (int method = 0; method < ref_method_count; method++) {
+	for (int method = 0; method < method_end; method++) {
 		vn_stats s1, sn;
 		assert_int_equal(run_library(m, method, polygon, m->pos, vn_scalar_float64, one, vn_scalar_float64, 1, &s1),
 		                 vn_result_success);
@@ -1420,13 +1421,15 @@ static void test_threads_bit_identical(void** state)
 	/* Some awkward faces too: degenerate ones must be skipped identically. */
 	mesh_triangle(&m, 0, 0, 1);
 	mesh_triangle(&m, 5, 6, 5);
-	check_threads(&m, 0);
-	check_threads(&m, 1);
+	/* The fits split their work above 4096 vertices a thread: the 50k grid
+	 * below is large enough for them, and an order of magnitude cheaper. */
+	check_threads(&m, 0, ref_quadric);
+	check_threads(&m, 1, ref_quadric);
 	mesh_free(&m);
 
 	mesh_init(&m, "polygon grid 50k");
 	make_polygon_grid(&m, 18, 400, 250, 0);
-	check_threads(&m, 1);
+	check_threads(&m, 1, ref_method_count);
 	mesh_free(&m);
 }
 
