@@ -91,30 +91,44 @@ typedef enum vn_method {
 	                      when H . S < 0, and S where H is zero or more than
 	                      30 degrees from S: the mean curvature is about zero,
 	                      the cotangent vector's normal part no larger than its
-	                      tangential part (its discretization error). Two
-	                      passes: about twice MEWCSA's cost. */
+	                      tangential part (its discretization error); H where
+	                      S is zero. Two passes: about twice MEWCSA's cost. */
 	vn_method_quadric, /* weighted least squares of z = f(x, y) = c + a x + b y
 	                      + d x^2 + e xy + g y^2 over the vertex and its 1-ring,
 	                      in the tangent frame of the vertex's MWA normal S, the
-	                      vertex at the origin, coordinates over the ring's mean
-	                      edge length h, weights 1 / (1 + |p|^2 / h^2); normal
-	                      (-a, -b, 1) in that frame; then one refit in the
-	                      frame of that normal. Exact on quadric height fields;
-	                      O(h^2) on irregular meshes, where the seven are O(h).
-	                      Falls back to S with fewer points than unknowns, an
-	                      ill-conditioned system or a normal over 60 degrees
-	                      from S. */
+	                      vertex at the origin, coordinates over h (the mean
+	                      distance from the vertex to its 1-ring members),
+	                      weights 1 / (1 + |p|^2 / h^2); normal (-a, -b, 1) in
+	                      that frame; then one refit in the frame of that
+	                      normal (the first fit kept if the refit is
+	                      ill-conditioned). A fit in the frame of a quadric
+	                      height field's axis is exact; the method's frames
+	                      are S's and the fit's, so it is exact only where
+	                      those are that axis, and O(h^2) on irregular meshes,
+	                      where the seven are O(h). Falls back to S with fewer
+	                      points (the vertex included) than unknowns, an
+	                      ill-conditioned system or a final normal over 60
+	                      degrees from S. */
 	vn_method_jet,     /* the same with the cubic terms x^3, x^2 y, x y^2, y^3,
 	                      over the vertex and its 2-ring (Cazals & Pouget 2003,
-	                      osculating jets); O(h^3); falls back to QUADRIC. */
-	vn_method_adaptive, /* JET where its weighted RMS residual is below 0.03 h
-	                      (the surface is smooth at the mesh's scale), else S
-	                      (MWA, the paper's overall choice): the scheme to use
-	                      when unsure. */
+	                      osculating jets), h still the 1-ring's; O(h^3);
+	                      falls back to QUADRIC. */
+	vn_method_adaptive, /* JET's 2-ring fit where it succeeds and its weighted
+	                      RMS residual (the final fit's, with its weights, over
+	                      the vertex and its 2-ring, vertex included) is at
+	                      most 0.03 h (the surface is smooth at the mesh's
+	                      scale), else S (MWA, the paper's overall choice; no
+	                      quadric fallback): the scheme to use when unsure. */
 	/* The fits (QUADRIC, JET, ADAPTIVE): rings are the vertices sharing a
 	 * non-degenerate face (a polygon's corners when it has at most 8, else
 	 * its two edge neighbours); degenerate faces add nothing, so NaN never
-	 * enters. Boundary vertices fit their one-sided rings, non-manifold
+	 * enters. The tangent frame of a unit axis a is t1 = e x a / |e x a|,
+	 * t2 = a x t1, e the coordinate axis of a's smallest |coordinate| (x
+	 * before y before z among equal ones). The normal does not depend on it,
+	 * but the conditioning test does: the system (columns 1, x, y, x^2, xy,
+	 * y^2, x^3, x^2 y, x y^2, y^3 in that order) is ill-conditioned when a
+	 * Cholesky pivot of its normal matrix scaled to unit diagonal (the
+	 * squared diagonal of R) is below 1e-8. Boundary vertices fit their one-sided rings, non-manifold
 	 * ones the union of their sheets. A vertex whose S is zero gets zero;
 	 * every other normal is unit with a positive dot product with S.
 	 * Memory: about 9 bytes a corner + 1 a face + 28 a vertex + 4 a vertex

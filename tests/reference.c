@@ -128,60 +128,83 @@ static vec corner_contribution(int method, vec n, vec e0, vec e1)
 	}
 }
 
-void ref_normals_ex(int method, const double* positions, size_t vertex_count, const uint32_t* indices,
-                    const uint32_t* face_offsets, size_t face_count, double* out_normals,
-                    double* out_condition)
-{
-	size_t corner_count = face_offsets[face_count];
+/* The mesh's faces and a vertex -> corners table (counting sort). */
+typedef struct tables {
+	const double* positions;
+	size_t vertex_count;
+	const uint32_t* indices;
+	const uint32_t* face_offsets;
+	vec* normals;        /* per face: Newell's unit normal */
+	char* valid;         /* per face: not degenerate */
+	size_t* first;       /* vertex_count + 1: where each vertex's corners start */
+	size_t* corners;     /* corners by vertex */
+	size_t* corner_face; /* per corner */
+} tables;
 
-	/* Face normals and validity, once per face. */
-	vec* normals = checked_calloc(face_count, sizeof *normals);
-	char* valid = checked_calloc(face_count, 1);
+static tables tables_make(const double* positions, size_t vertex_count, const uint32_t* indices,
+                          const uint32_t* face_offsets, size_t face_count)
+{
+	tables t = {positions, vertex_count, indices, face_offsets, NULL, NULL, NULL, NULL, NULL};
+	size_t corner_count = face_offsets[face_count];
+	t.normals = checked_calloc(face_count, sizeof *t.normals);
+	t.valid = checked_calloc(face_count, 1);
 	for (size_t f = 0; f < face_count; f++) {
 		size_t k = face_offsets[f + 1] - face_offsets[f];
-		valid[f] = (char)face_normal(positions, indices + face_offsets[f], k, &normals[f]);
+		t.valid[f] = (char)face_normal(positions, indices + face_offsets[f], k, &t.normals[f]);
 	}
-
-	/* Vertex -> corners table (counting sort), and each corner's face. */
-	size_t* first = checked_calloc(vertex_count + 1, sizeof *first);
-	size_t* corners = checked_calloc(corner_count, sizeof *corners);
-	size_t* corner_face = checked_calloc(corner_count, sizeof *corner_face);
+	t.first = checked_calloc(vertex_count + 1, sizeof *t.first);
+	t.corners = checked_calloc(corner_count, sizeof *t.corners);
+	t.corner_face = checked_calloc(corner_count, sizeof *t.corner_face);
 	size_t* fill = checked_calloc(vertex_count, sizeof *fill);
 	for (size_t f = 0; f < face_count; f++) {
 		for (size_t c = face_offsets[f]; c < face_offsets[f + 1]; c++) {
-			corner_face[c] = f;
-			first[indices[c] + 1]++;
+			t.corner_face[c] = f;
+			t.first[indices[c] + 1]++;
 		}
 	}
 	for (size_t v = 0; v < vertex_count; v++)
-		first[v + 1] += first[v];
+		t.first[v + 1] += t.first[v];
 	for (size_t c = 0; c < corner_count; c++) {
 		uint32_t v = indices[c];
-		corners[first[v] + fill[v]++] = c;
+		t.corners[t.first[v] + fill[v]++] = c;
 	}
+	free(fill);
+	return t;
+}
 
-	/* Gather: each vertex sums over its own corners. */
-	for (size_t v = 0; v < vertex_count; v++) {
+static void tables_free(tables* t)
+{
+	free(t->corner_face);
+	free(t->corners);
+	free(t->first);
+	free(t->valid);
+	free(t->normals);
+}
+
+/* One of the seven: each vertex sums over its own corners. */
+static void weighted_normals(int method, const tables* t, double* out_normals, double* out_condition)
+{
+	for (size_t v = 0; v < t->vertex_count; v++) {
 		vec sum = vec_make(0, 0, 0);
 		long double magnitude = 0; /* sum of |contribution| */
 		int contributed = 0;
-		vec p = position(positions, (uint32_t)v);
-		for (size_t j = first[v]; j < first[v + 1]; j++) {
-			size_t c = corners[j];
-			size_t f = corner_face[c];
-			if (!valid[f])
+		vec p = position(t->positions, (uint32_t)v);
+		for (size_t j = t->first[v]; j < t->first[v + 1]; j++) {
+			size_t c = t->corners[j];
+			size_t f = t->corner_face[c];
+			if (!t->valid[f])
 				continue;
-			size_t begin = face_offsets[f];
-			size_t k = face_offsets[f + 1] - begin;
+			size_t begin = t->face_offsets[f];
+			size_t k = t->face_offsets[f + 1] - begin;
 			size_t i = c - begin;
-			uint32_t prev = indices[begin + (i + k - 1) % k];
-			uint32_t next = indices[begin + (i + 1) % k];
-			vec e0 = vec_sub(position(positions, prev), p);
-			vec e1 = vec_sub(position(positions, next), p);
+			uint32_t prev = t->indices[begin + (i + k - 1) % k];
+			uint32_t next = t->indices[begin + (i + 1) % k];
+			vec e0 = vec_sub(position(t->positions, prev), p);
+			vec e1 = vec_sub(position(t->positions, next), p);
 			/* A repeated corner (zero-length edge) has no angle: skip it. */
 			if (vec_length(e0) == 0 || vec_length(e1) == 0)
 				continue;
-			vec w = corner_contribution(method, normals[f], e0, e1);
+			vec w = corner_contribution(method, t->normals[f], e0, e1);
 			sum = vec_add(sum, w);
 			magnitude += vec_length(w);
 			contributed = 1;
@@ -195,20 +218,383 @@ void ref_normals_ex(int method, const double* positions, size_t vertex_count, co
 		} else {
 			out[0] = out[1] = out[2] = 0;
 		}
-		if (out_condition)
-			out_condition[v] = !contributed ? -1.0 : magnitude > 0 ? (double)(len / magnitude) : 0.0;
+		out_condition[v] = !contributed ? -1.0 : magnitude > 0 ? (double)(len / magnitude) : 0.0;
 	}
+}
 
-	free(fill);
-	free(corner_face);
-	free(corners);
-	free(first);
-	free(valid);
-	free(normals);
+/* ------------------------------------------------------------------ beyond the paper (vn.h) */
+
+/* vn.h's constants. */
+#define RING_ALL_MAX 8        /* a polygon gives all its corners to a ring up to this size */
+#define PIVOT_MIN 1e-8L       /* smallest squared diagonal of R (the Cholesky pivot) */
+#define SEED_COS_MIN 0.5L     /* 60 degrees from the seed */
+#define ADAPTIVE_MAX 0.03L    /* ADAPTIVE: the jet below this weighted RMS residual, over h */
+/* How close to a threshold a decision is borderline: far above the two
+ * implementations' measured differences, far below any real margin. */
+#define BORDER 1e-9L
+
+static int is_zero(const double* n)
+{
+	return n[0] == 0 && n[1] == 0 && n[2] == 0;
+}
+
+static vec load(const double* n)
+{
+	return vec_make(n[0], n[1], n[2]);
+}
+
+static long double dot_d(const double* a, const double* b)
+{
+	return (long double)a[0] * b[0] + (long double)a[1] * b[1] + (long double)a[2] * b[2];
+}
+
+/* SMEWCSA from the MEWCSA normal H and the MWSELR normal S: H, its sign
+ * flipped when H . S < 0, unless H is zero or more than 30 degrees from S;
+ * then S. */
+static void smewcsa_normals(const tables* t, double* out, double* cond, unsigned char* path)
+{
+	size_t n = t->vertex_count;
+	double* h = checked_calloc(3 * n, sizeof *h);
+	double* hc = checked_calloc(n, sizeof *hc);
+	weighted_normals(ref_mewcsa, t, h, hc);
+	weighted_normals(ref_mwselr, t, out, cond); /* S, kept where chosen */
+	const long double cos30 = sqrtl(3) / 2;
+	for (size_t v = 0; v < n; v++) {
+		const double* hv = h + 3 * v;
+		double* o = out + 3 * v;
+		long double d = dot_d(hv, o);
+		if (is_zero(hv) && is_zero(o)) {
+			path[v] = ref_path_zero;
+			continue;
+		}
+		if (is_zero(o) || (!is_zero(hv) && fabsl(d) >= cos30)) {
+			long double sign = d < 0 ? -1 : 1;
+			for (int i = 0; i < 3; i++)
+				o[i] = (double)(sign * hv[i]);
+			cond[v] = hc[v];
+			path[v] = ref_path_cotangent;
+		} else {
+			path[v] = ref_path_seed;
+		}
+		/* H of a flat vertex is rounding noise: its angle to S is arbitrary. */
+		if (!is_zero(hv) && !is_zero(o) && (hc[v] < 1e-9 || fabsl(fabsl(d) - cos30) < BORDER))
+			path[v] |= ref_path_borderline;
+	}
+	free(hc);
+	free(h);
+}
+
+/* Appends to ring (n members so far) the vertices sharing a usable face with
+ * u that are not marked yet, and marks them: a triangle's other corners, a
+ * polygon's other corners up to RING_ALL_MAX corners, else its corners next
+ * to u. */
+static size_t add_ring(const tables* t, uint32_t u, char* mark, uint32_t* ring, size_t n)
+{
+	for (size_t j = t->first[u]; j < t->first[u + 1]; j++) {
+		size_t c = t->corners[j], f = t->corner_face[c];
+		if (!t->valid[f])
+			continue;
+		size_t begin = t->face_offsets[f], k = t->face_offsets[f + 1] - begin, i = c - begin;
+		for (size_t o = 0; o < k; o++) {
+			if (k > RING_ALL_MAX && o != (i + 1) % k && o != (i + k - 1) % k)
+				continue;
+			uint32_t x = t->indices[begin + o];
+			if (!mark[x]) {
+				mark[x] = 1;
+				ring[n++] = x;
+			}
+		}
+	}
+	return n;
+}
+
+typedef struct fit_result {
+	vec normal;
+	long double residual;  /* weighted RMS of z - f, over h */
+	long double rcond;     /* of the unit-diagonal normal matrix R^T R */
+	int borderline;        /* a pivot within rounding of PIVOT_MIN */
+} fit_result;
+
+/* The monomials 1, x, y, x^2, xy, y^2 (degree 2) and x^3, x^2 y, x y^2, y^3. */
+static void monomials(long double x, long double y, int k, long double* m)
+{
+	long double all[10] = {1, x, y, x * x, x * y, y * y, x * x * x, x * x * y, x * y * y, y * y * y};
+	for (int j = 0; j < k; j++)
+		m[j] = all[j];
+}
+
+/* 1 / (|R|_F |R^-1|_F)^2 for the leading n x n block of the upper
+ * triangular r: the reciprocal condition number of R^T R, estimated within a
+ * factor n of it, from below. */
+static long double upper_rcond(long double r[10][10], int n)
+{
+	long double inv[10][10] = {{0}}, nr = 0, ni = 0;
+	for (int col = 0; col < n; col++) {
+		for (int j = col; j >= 0; j--) {
+			long double s = j == col ? 1 : 0;
+			for (int l = j + 1; l <= col; l++)
+				s -= r[j][l] * inv[l][col];
+			inv[j][col] = s / r[j][j];
+		}
+	}
+	for (int j = 0; j < n; j++) {
+		for (int l = j; l < n; l++) {
+			nr += r[j][l] * r[j][l];
+			ni += inv[j][l] * inv[j][l];
+		}
+	}
+	return 1 / (nr * ni);
+}
+
+/* How far the library's double-precision result may be from the exact one:
+ * its normal equations square the design matrix's condition, and solving
+ * them loses a factor 1 / rcond over the rounding error (k eps, k <= 10
+ * unknowns): a bound on the normal's angle and on the pivots' errors. */
+static long double fit_slack(long double rcond)
+{
+	return 1e-13L / rcond;
+}
+
+/* Weighted least squares of z = f(x, y) over the origin (the vertex) and the
+ * m points q (relative to the vertex) in a frame with height axis `axis`,
+ * coordinates over h, weights 1 / (1 + |p|^2 / h^2). The columns of the
+ * weighted design matrix are scaled to unit length (so R^T R is the normal
+ * matrix scaled to unit diagonal) and factored by Householder QR. Returns 0
+ * when the fit is not trusted: fewer points than unknowns, a zero column, or a
+ * squared diagonal of R below PIVOT_MIN. A pivot is borderline when another
+ * correct computation in double, in a frame up to `slack` radians away, may
+ * put it on the other side of PIVOT_MIN. */
+static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long double h, long double slack,
+                        fit_result* out)
+{
+	enum { K_MAX = 10 };
+	const int k = degree == 3 ? 10 : 6;
+	const size_t rows = m + 1;
+	out->borderline = 0;
+	if (rows < (size_t)k || !(h > 0) || !isfinite(h))
+		return 0;
+	/* vn.h's tangent frame: t1 = e x axis normalized, e the coordinate axis
+	 * of the axis' smallest coordinate (the first of equal ones), t2 = axis
+	 * x t1. The fitted normal does not depend on it (the polynomial space is
+	 * invariant under rotations of (x, y)), but the pivots do. */
+	vec e = vec_make(0, 0, 0);
+	long double ax = fabsl(axis.x), ay = fabsl(axis.y), az = fabsl(axis.z);
+	if (ax <= ay && ax <= az)
+		e.x = 1;
+	else if (ay <= az)
+		e.y = 1;
+	else
+		e.z = 1;
+	vec t1 = vec_cross(e, axis);
+	t1 = vec_scale(t1, 1 / vec_length(t1));
+	vec t2 = vec_cross(axis, t1);
+
+	long double* a = checked_calloc(rows * (K_MAX + 5), sizeof *a); /* row-major, rows x k */
+	long double *b = a + rows * K_MAX, *z = b + rows, *w = z + rows, *x = w + rows, *y = x + rows;
+	w[0] = 1; /* the vertex itself: the origin */
+	for (size_t i = 0; i < m; i++) {
+		vec p = q[i];
+		x[i + 1] = vec_dot(p, t1) / h;
+		y[i + 1] = vec_dot(p, t2) / h;
+		z[i + 1] = vec_dot(p, axis) / h;
+		w[i + 1] = 1 / (1 + vec_dot(p, p) / (h * h));
+	}
+	for (size_t i = 0; i < rows; i++) {
+		long double mono[K_MAX];
+		monomials(x[i], y[i], k, mono);
+		for (int j = 0; j < k; j++)
+			a[i * K_MAX + j] = sqrtl(w[i]) * mono[j];
+		b[i] = sqrtl(w[i]) * z[i];
+	}
+	long double scale[K_MAX], r[K_MAX][K_MAX] = {{0}}, c[K_MAX];
+	int ok = 1, borderline = 0;
+	for (int j = 0; j < k && ok; j++) {
+		long double s = 0;
+		for (size_t i = 0; i < rows; i++)
+			s += a[i * K_MAX + j] * a[i * K_MAX + j];
+		scale[j] = sqrtl(s);
+		if (!(scale[j] > 0))
+			ok = 0;
+		for (size_t i = 0; i < rows && ok; i++)
+			a[i * K_MAX + j] /= scale[j];
+	}
+	/* Householder: column j's reflection zeroes it below the diagonal. */
+	for (int j = 0; j < k && ok; j++) {
+		long double norm = 0;
+		for (size_t i = (size_t)j; i < rows; i++)
+			norm += a[i * K_MAX + j] * a[i * K_MAX + j];
+		norm = sqrtl(norm);
+		/* A pivot is exact to about k eps / rcond of the block before it. */
+		if (fabsl(norm * norm - PIVOT_MIN) < 1e-12L + (j ? fit_slack(upper_rcond(r, j)) : 0) + slack)
+			borderline = 1;
+		if (!(norm * norm >= PIVOT_MIN)) {
+			ok = 0;
+			break;
+		}
+		long double alpha = a[(size_t)j * K_MAX + j] > 0 ? -norm : norm;
+		long double v0 = a[(size_t)j * K_MAX + j] - alpha, vv = v0 * v0;
+		for (size_t i = (size_t)j + 1; i < rows; i++)
+			vv += a[i * K_MAX + j] * a[i * K_MAX + j];
+		/* v = (v0, a[j+1..][j]); apply I - 2 v v^T / v^T v to the columns right of j and to b. */
+		for (int l = j + 1; l <= k; l++) {
+			long double s = v0 * (l < k ? a[(size_t)j * K_MAX + l] : b[j]);
+			for (size_t i = (size_t)j + 1; i < rows; i++)
+				s += a[i * K_MAX + j] * (l < k ? a[i * K_MAX + l] : b[i]);
+			s *= 2 / vv;
+			if (l < k) {
+				a[(size_t)j * K_MAX + l] -= s * v0;
+				for (size_t i = (size_t)j + 1; i < rows; i++)
+					a[i * K_MAX + l] -= s * a[i * K_MAX + j];
+			} else {
+				b[j] -= s * v0;
+				for (size_t i = (size_t)j + 1; i < rows; i++)
+					b[i] -= s * a[i * K_MAX + j];
+			}
+		}
+		r[j][j] = alpha;
+		for (int l = j + 1; l < k; l++)
+			r[j][l] = a[(size_t)j * K_MAX + l];
+	}
+	if (ok) {
+		/* R c = (Q^T b)[0..k), back to the unscaled coefficients. */
+		for (int j = k - 1; j >= 0; j--) {
+			long double s = b[j];
+			for (int l = j + 1; l < k; l++)
+				s -= r[j][l] * c[l];
+			c[j] = s / r[j][j];
+		}
+		for (int j = 0; j < k; j++)
+			c[j] /= scale[j];
+		long double sw = 0, swe = 0;
+		for (size_t i = 0; i < rows; i++) {
+			long double mono[K_MAX], f = 0;
+			monomials(x[i], y[i], k, mono);
+			for (int j = 0; j < k; j++)
+				f += c[j] * mono[j];
+			sw += w[i];
+			swe += w[i] * (z[i] - f) * (z[i] - f);
+		}
+		/* The graph's normal at the origin: (-f_x, -f_y, 1) in the frame. */
+		vec n = vec_sub(axis, vec_add(vec_scale(t1, c[1]), vec_scale(t2, c[2])));
+		long double len = vec_length(n);
+		ok = len > 0 && isfinite(len);
+		if (ok) {
+			out->normal = vec_scale(n, 1 / len);
+			out->residual = sqrtl(swe / sw);
+			out->rcond = upper_rcond(r, k);
+		}
+	}
+	out->borderline = borderline;
+	free(a);
+	return ok;
+}
+
+/* The fit in the seed's frame, then once more in the frame of its normal
+ * (the first fit kept when the second is not trusted); 0 when the first is
+ * not trusted or the result is more than 60 degrees from the seed. */
+static int fit_twice(const vec* q, size_t m, vec seed, int degree, long double h, fit_result* out, int* borderline)
+{
+	fit_result first, second = {{0, 0, 0}, 0, 0, 0};
+	int ok = fit_in_frame(q, m, seed, degree, h, 0, &first);
+	*borderline |= first.borderline;
+	if (!ok)
+		return 0;
+	/* The second frame is the first fit's normal: as uncertain as it. */
+	if (fit_in_frame(q, m, first.normal, degree, h, fit_slack(first.rcond), &second)) {
+		second.rcond = fminl(second.rcond, first.rcond);
+		first = second;
+	}
+	*borderline |= second.borderline;
+	long double d = vec_dot(first.normal, seed);
+	*borderline |= fabsl(d - SEED_COS_MIN) < BORDER + fit_slack(first.rcond);
+	if (!(d >= SEED_COS_MIN))
+		return 0;
+	*out = first;
+	return 1;
+}
+
+/* QUADRIC, JET and ADAPTIVE: the MWA normal S as seed and fallback. */
+static void fit_normals(int method, const tables* t, double* out, double* cond, unsigned char* path)
+{
+	size_t n = t->vertex_count;
+	weighted_normals(ref_mwa, t, out, cond); /* S, kept where chosen */
+	char* mark = checked_calloc(n, 1);
+	uint32_t* ring = checked_calloc(n, sizeof *ring);
+	vec* q = checked_calloc(n, sizeof *q);
+	for (size_t v = 0; v < n; v++) {
+		double* o = out + 3 * v;
+		if (is_zero(o)) {
+			path[v] = ref_path_zero;
+			continue;
+		}
+		path[v] = ref_path_seed;
+		vec p = position(t->positions, (uint32_t)v), s = load(o);
+		mark[v] = 1;
+		size_t m1 = add_ring(t, (uint32_t)v, mark, ring, 0), m2 = m1;
+		long double h = 0;
+		for (size_t i = 0; i < m1; i++) {
+			q[i] = vec_sub(position(t->positions, ring[i]), p);
+			h += vec_length(q[i]);
+		}
+		h /= m1 ? (long double)m1 : 1;
+		if (method != ref_quadric) {
+			for (size_t i = 0; i < m1; i++)
+				m2 = add_ring(t, ring[i], mark, ring, m2);
+			for (size_t i = m1; i < m2; i++)
+				q[i] = vec_sub(position(t->positions, ring[i]), p);
+		}
+		fit_result f = {{0, 0, 0}, 0, 0, 0};
+		int borderline = 0, done = 0;
+		if (m1 && method != ref_quadric && fit_twice(q, m2, s, 3, h, &f, &borderline)) {
+			done = 1;
+			borderline |= method == ref_adaptive && fabsl(f.residual - ADAPTIVE_MAX) < BORDER + fit_slack(f.rcond);
+			if (method == ref_jet || f.residual <= ADAPTIVE_MAX)
+				path[v] = ref_path_jet;
+		}
+		if (m1 && !done && method != ref_adaptive && fit_twice(q, m1, s, 2, h, &f, &borderline))
+			path[v] = ref_path_quadric;
+		if (path[v] != ref_path_seed) {
+			o[0] = (double)f.normal.x;
+			o[1] = (double)f.normal.y;
+			o[2] = (double)f.normal.z;
+			cond[v] = (double)f.rcond;
+		}
+		if (borderline)
+			path[v] |= ref_path_borderline;
+		for (size_t i = 0; i < m2; i++)
+			mark[ring[i]] = 0;
+		mark[v] = 0;
+	}
+	free(q);
+	free(ring);
+	free(mark);
+}
+
+void ref_normals_ex(int method, const double* positions, size_t vertex_count, const uint32_t* indices,
+                    const uint32_t* face_offsets, size_t face_count, double* out_normals,
+                    double* out_condition, unsigned char* out_path)
+{
+	tables t = tables_make(positions, vertex_count, indices, face_offsets, face_count);
+	double* cond = out_condition ? out_condition : checked_calloc(vertex_count, sizeof *cond);
+	unsigned char* path = out_path ? out_path : checked_calloc(vertex_count, 1);
+	if (method == ref_smewcsa) {
+		smewcsa_normals(&t, out_normals, cond, path);
+	} else if (method >= ref_quadric) {
+		fit_normals(method, &t, out_normals, cond, path);
+	} else {
+		weighted_normals(method, &t, out_normals, cond);
+		for (size_t v = 0; v < vertex_count; v++)
+			path[v] = is_zero(out_normals + 3 * v) ? ref_path_zero : ref_path_weighted;
+	}
+	if (!out_condition)
+		free(cond);
+	if (!out_path)
+		free(path);
+	tables_free(&t);
 }
 
 void ref_normals(int method, const double* positions, size_t vertex_count, const uint32_t* indices,
                  const uint32_t* face_offsets, size_t face_count, double* out_normals)
 {
-	ref_normals_ex(method, positions, vertex_count, indices, face_offsets, face_count, out_normals, NULL);
+	ref_normals_ex(method, positions, vertex_count, indices, face_offsets, face_count, out_normals, NULL, NULL);
 }

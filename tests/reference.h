@@ -1,10 +1,12 @@
 /*
- * An independent, deliberately plain reference for the seven vertex-normal
- * weighting schemes, used only by the tests. It is written from the paper's
- * definitions (Jin, Lewis, West 2005) and vn.h's degenerate-input rules, not
- * from the library's source, and computes per vertex ("gather") in long
- * double so that a shared mistake with the library's per-face ("scatter")
- * code is unlikely.
+ * An independent, deliberately plain reference for the vertex-normal schemes,
+ * used only by the tests. The seven are written from the paper's definitions
+ * (Jin, Lewis, West 2005), the four beyond it from vn.h's documentation, and
+ * all from vn.h's degenerate-input rules, not from the library's source. It
+ * computes per vertex ("gather") in long double, and solves the fits'
+ * least-squares systems by Householder QR of the weighted design matrix (the
+ * library forms the normal equations and uses Cholesky), so that a shared
+ * mistake with the library is unlikely.
  */
 #ifndef VN_TEST_REFERENCE_H
 #define VN_TEST_REFERENCE_H
@@ -21,7 +23,26 @@ enum {
 	ref_mwelr,
 	ref_mwrelr,
 	ref_mewcsa,
+	ref_smewcsa,
+	ref_quadric,
+	ref_jet,
+	ref_adaptive,
 	ref_method_count
+};
+
+/* How a vertex's normal was obtained (ref_normals_ex's out_path). */
+enum {
+	ref_path_zero = 0, /* the zero vector */
+	ref_path_weighted, /* the method's own sum: one of the seven */
+	ref_path_seed,     /* the fallback: MWA for the fits, MWSELR for SMEWCSA */
+	ref_path_cotangent, /* SMEWCSA: the MEWCSA normal, its sign corrected */
+	ref_path_quadric,  /* the 1-ring quadric fit */
+	ref_path_jet,      /* the 2-ring cubic jet fit */
+	/* Added to the path: a decision on the way (a pivot, the 60 degree or
+	 * 30 degree rule, ADAPTIVE's residual) was within rounding of its
+	 * threshold, or SMEWCSA's MEWCSA direction is rounding noise; another
+	 * correct implementation may decide otherwise. */
+	ref_path_borderline = 8
 };
 
 /* Unit normals of every vertex. positions has 3 doubles per vertex; face f has
@@ -33,12 +54,17 @@ void ref_normals(int method, const double* positions, size_t vertex_count, const
                  const uint32_t* face_offsets, size_t face_count, double* out_normals);
 
 /* As ref_normals, and also how well defined each direction is: out_condition[v]
- * (may be NULL) is |sum of contributions| / sum of |contributions|, in [0, 1];
- * near 0 means cancellation left only rounding noise. It is -1 where no
- * corner contributed at all (the only case where the output must be exactly
- * zero whatever the arithmetic). */
+ * (may be NULL) is, for a sum of contributions (the seven; SMEWCSA's chosen
+ * MEWCSA or MWSELR sum; a fit's fallback to MWA), |sum of contributions| /
+ * sum of |contributions|, in [0, 1]; near 0 means cancellation left only
+ * rounding noise. It is -1 where no corner contributed at all (the only case
+ * where the output must be exactly zero whatever the arithmetic). For a fitted
+ * normal it is the reciprocal condition number (2-norm, estimated from above
+ * within a factor k) of the unit-diagonal normal matrix of the worst
+ * conditioned of the two fits that made it, in (0, 1]. out_path (may be NULL)
+ * receives a ref_path_* value per vertex. */
 void ref_normals_ex(int method, const double* positions, size_t vertex_count, const uint32_t* indices,
                     const uint32_t* face_offsets, size_t face_count, double* out_normals,
-                    double* out_condition);
+                    double* out_condition, unsigned char* out_path);
 
 #endif /* VN_TEST_REFERENCE_H */

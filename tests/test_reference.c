@@ -27,7 +27,11 @@ _Static_assert(ref_mwaat == (int)vn_method_mwaat, "method order");
 _Static_assert(ref_mwelr == (int)vn_method_mwelr, "method order");
 _Static_assert(ref_mwrelr == (int)vn_method_mwrelr, "method order");
 _Static_assert(ref_mewcsa == (int)vn_method_mewcsa, "method order");
-_Static_assert(ref_method_count == (int)vn_method_mewcsa + 1, "the seven, in order");
+_Static_assert(ref_smewcsa == (int)vn_method_smewcsa, "method order");
+_Static_assert(ref_quadric == (int)vn_method_quadric, "method order");
+_Static_assert(ref_jet == (int)vn_method_jet, "method order");
+_Static_assert(ref_adaptive == (int)vn_method_adaptive, "method order");
+_Static_assert(ref_method_count == (int)vn_method_count, "every method, in order");
 
 #define PI 3.14159265358979323846
 /* Library vs reference: 0.01 degree. Both compute in (at least) double, so
@@ -36,11 +40,19 @@ _Static_assert(ref_method_count == (int)vn_method_mewcsa + 1, "the seven, in ord
 /* A vertex whose sum is below this fraction of its summed contribution
  * lengths has a direction made of rounding noise: not compared. */
 #define MIN_CONDITION 1e-9
+/* Library (normal equations, Cholesky, double) vs reference (Householder QR,
+ * long double) on a fit whose unit-diagonal normal matrix has reciprocal
+ * condition rc: the library's coefficients are exact to about k eps / rc
+ * (k <= 10 unknowns, eps = 1.1e-16, the normal equations square the design
+ * matrix's condition), the refit carries the first fit's error along, and
+ * the reference's rc is an estimate within a factor k: 1e-13 / rc, and at
+ * least 1e-9 (the largest difference measured where rc > 1e-4 is ~1e-13). */
+#define FIT_TOLERANCE(rc) fmax(1e-9, 1e-13 / (rc))
 /* How many mismatches to print per mesh before only counting. */
 #define MAX_REPORTS 6
 
 static const char* const method_names[ref_method_count] = {
-	"mwe", "mwa", "mwselr", "mwaat", "mwelr", "mwrelr", "mewcsa"};
+	"mwe", "mwa", "mwselr", "mwaat", "mwelr", "mwrelr", "mewcsa", "smewcsa", "quadric", "jet", "adaptive"};
 
 /* ------------------------------------------------------------------ vectors */
 
@@ -519,6 +531,38 @@ static void make_height_field(mesh* m, uint64_t seed, uint32_t nx, uint32_t ny, 
 	}
 }
 
+/* A torus (R = 1, r = 0.4: its inner half is a saddle) on an nu x nv
+ * parameter grid jittered by up to `jitter` of a cell, outward faces: quads
+ * (quads 1) or triangles with random diagonals. */
+static void make_torus(mesh* m, uint64_t seed, uint32_t nu, uint32_t nv, double jitter, int quads)
+{
+	rng r = rng_seed(seed);
+	for (uint32_t j = 0; j < nv; j++) {
+		for (uint32_t i = 0; i < nu; i++) {
+			double u = 2 * PI * (i + rng_range(&r, -jitter, jitter)) / nu;
+			double v = 2 * PI * (j + rng_range(&r, -jitter, jitter)) / nv;
+			mesh_vertex(m, (1 + 0.4 * cos(v)) * cos(u), (1 + 0.4 * cos(v)) * sin(u), 0.4 * sin(v));
+		}
+	}
+	for (uint32_t j = 0; j < nv; j++) {
+		for (uint32_t i = 0; i < nu; i++) {
+			/* (u, v) is right-handed for the outward normal. */
+			uint32_t a = j * nu + i, b = j * nu + (i + 1) % nu, c = (j + 1) % nv * nu + (i + 1) % nu,
+			         d = (j + 1) % nv * nu + i;
+			if (quads) {
+				uint32_t q[4] = {a, b, c, d};
+				mesh_face(m, q, 4);
+			} else if (rng_below(&r, 2)) {
+				mesh_triangle(m, a, b, c);
+				mesh_triangle(m, a, c, d);
+			} else {
+				mesh_triangle(m, a, b, d);
+				mesh_triangle(m, b, c, d);
+			}
+		}
+	}
+}
+
 /* Marching-tetrahedra-like slivers on the smooth height field: grid lines
  * come in pairs 1e-5..1e-7 cell apart (needles with one tiny edge, and tiny
  * cells), and some edges get a cap: a vertex 1e-5..1e-7 (relative) off the
@@ -601,18 +645,37 @@ static void read_normal(const void* out, vn_scalar type, size_t v, double* n)
 		n[d] = type == vn_scalar_float32 ? (double)((const float*)out)[3 * v + d] : ((const double*)out)[3 * v + d];
 }
 
+/* The angle allowed between library and reference at a vertex whose
+ * reference path and condition (ref_normals_ex) are given; negative: the
+ * direction is not compared. A sum (the seven, SMEWCSA, a fallback) is
+ * compared where it is not cancellation noise. A fit is compared to
+ * FIT_TOLERANCE; a borderline decision may go either way, so not at all. */
+static double tolerance(unsigned char path, double cond)
+{
+	if (path & ref_path_borderline)
+		return -1;
+	if (path == ref_path_quadric || path == ref_path_jet)
+		return FIT_TOLERANCE(cond);
+	return cond >= MIN_CONDITION ? TOLERANCE_RAD : -1;
+}
+
 /* Compares one library output with the reference; returns the number of
- * mismatched vertices and raises *worst to the largest angle seen. */
+ * mismatched vertices and raises *worst to the largest angle seen (and
+ * *worst_scaled to the largest angle times the condition, for fits). */
 static size_t compare_normals(const mesh* m, const char* what, const double* ref, const double* cond,
-                              const void* out, vn_scalar type, double* worst, size_t* reports)
+                              const unsigned char* path, const void* out, vn_scalar type, double* worst,
+                              double* worst_scaled, size_t* reports)
 {
 	size_t bad = 0;
 	double unit_tolerance = type == vn_scalar_float32 ? 1e-6 : 1e-12;
+	/* float32 output rounds each coordinate by up to 6e-8 relative. */
+	double rounding = type == vn_scalar_float32 ? 2e-7 : 0;
 	for (size_t v = 0; v < m->nv; v++) {
 		double n[3];
 		read_normal(out, type, v, n);
 		const double* r = ref + 3 * v;
 		double len = length3(n);
+		double allowed = tolerance(path[v], cond[v]);
 		const char* problem = NULL;
 		double angle = 0;
 		if (cond[v] < 0) {
@@ -623,62 +686,150 @@ static size_t compare_normals(const mesh* m, const char* what, const double* ref
 			problem = "non-finite output";
 		} else if (len != 0 && fabs(len - 1) > unit_tolerance) {
 			problem = "not unit length";
-		} else if (cond[v] >= MIN_CONDITION && (r[0] != 0 || r[1] != 0 || r[2] != 0)) {
+		} else if (allowed >= 0 && (r[0] != 0 || r[1] != 0 || r[2] != 0)) {
 			if (len == 0) {
 				problem = "zero output, reference non-zero";
 			} else {
 				angle = angle3(n, r);
 				if (angle > *worst)
 					*worst = angle;
-				if (!(angle <= TOLERANCE_RAD))
+				if ((path[v] == ref_path_quadric || path[v] == ref_path_jet) && angle * cond[v] > *worst_scaled)
+					*worst_scaled = angle * cond[v];
+				if (!(angle <= allowed + rounding))
 					problem = "angle above tolerance";
 			}
 		}
 		if (problem) {
 			if ((*reports)++ < MAX_REPORTS)
 				print_message("MISMATCH %s %s vertex %zu: %s; lib (%.17g %.17g %.17g) ref (%.17g %.17g %.17g) "
-				              "angle %.3g deg, condition %.3g\n",
+				              "angle %.3g deg, condition %.3g, path %d\n",
 				              m->name, what, v, problem, n[0], n[1], n[2], r[0], r[1], r[2],
-				              angle * 180 / PI, cond[v]);
+				              angle * 180 / PI, cond[v], path[v]);
 			bad++;
 		}
 	}
 	return bad;
 }
 
+static int same3(const double* a, const double* b, double sign)
+{
+	return a[0] == sign * b[0] && a[1] == sign * b[1] && a[2] == sign * b[2];
+}
+
+/* The library's path at vertex v under `method`, read from its outputs
+ * (float64 in and out, lib[method]) without looking inside it: a fallback
+ * returns its seed method's normal bit for bit (MWA's for the fits,
+ * MWSELR's for SMEWCSA), JET's fallback is QUADRIC's very computation and
+ * ADAPTIVE's fit is JET's; SMEWCSA's other path is MEWCSA's normal or its
+ * negation. -1: none of these. A fit that equals its fallback to the last bit
+ * (possible on a plane) reads as the fallback. */
+static int lib_path(int method, size_t v, double* const* lib)
+{
+	const double* n = lib[method] + 3 * v;
+	const double zero[3] = {0, 0, 0};
+	if (same3(n, zero, 1))
+		return ref_path_zero;
+	if (method == ref_smewcsa) {
+		if (same3(n, lib[ref_mwselr] + 3 * v, 1))
+			return ref_path_seed;
+		if (same3(n, lib[ref_mewcsa] + 3 * v, 1) || same3(n, lib[ref_mewcsa] + 3 * v, -1))
+			return ref_path_cotangent;
+		return -1;
+	}
+	if (same3(n, lib[ref_mwa] + 3 * v, 1))
+		return ref_path_seed;
+	if (method == ref_quadric)
+		return ref_path_quadric;
+	if (method == ref_jet)
+		return same3(n, lib[ref_quadric] + 3 * v, 1) ? ref_path_quadric : ref_path_jet;
+	return same3(n, lib[ref_jet] + 3 * v, 1) ? ref_path_jet : -1;
+}
+
+/* Path counts of a method beyond the paper on one mesh. */
+typedef struct path_counts {
+	size_t ref[ref_path_jet + 1], lib[ref_path_jet + 1];
+	size_t differ;     /* the library took another path than the reference */
+	size_t borderline; /* not compared: a decision within rounding of its threshold */
+	size_t coincident; /* the library's fit equals its fallback to the last bit, the reference's to 1e-12 */
+} path_counts;
+
+/* Whether the library took the reference's path at every vertex of m (float64
+ * in and out, one entry point); ref holds the reference's normals of every
+ * method. */
+static void compare_paths(const mesh* m, const char* entry, int method, const unsigned char* path,
+                          double* const* ref, double* const* lib, path_counts* pc, size_t* reports)
+{
+	for (size_t v = 0; v < m->nv; v++) {
+		int taken = lib_path(method, v, lib);
+		int want = path[v] & ~ref_path_borderline;
+		pc->ref[want]++;
+		if (taken >= 0)
+			pc->lib[taken]++;
+		if (path[v] & ref_path_borderline) {
+			pc->borderline++;
+			continue;
+		}
+		/* The fallback the library's output equals, and the reference's fit. */
+		int fallback = taken == ref_path_seed ? (method == ref_smewcsa ? ref_mwselr : ref_mwa) : ref_quadric;
+		if (taken != want && (taken == ref_path_seed || taken == ref_path_quadric) &&
+		    (want == ref_path_quadric || want == ref_path_jet) &&
+		    angle3(ref[method] + 3 * v, ref[fallback] + 3 * v) <= 1e-12) {
+			pc->coincident++;
+			continue;
+		}
+		if (taken != want) {
+			if ((*reports)++ < MAX_REPORTS)
+				print_message("MISMATCH %s %s %s vertex %zu: the reference took path %d, the library %d\n",
+				              m->name, method_names[method], entry, v, want, taken);
+			pc->differ++;
+		}
+	}
+}
+
 /* The library on mesh m, every method, float32 and float64 in and out, both
  * entry points where the faces are triangles, against the reference on the
- * same coordinates (for float32 input, the exact float values). Prints the
- * worst angle per method with float64 output (float32 output adds ~2e-6 deg
- * of rounding on top); raises worst_deg[output is float64][method]. */
-static void check_mesh(const mesh* m, double (*worst_deg)[ref_method_count])
+ * same coordinates (for float32 input, the exact float values); for the
+ * methods beyond the paper, also each vertex's path. Prints the worst angle
+ * per method with float64 output (float32 output adds ~2e-6 deg of rounding
+ * on top); raises worst_deg[output is float64][method]. With exact_paths, no
+ * vertex may be borderline or coincident either: the path counts of library
+ * and reference must be equal, path by path. */
+static void check_mesh_paths(const mesh* m, double (*worst_deg)[ref_method_count], int exact_paths)
 {
 	size_t nv = m->nv;
 	float* p32 = malloc(3 * nv * sizeof *p32);
 	double* p32d = malloc(3 * nv * sizeof *p32d);
-	double* ref64 = malloc(3 * nv * sizeof *ref64);
-	double* cond64 = malloc(nv * sizeof *cond64);
-	double* ref32 = malloc(3 * nv * sizeof *ref32);
-	double* cond32 = malloc(nv * sizeof *cond32);
 	double* out = malloc(3 * nv * sizeof *out); /* large enough for either type */
-	assert_true(p32 && p32d && ref64 && cond64 && ref32 && cond32 && out);
+	double *ref[2][ref_method_count], *cond[2][ref_method_count], *lib[2][ref_method_count];
+	unsigned char* path[2][ref_method_count];
+	assert_true(p32 && p32d && out);
 	for (size_t i = 0; i < 3 * nv; i++) {
 		p32[i] = (float)m->pos[i];
 		p32d[i] = p32[i];
 	}
+	for (int in = 0; in < 2; in++) {
+		for (int method = 0; method < ref_method_count; method++) {
+			ref[in][method] = malloc(3 * nv * sizeof(double));
+			cond[in][method] = malloc(nv * sizeof(double));
+			path[in][method] = malloc(nv ? nv : 1);
+			lib[in][method] = malloc(3 * nv * sizeof(double)); /* [polygon entry] */
+			assert_true(ref[in][method] && cond[in][method] && path[in][method] && lib[in][method]);
+			ref_normals_ex(method, in ? m->pos : p32d, nv, m->idx, m->off, m->nf, ref[in][method],
+			               cond[in][method], path[in][method]);
+		}
+	}
 	int triangles = mesh_is_triangles(m);
 	size_t bad = 0, reports = 0, compared = 0, skipped = 0, zero = 0;
-	char line[256];
+	char line[512];
 	int at = snprintf(line, sizeof line, "%-24s", m->name);
 	for (int method = 0; method < ref_method_count; method++) {
-		ref_normals_ex(method, m->pos, nv, m->idx, m->off, m->nf, ref64, cond64);
-		ref_normals_ex(method, p32d, nv, m->idx, m->off, m->nf, ref32, cond32);
 		for (size_t v = 0; v < nv; v++) {
-			zero += cond64[v] < 0;
-			skipped += cond64[v] >= 0 && cond64[v] < MIN_CONDITION;
-			compared += cond64[v] >= MIN_CONDITION;
+			double allowed = tolerance(path[1][method][v], cond[1][method][v]);
+			zero += cond[1][method][v] < 0;
+			skipped += cond[1][method][v] >= 0 && allowed < 0;
+			compared += cond[1][method][v] >= 0 && allowed >= 0;
 		}
-		double worst[2] = {0, 0};
+		double worst[2] = {0, 0}, scaled = 0;
 		for (int in = 0; in < 2; in++) {
 			vn_scalar in_type = in ? vn_scalar_float64 : vn_scalar_float32;
 			const void* positions = in ? (const void*)m->pos : (const void*)p32;
@@ -689,16 +840,18 @@ static void check_mesh(const mesh* m, double (*worst_deg)[ref_method_count])
 					snprintf(what, sizeof what, "%s %s %s->%s", method_names[method],
 					         polygon ? "polygon" : "triangle", in ? "f64" : "f32", o ? "f64" : "f32");
 					vn_stats stats;
-					memset(out, 0xA5, 3 * nv * sizeof *out); /* no stale zeros */
-					vn_result res = run_library(m, method, polygon, positions, in_type, out, out_type, 0, &stats);
+					/* f64 -> f64 results are kept, per entry point, for the paths. */
+					void* dest = o && in ? (void*)lib[polygon][method] : (void*)out;
+					memset(dest, 0xA5, 3 * nv * sizeof *out); /* no stale zeros */
+					vn_result res = run_library(m, method, polygon, positions, in_type, dest, out_type, 0, &stats);
 					if (res != vn_result_success || stats.faces != m->nf) {
 						print_message("MISMATCH %s %s: result %d, stats.faces %zu of %zu\n", m->name, what,
 						              (int)res, stats.faces, m->nf);
 						bad++;
 						continue;
 					}
-					bad += compare_normals(m, what, in ? ref64 : ref32, in ? cond64 : cond32, out, out_type,
-					                       &worst[o], &reports);
+					bad += compare_normals(m, what, ref[in][method], cond[in][method], path[in][method], dest,
+					                       out_type, &worst[o], &scaled, &reports);
 				}
 			}
 		}
@@ -707,24 +860,55 @@ static void check_mesh(const mesh* m, double (*worst_deg)[ref_method_count])
 		if (at > 0 && (size_t)at < sizeof line)
 			at += snprintf(line + at, sizeof line - (size_t)at, " %s %.1e", method_names[method],
 			               worst[1] * 180 / PI);
+		if (scaled > 0 && at > 0 && (size_t)at < sizeof line)
+			at += snprintf(line + at, sizeof line - (size_t)at, " (x cond %.1e)", scaled);
 	}
-	print_message("%s deg (f64 out) | v %zu f %zu; compared %zu, cancelled %zu, zero %zu\n", line, nv, m->nf,
+	print_message("%s deg (f64 out) | v %zu f %zu; compared %zu, not compared %zu, zero %zu\n", line, nv, m->nf,
 	              compared, skipped, zero);
+	for (int method = ref_smewcsa; method < ref_method_count; method++) {
+		path_counts pc;
+		memset(&pc, 0, sizeof pc);
+		for (int polygon = triangles ? 0 : 1; polygon < 2; polygon++)
+			compare_paths(m, polygon ? "polygon" : "triangle", method, path[1][method], ref[1], lib[polygon], &pc,
+			              &reports);
+		int entries = triangles ? 2 : 1;
+		print_message("  %-8s paths (ref/lib, %d entr%s): zero %zu/%zu seed %zu/%zu cotangent %zu/%zu quadric %zu/%zu "
+		              "jet %zu/%zu; borderline %zu, coincident %zu, differ %zu\n",
+		              method_names[method], entries, entries > 1 ? "ies" : "y", pc.ref[ref_path_zero],
+		              pc.lib[ref_path_zero], pc.ref[ref_path_seed], pc.lib[ref_path_seed], pc.ref[ref_path_cotangent],
+		              pc.lib[ref_path_cotangent], pc.ref[ref_path_quadric], pc.lib[ref_path_quadric],
+		              pc.ref[ref_path_jet], pc.lib[ref_path_jet], pc.borderline, pc.coincident, pc.differ);
+		bad += pc.differ;
+		if (exact_paths) {
+			bad += pc.borderline + pc.coincident;
+			for (int i = 0; i <= ref_path_jet; i++)
+				bad += pc.ref[i] != pc.lib[i];
+		}
+	}
+	for (int in = 0; in < 2; in++) {
+		for (int method = 0; method < ref_method_count; method++) {
+			free(ref[in][method]);
+			free(cond[in][method]);
+			free(path[in][method]);
+			free(lib[in][method]);
+		}
+	}
 	free(p32);
 	free(p32d);
-	free(ref64);
-	free(cond64);
-	free(ref32);
-	free(cond32);
 	free(out);
 	if (bad)
-		fail_msg("%s: %zu mismatched vertex normals (first %d printed above)", m->name, bad, MAX_REPORTS);
+		fail_msg("%s: %zu mismatched vertex normals or paths (first %d printed above)", m->name, bad, MAX_REPORTS);
+}
+
+static void check_mesh(const mesh* m, double (*worst_deg)[ref_method_count])
+{
+	check_mesh_paths(m, worst_deg, 0);
 }
 
 static void print_worst(const char* test, double (*worst_deg)[ref_method_count])
 {
 	for (int o = 0; o < 2; o++) {
-		char line[256];
+		char line[512];
 		int at = snprintf(line, sizeof line, "%s: worst deg, %s output:", test, o ? "f64" : "f32");
 		for (int method = 0; method < ref_method_count && at > 0 && (size_t)at < sizeof line; method++)
 			at += snprintf(line + at, sizeof line - (size_t)at, " %s %.2e", method_names[method],
@@ -752,6 +936,12 @@ static void test_hand_computed(void** state)
 		{0, 1, 1 / s2},      /* mwelr */
 		{0, 1, q},           /* mwrelr: 1 / sqrt(sqrt 2) */
 		{-2, 0, -1},         /* mewcsa */
+		/* H = mewcsa is 101.5 degrees from S = mwselr: S */
+		{0, 1, 0.5},         /* smewcsa */
+		/* 3 ring members, fewer than the fits' unknowns: S = mwa */
+		{0, PI / 2, PI / 4}, /* quadric */
+		{0, PI / 2, PI / 4}, /* jet */
+		{0, PI / 2, PI / 4}, /* adaptive */
 	};
 	mesh m;
 	mesh_init(&m, "hand computed");
@@ -1118,15 +1308,88 @@ static void test_mewcsa_dimple_and_bump(void** state)
 	print_worst("dimple and bump", worst);
 }
 
-/* Threads: any thread count gives bit-identical output and statistics. */
-static void check_threads(const mesh* m, int polygon)
+/* 6. The schemes beyond the paper on surfaces where they do their work: a
+ * torus (saddles on its inner half), a height field with noise (ADAPTIVE
+ * chooses MWA where the jet's residual is large) and every vertex's path
+ * taken exactly as the reference takes it, counted path by path. */
+static void test_beyond_the_paper(void** state)
+{
+	(void)state;
+	double worst[2][ref_method_count] = {{0}};
+	mesh m;
+
+	mesh_init(&m, "jittered torus tris");
+	make_torus(&m, 19, 40, 16, 0.3, 0);
+	check_mesh_paths(&m, worst, 1);
+	mesh_free(&m);
+
+	mesh_init(&m, "jittered torus quads");
+	make_torus(&m, 20, 36, 14, 0.25, 1);
+	check_mesh_paths(&m, worst, 1);
+	mesh_free(&m);
+
+	/* Noise of up to 12% of an edge in every direction: ADAPTIVE takes MWA at
+	 * a part of the vertices, the jet elsewhere. */
+	mesh_init(&m, "noisy height field");
+	make_height_field(&m, 21, 30, 26, 0.07, 0.3);
+	mesh_jitter(&m, 25, 0.12 * 0.07);
+	check_mesh_paths(&m, worst, 1);
+	mesh_free(&m);
+
+	print_worst("beyond the paper", worst);
+}
+
+/* 7. Hand-computed fits: on a plane every fit is exact in any frame, so the
+ * fits give the plane's normal, (-0.5, 0.25, 1) / |.| for z = 0.5 x - 0.25 y
+ * + 0.1, with their own path (the residual is zero: ADAPTIVE takes the jet).
+ * The points are an irregular grid, so the seed and the rings are not
+ * symmetric. */
+static void test_fits_on_a_plane(void** state)
+{
+	(void)state;
+	mesh m;
+	mesh_init(&m, "plane");
+	make_height_field(&m, 23, 8, 8, 0.25, 0.3);
+	for (size_t v = 0; v < m.nv; v++)
+		m.pos[3 * v + 2] = 0.5 * m.pos[3 * v] - 0.25 * m.pos[3 * v + 1] + 0.1;
+	double want[3] = {-0.5, 0.25, 1};
+	normalize3(want);
+	double* ref = malloc(3 * m.nv * sizeof *ref);
+	double* lib = malloc(3 * m.nv * sizeof *lib);
+	unsigned char* path = malloc(m.nv);
+	assert_true(ref && lib && path);
+	const int centre = 4 * 9 + 4; /* its 2-ring is inside the grid */
+	for (int method = ref_quadric; method < ref_method_count; method++) {
+		ref_normals_ex(method, m.pos, m.nv, m.idx, m.off, m.nf, ref, NULL, path);
+		assert_int_equal(run_library(&m, method, 0, m.pos, vn_scalar_float64, lib, vn_scalar_float64, 0, NULL),
+		                 vn_result_success);
+		double worst_ref = 0, worst_lib = 0;
+		for (size_t v = 0; v < m.nv; v++) {
+			worst_ref = fmax(worst_ref, angle3(ref + 3 * v, want));
+			worst_lib = fmax(worst_lib, angle3(lib + 3 * v, want));
+		}
+		print_message("plane %-8s: worst angle to the plane's normal: ref %.2g, lib %.2g rad; centre path %d\n",
+		              method_names[method], worst_ref, worst_lib, path[centre]);
+		assert_int_equal(path[centre], method == ref_quadric ? ref_path_quadric : ref_path_jet);
+		assert_true(worst_ref <= 1e-14);
+		assert_true(worst_lib <= 1e-14);
+	}
+	free(ref);
+	free(lib);
+	free(path);
+	mesh_free(&m);
+}
+
+/* Threads: any thread count gives bit-identical output and statistics, for
+ * the methods below method_end. */
+static void check_threads(const mesh* m, int polygon, int method_end)
 {
 	size_t bytes = 3 * m->nv * sizeof(double);
 	double* one = malloc(bytes);
 	double* many = malloc(bytes);
 	assert_true(one && many);
 	size_t differ = 0;
-	for (int method = 0; method < ref_method_count; method++) {
+	for (int method = 0; method < method_end; method++) {
 		vn_stats s1, sn;
 		assert_int_equal(run_library(m, method, polygon, m->pos, vn_scalar_float64, one, vn_scalar_float64, 1, &s1),
 		                 vn_result_success);
@@ -1158,13 +1421,15 @@ static void test_threads_bit_identical(void** state)
 	/* Some awkward faces too: degenerate ones must be skipped identically. */
 	mesh_triangle(&m, 0, 0, 1);
 	mesh_triangle(&m, 5, 6, 5);
-	check_threads(&m, 0);
-	check_threads(&m, 1);
+	/* The fits split their work above 4096 vertices a thread: the 50k grid
+	 * below is large enough for them, and an order of magnitude cheaper. */
+	check_threads(&m, 0, ref_quadric);
+	check_threads(&m, 1, ref_quadric);
 	mesh_free(&m);
 
 	mesh_init(&m, "polygon grid 50k");
 	make_polygon_grid(&m, 18, 400, 250, 0);
-	check_threads(&m, 1);
+	check_threads(&m, 1, ref_method_count);
 	mesh_free(&m);
 }
 
@@ -1179,6 +1444,8 @@ int main(void)
 		cmocka_unit_test(test_mewcsa_outward_on_sphere),
 		cmocka_unit_test(test_mewcsa_inward_on_reversed_sphere),
 		cmocka_unit_test(test_mewcsa_dimple_and_bump),
+		cmocka_unit_test(test_beyond_the_paper),
+		cmocka_unit_test(test_fits_on_a_plane),
 		cmocka_unit_test(test_threads_bit_identical),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
