@@ -39,6 +39,7 @@
  * chosen with vneval on the paper's ensemble: the jet's residual on smooth
  * models stays mostly below it, on fractal and turbulence models above. */
 #include "internal.h"
+#include "simd.h"
 
 /* A polygon of more corners gives only its two edge neighbours to a ring:
  * all corners of a large n-gon would make rings quadratic in its size. */
@@ -55,112 +56,287 @@
 
 /* ---------------------------------------------------------------- the fit */
 
-/* A unit tangent pair (t1, t2) with t1 x t2 = a: t1 is perpendicular to a
- * and to the axis where a is smallest. */
-static void tangent_frame(const double a[3], double t1[3], double t2[3])
+void vn_fit_prepare(const vn_fit_points* p, double h)
 {
-	const double ax = fabs(a[0]), ay = fabs(a[1]), az = fabs(a[2]);
-	double e[3] = {0.0, 0.0, 0.0};
-	e[ax <= ay && ax <= az ? 0 : ay <= az ? 1 : 2] = 1.0;
-	vn_cross(e, a, t1);
-	const double inv = 1.0 / sqrt(vn_dot(t1, t1));
-	t1[0] *= inv, t1[1] *= inv, t1[2] *= inv;
-	vn_cross(a, t1, t2);
-}
-
-/* Solves M c = r for the k x k symmetric M (upper triangle given) by
- * Cholesky after scaling M to unit diagonal; 0 when a pivot is below
- * PIVOT_MIN. */
-static int solve(double M[10][10], const double r[10], int k, double c[10])
-{
-	double s[10], L[10][10], y[10];
-	for (int i = 0; i < k; ++i) {
-		if (!(M[i][i] > 0.0))
-			return 0;
-		s[i] = 1.0 / sqrt(M[i][i]);
-	}
-	for (int j = 0; j < k; ++j) {
-		double d = 1.0;
-		for (int p = 0; p < j; ++p)
-			d -= L[j][p] * L[j][p];
-		if (!(d >= PIVOT_MIN))
-			return 0;
-		L[j][j] = sqrt(d);
-		for (int i = j + 1; i < k; ++i) {
-			double x = M[j][i] * s[i] * s[j];
-			for (int p = 0; p < j; ++p)
-				x -= L[i][p] * L[j][p];
-			L[i][j] = x / L[j][j];
-		}
-	}
-	for (int i = 0; i < k; ++i) {
-		double x = r[i] * s[i];
-		for (int p = 0; p < i; ++p)
-			x -= L[i][p] * y[p];
-		y[i] = x / L[i][i];
-	}
-	for (int i = k; i-- > 0;) {
-		double x = y[i];
-		for (int p = i + 1; p < k; ++p)
-			x -= L[p][i] * c[p];
-		c[i] = x / L[i][i];
-	}
-	for (int i = 0; i < k; ++i)
-		c[i] *= s[i];
-	return 1;
-}
-
-/* The monomials x, y, x^2, xy, y^2 (and x^3, x^2 y, x y^2, y^3). */
-VN_INLINE void monomials(double x, double y, int k, double m[10])
-{
-	m[0] = 1.0, m[1] = x, m[2] = y, m[3] = x * x, m[4] = x * y, m[5] = y * y;
-	if (k == 10)
-		m[6] = m[3] * x, m[7] = m[3] * y, m[8] = m[5] * x, m[9] = m[5] * y;
-}
-
-int vn_fit_frame(const double* q, uint32_t m, const double a[3], int degree, double h, double n[3],
-                 double* residual)
-{
-	const int k = degree == 3 ? 10 : 6;
-	if (m + 1 < (uint32_t)k || !(h > 0.0) || !(h <= DBL_MAX))
-		return 0;
-	double t1[3], t2[3];
-	tangent_frame(a, t1, t2);
 	const double inv = 1.0 / h;
-	double M[10][10], r[10], c[10], mono[10];
-	memset(M, 0, sizeof(M));
-	memset(r, 0, sizeof(r));
-	M[0][0] = 1.0; /* the vertex itself: the origin, weight 1 */
-	for (uint32_t i = 0; i < m; ++i) {
-		const double* p = q + 3 * (size_t)i;
-		const double x = vn_dot(p, t1) * inv, y = vn_dot(p, t2) * inv, z = vn_dot(p, a) * inv;
-		const double w = 1.0 / (1.0 + x * x + y * y + z * z);
-		monomials(x, y, k, mono);
-		for (int j = 0; j < k; ++j) {
-			const double wm = w * mono[j];
-			r[j] += wm * z;
-			for (int l = j; l < k; ++l)
-				M[j][l] += wm * mono[l];
+	for (uint32_t i = 0; i < p->m; ++i) {
+		const double x = p->x[i] * inv, y = p->y[i] * inv, z = p->z[i] * inv;
+		p->x[i] = x, p->y[i] = y, p->z[i] = z;
+		p->w[i] = 1.0 / (1.0 + (x * x + y * y + z * z));
+	}
+}
+
+/* Fits run LANES vertices at a time, each step of the arithmetic done for
+ * every lane before the next step: a fit is a chain of dependent divisions
+ * and square roots, and the lanes' chains overlap (the compiler also maps
+ * lanes to SIMD registers). A lane's arithmetic is the same whatever the
+ * other lanes hold, so results do not depend on how vertices are batched. */
+#define LANES 4
+/* Loops over lanes or at most 10 unknowns: unrolled where the count is a
+ * constant. */
+#if defined(__GNUC__) || defined(__clang__)
+#define UNROLL _Pragma("GCC unroll 10")
+#else
+#define UNROLL
+#endif
+
+/* The normal equations are sums over the points of products of monomials,
+ * so they are built from the weighted moments: s[d (d + 1) / 2 + j] =
+ * sum w x^(d - j) y^j for degrees d <= 2 * degree (15 or 28 numbers instead
+ * of 21 or 55 matrix entries) and t, the same with w z, for d <= degree. */
+enum { S_MAX = 28, T_MAX = 10, MOMENTS = S_MAX + T_MAX };
+
+/* The moment of each entry of the normal matrix: the product of monomials
+ * i and l (1, x, y, x^2, xy, y^2, x^3, x^2 y, x y^2, y^3; monomial i is
+ * moment i). */
+static const unsigned char MOMENT[10][10] = {
+	{0, 1, 2, 3, 4, 5, 6, 7, 8, 9},            {1, 3, 4, 6, 7, 8, 10, 11, 12, 13},
+	{2, 4, 5, 7, 8, 9, 11, 12, 13, 14},        {3, 6, 7, 10, 11, 12, 15, 16, 17, 18},
+	{4, 7, 8, 11, 12, 13, 16, 17, 18, 19},     {5, 8, 9, 12, 13, 14, 17, 18, 19, 20},
+	{6, 10, 11, 15, 16, 17, 21, 22, 23, 24},   {7, 11, 12, 16, 17, 18, 22, 23, 24, 25},
+	{8, 12, 13, 17, 18, 19, 23, 24, 25, 26},   {9, 13, 14, 18, 19, 20, 24, 25, 26, 27},
+};
+
+/* LANES fits: frames (t1, t2, a), coefficients c, unit normals n, and
+ * whether each succeeded. */
+typedef double lanes __attribute__((vector_size(LANES * sizeof(double))));
+typedef long long masks __attribute__((vector_size(LANES * sizeof(long long))));
+typedef struct fits {
+	lanes t1[3], t2[3], a[3], c[10], n[3];
+	int ok[LANES];
+} fits;
+
+/* Points X..W[0..LANES) added to the moments of lane `to` (the points'
+ * own lanes are summed in a fixed order at the end). */
+VN_INLINE void moments_block(const double* X, const double* Y, const double* Z, const double* W, const fits* f,
+                             unsigned to, int cubic, lanes acc[MOMENTS])
+{
+	lanes px, py, pz, w;
+	memcpy(&px, X, sizeof(px)), memcpy(&py, Y, sizeof(py)), memcpy(&pz, Z, sizeof(pz)), memcpy(&w, W, sizeof(w));
+	const lanes x = px * f->t1[0][to] + py * f->t1[1][to] + pz * f->t1[2][to];
+	const lanes y = px * f->t2[0][to] + py * f->t2[1][to] + pz * f->t2[2][to];
+	const lanes z = px * f->a[0][to] + py * f->a[1][to] + pz * f->a[2][to];
+	const lanes wx = w * x, wy = w * y, xx = x * x, xy = x * y, yy = y * y;
+	const lanes wxx = wx * x, wxy = wx * y, wyy = wy * y, wz = w * z;
+	acc[0] += w, acc[1] += wx, acc[2] += wy, acc[3] += wxx, acc[4] += wxy, acc[5] += wyy;
+	acc[S_MAX] += wz, acc[S_MAX + 1] += wz * x, acc[S_MAX + 2] += wz * y;
+	acc[S_MAX + 3] += wz * xx, acc[S_MAX + 4] += wz * xy, acc[S_MAX + 5] += wz * yy;
+	if (!cubic) {
+		acc[6] += wxx * x, acc[7] += wxx * y, acc[8] += wxy * y, acc[9] += wyy * y;
+		acc[10] += wxx * xx, acc[11] += wxx * xy, acc[12] += wxx * yy, acc[13] += wxy * yy, acc[14] += wyy * yy;
+		return;
+	}
+	const lanes wxxx = wxx * x, wxxy = wxx * y, wxyy = wxy * y, wyyy = wyy * y;
+	const lanes xxx = xx * x, xxy = xx * y, xyy = x * yy, yyy = yy * y;
+	acc[6] += wxxx, acc[7] += wxxy, acc[8] += wxyy, acc[9] += wyyy;
+	acc[10] += wxxx * x, acc[11] += wxxx * y, acc[12] += wxxy * y, acc[13] += wxyy * y, acc[14] += wyyy * y;
+	acc[15] += wxxx * xx, acc[16] += wxxx * xy, acc[17] += wxxx * yy;
+	acc[18] += wxxy * yy, acc[19] += wxyy * yy, acc[20] += wyyy * yy;
+	acc[21] += wxxx * xxx, acc[22] += wxxx * xxy, acc[23] += wxxx * xyy, acc[24] += wxxx * yyy;
+	acc[25] += wxxy * yyy, acc[26] += wxyy * yyy, acc[27] += wyyy * yyy;
+	acc[S_MAX + 6] += wz * xxx, acc[S_MAX + 7] += wz * xxy, acc[S_MAX + 8] += wz * xyy, acc[S_MAX + 9] += wz * yyy;
+}
+
+/* The moments of lane `to`'s points in its frame, into s[.][to] (the
+ * vertex itself, the origin with weight 1, included) and t[.][to]. */
+VN_INLINE void moments(const vn_fit_points* p, const fits* f, unsigned to, int cubic, lanes s[S_MAX], lanes t[T_MAX])
+{
+	const int ns = cubic ? S_MAX : 15, nt = cubic ? T_MAX : 6;
+	const lanes zero = {0.0, 0.0, 0.0, 0.0};
+	lanes acc[MOMENTS];
+	UNROLL for (int q = 0; q < ns; ++q)
+		acc[q] = zero;
+	UNROLL for (int q = 0; q < nt; ++q)
+		acc[S_MAX + q] = zero;
+	uint32_t i = 0;
+	for (; i + LANES <= p->m; i += LANES)
+		moments_block(p->x + i, p->y + i, p->z + i, p->w + i, f, to, cubic, acc);
+	if (i < p->m) { /* the rest, padded with weight-0 points at the origin: they add +0 */
+		double tail[4][LANES];
+		memset(tail, 0, sizeof(tail));
+		for (uint32_t l = 0; i + l < p->m; ++l)
+			tail[0][l] = p->x[i + l], tail[1][l] = p->y[i + l], tail[2][l] = p->z[i + l], tail[3][l] = p->w[i + l];
+		moments_block(tail[0], tail[1], tail[2], tail[3], f, to, cubic, acc);
+	}
+	UNROLL for (int q = 0; q < ns; ++q)
+		s[q][to] = (acc[q][0] + acc[q][1]) + (acc[q][2] + acc[q][3]);
+	UNROLL for (int q = 0; q < nt; ++q)
+		t[q][to] = (acc[S_MAX + q][0] + acc[S_MAX + q][1]) + (acc[S_MAX + q][2] + acc[S_MAX + q][3]);
+	s[0][to] += 1.0;
+}
+
+/* Solves M c = t for each lane's k x k normal matrix (M_il = s[MOMENT[i][l]])
+ * by LDL^T with reciprocal pivots; a lane fails when a pivot of its M scaled
+ * to unit diagonal (D_j / M_jj) is below PIVOT_MIN: some monomial is, to
+ * 1e-4 in the weighted norm, a combination of the others. Inlined with k a
+ * constant, so the loops unroll. */
+VN_INLINE void solve(const lanes s[S_MAX], lanes t[T_MAX], int k, fits* f)
+{
+	lanes L[10][10], U[10][10], inv[10];
+	const lanes one = {1.0, 1.0, 1.0, 1.0};
+	UNROLL for (int j = 0; j < k; ++j) {
+		lanes d = s[MOMENT[j][j]];
+		UNROLL for (int p = 0; p < j; ++p)
+			d -= U[j][p] * L[j][p];
+		const masks good = (d > 0.0) & (d >= PIVOT_MIN * s[MOMENT[j][j]]);
+		UNROLL for (int l = 0; l < LANES; ++l)
+			f->ok[l] &= good[l] != 0;
+		inv[j] = one / (lanes)(((masks)d & good) | ((masks)one & ~good));
+		UNROLL for (int i = j + 1; i < k; ++i) {
+			lanes x = s[MOMENT[i][j]];
+			UNROLL for (int p = 0; p < j; ++p)
+				x -= L[i][p] * U[j][p];
+			U[i][j] = x, L[i][j] = x * inv[j];
 		}
 	}
-	if (!solve(M, r, k, c))
-		return 0;
-	double sw = 1.0, swr = c[0] * c[0];
-	for (uint32_t i = 0; i < m; ++i) {
-		const double* p = q + 3 * (size_t)i;
-		const double x = vn_dot(p, t1) * inv, y = vn_dot(p, t2) * inv, z = vn_dot(p, a) * inv;
-		const double w = 1.0 / (1.0 + x * x + y * y + z * z);
-		monomials(x, y, k, mono);
-		double e = z;
-		for (int j = 0; j < k; ++j)
-			e -= c[j] * mono[j];
-		sw += w, swr += w * e * e;
+	UNROLL for (int i = 0; i < k; ++i) /* forward: t becomes L^-1 t */
+		UNROLL for (int p = 0; p < i; ++p)
+			t[i] -= L[i][p] * t[p];
+	UNROLL for (int i = k - 1; i >= 0; --i) {
+		f->c[i] = t[i] * inv[i];
+		UNROLL for (int p = i + 1; p < k; ++p)
+			f->c[i] -= L[p][i] * f->c[p];
 	}
-	for (int i = 0; i < 3; ++i)
-		n[i] = a[i] - c[1] * t1[i] - c[2] * t2[i];
-	if (vn_normalize(n))
+	UNROLL for (int i = k; i < 10; ++i) /* fit_residual's cubic terms */
+		f->c[i] = one - one;
+}
+
+/* Fits the active lanes' points p[l] in the frames of the unit axes
+ * a[.][l]; the others fail. */
+VN_INLINE void fit_lanes(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], int cubic,
+                         fits* f)
+{
+	const int k = cubic ? 10 : 6;
+	/* A unit tangent pair without a square root (Duff et al. 2017). */
+	UNROLL for (int l = 0; l < LANES; ++l) {
+		const double x = a[0][l], y = a[1][l], z = a[2][l], sign = copysign(1.0, z);
+		const double A = -1.0 / (sign + z), B = x * y * A;
+		f->t1[0][l] = 1.0 + sign * x * x * A, f->t1[1][l] = sign * B, f->t1[2][l] = -sign * x;
+		f->t2[0][l] = B, f->t2[1][l] = sign + y * y * A, f->t2[2][l] = -y;
+		f->a[0][l] = x, f->a[1][l] = y, f->a[2][l] = z;
+		f->ok[l] = act[l] && p[l].m + 1 >= (uint32_t)k;
+	}
+	lanes s[S_MAX], t[T_MAX];
+	for (unsigned l = 0; l < LANES; ++l) {
+		if (f->ok[l])
+			moments(p + l, f, l, cubic, s, t);
+		else { /* zero: fails the first pivot */
+			UNROLL for (int q = 0; q < S_MAX; ++q)
+				s[q][l] = 0.0;
+			UNROLL for (int q = 0; q < T_MAX; ++q)
+				t[q][l] = 0.0;
+		}
+	}
+	solve(s, t, k, f);
+	UNROLL for (int l = 0; l < LANES; ++l) {
+		double n[3];
+		UNROLL for (int d = 0; d < 3; ++d)
+			n[d] = f->a[d][l] - f->c[1][l] * f->t1[d][l] - f->c[2][l] * f->t2[d][l];
+		f->ok[l] &= !vn_normalize(n);
+		UNROLL for (int d = 0; d < 3; ++d)
+			f->n[d][l] = n[d];
+	}
+}
+
+static void fit_quadrics(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
+{
+	fit_lanes(p, act, a, 0, f);
+}
+
+static void fit_jets(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
+{
+	fit_lanes(p, act, a, 1, f);
+}
+
+/* The same arithmetic in AVX2 registers: the same results, bit for bit
+ * (IEEE operations lane by lane, no FMA, sums in the same order). */
+typedef void (*fit_fn)(const vn_fit_points*, const int*, lanes*, fits*);
+#ifdef VN_HAVE_AVX2
+static VN_AVX2 void fit_quadrics_avx2(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
+{
+	fit_lanes(p, act, a, 0, f);
+}
+
+static VN_AVX2 void fit_jets_avx2(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
+{
+	fit_lanes(p, act, a, 1, f);
+}
+
+static fit_fn fit_kernel(int cubic, int simd)
+{
+	return simd ? (cubic ? fit_jets_avx2 : fit_quadrics_avx2) : cubic ? fit_jets : fit_quadrics;
+}
+#else
+static fit_fn fit_kernel(int cubic, int simd)
+{
+	(void)simd;
+	return cubic ? fit_jets : fit_quadrics;
+}
+#endif
+
+/* The weighted RMS residual, over h, of lane l's fit over p and the vertex. */
+static double fit_residual(const vn_fit_points* p, const fits* f, unsigned l)
+{
+	double c[10];
+	for (int i = 0; i < 10; ++i)
+		c[i] = f->c[i][l];
+	double sw = 1.0, swr = c[0] * c[0];
+	for (uint32_t i = 0; i < p->m; ++i) {
+		const double X = p->x[i], Y = p->y[i], Z = p->z[i];
+		const double x = X * f->t1[0][l] + Y * f->t1[1][l] + Z * f->t1[2][l];
+		const double y = X * f->t2[0][l] + Y * f->t2[1][l] + Z * f->t2[2][l];
+		const double z = X * f->a[0][l] + Y * f->a[1][l] + Z * f->a[2][l];
+		const double xx = x * x, xy = x * y, yy = y * y;
+		const double e = z - (c[0] + c[1] * x + c[2] * y + c[3] * xx + c[4] * xy + c[5] * yy +
+		                      (c[6] * xx * x + c[7] * xx * y + c[8] * x * yy + c[9] * yy * y));
+		sw += p->w[i], swr += p->w[i] * e * e;
+	}
+	return sqrt(swr / sw);
+}
+
+/* The fit in the seed's frame, then once more in the result's, for the
+ * active lanes: ok[l] says whether n[l] was written (0 when the first fit
+ * fails or the result strays from the seed); res[l] is the residual of the
+ * fit written, computed only when res is not NULL. */
+static void fit_twice(const vn_fit_points p[LANES], const int act[LANES], const double* const seed[LANES], int cubic,
+                      int simd, double n[LANES][3], int ok[LANES], double res[LANES])
+{
+	fits f[2];
+	lanes a[3];
+	for (int l = 0; l < LANES; ++l)
+		for (int d = 0; d < 3; ++d)
+			a[d][l] = act[l] ? seed[l][d] : (d == 2);
+	const fit_fn fit = fit_kernel(cubic, simd);
+	fit(p, act, a, f);
+	fit(p, f[0].ok, f[0].n, f + 1);
+	for (unsigned l = 0; l < LANES; ++l) {
+		const fits* r = f[1].ok[l] ? f + 1 : f;
+		ok[l] = f[0].ok[l] &&
+		        r->n[0][l] * seed[l][0] + r->n[1][l] * seed[l][1] + r->n[2][l] * seed[l][2] >= SEED_COS_MIN;
+		if (!ok[l])
+			continue;
+		for (int d = 0; d < 3; ++d)
+			n[l][d] = r->n[d][l];
+		if (res)
+			res[l] = fit_residual(p + l, r, l);
+	}
+}
+
+int vn_fit_frame(const vn_fit_points* p, const double a[3], int degree, double n[3], double* residual)
+{
+	vn_fit_points q[LANES];
+	memset(q, 0, sizeof(q));
+	q[0] = *p;
+	const int act[LANES] = {1, 0, 0, 0};
+	lanes axis[3] = {{a[0], 0, 0, 0}, {a[1], 0, 0, 0}, {a[2], 1, 1, 1}};
+	fits f;
+	(degree == 3 ? fit_jets : fit_quadrics)(q, act, axis, &f);
+	if (!f.ok[0])
 		return 0;
-	*residual = sqrt(swr / sw);
+	for (int d = 0; d < 3; ++d)
+		n[d] = f.n[d][0];
+	if (residual)
+		*residual = fit_residual(p, &f, 0);
 	return 1;
 }
 
@@ -170,7 +346,8 @@ typedef struct scratch {
 	uint32_t* stamp; /* nv: the tag of the ring a vertex was last added to */
 	uint32_t tag;
 	uint32_t* ring;  /* up to cap members */
-	double* q;       /* 3 per member: its position minus the vertex's */
+	double* q;       /* per lane 4 cap: members' x, y, z (minus the vertex's, then over h), weight */
+	size_t cap;
 } scratch;
 
 typedef struct fit_job {
@@ -284,78 +461,97 @@ static uint32_t gather(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
 
 /* ---------------------------------------------------------------- per vertex */
 
-/* The fit in the seed's frame, then once more in the result's; returns 0
- * (n untouched) when the first fit fails or the result strays from S. */
-static int fit_twice(const double* q, uint32_t m, const double seed[3], int degree, double h, double n[3],
-                     double* residual)
+/* Loads ring members [from, to) into lane points p, relative to o. */
+static void load_members(const fit_job* j, const scratch* s, uint32_t from, uint32_t to, const double o[3],
+                         const vn_fit_points* p)
 {
-	double a[3], b[3], ra, rb;
-	if (!vn_fit_frame(q, m, seed, degree, h, a, &ra))
-		return 0;
-	if (vn_fit_frame(q, m, a, degree, h, b, &rb))
-		memcpy(a, b, sizeof(b)), ra = rb;
-	if (!(vn_dot(a, seed) >= SEED_COS_MIN))
-		return 0;
-	memcpy(n, a, sizeof(a));
-	*residual = ra;
-	return 1;
+	for (uint32_t i = from; i < to; ++i) {
+		double x[3];
+		vn_load(&j->w, j->w.type, s->ring[i], x);
+		p->x[i] = x[0] - o[0], p->y[i] = x[1] - o[1], p->z[i] = x[2] - o[2];
+	}
 }
 
-static void fit_vertex(const fit_job* j, scratch* s, uint32_t v, double n[3])
+/* Vertex v's points (its 2-ring for JET and ADAPTIVE, the 1-ring first:
+ * *m1 of them) into p; 0 when v keeps its seed. */
+static int gather_vertex(const fit_job* j, scratch* s, uint32_t v, vn_fit_points* p, uint32_t* m1)
 {
 	const double* seed = j->seed + 3 * (size_t)v;
-	memcpy(n, seed, 3 * sizeof(double));
 	if (seed[0] == 0.0 && seed[1] == 0.0 && seed[2] == 0.0)
-		return;
+		return 0;
 	if (++s->tag == 0) { /* wrapped: forget every stamp */
 		memset(s->stamp, 0, sizeof(uint32_t) * j->w.vertex_count);
 		s->tag = 1;
 	}
 	s->stamp[v] = s->tag;
-	const uint32_t m1 = gather(j, s, v, 0);
-	double p[3], x[3], h = 0.0;
-	vn_load(&j->w, j->w.type, v, p);
-	for (uint32_t i = 0; i < m1; ++i) {
-		vn_load(&j->w, j->w.type, s->ring[i], x);
-		vn_sub(x, p, s->q + 3 * (size_t)i);
-		h += sqrt(vn_dot(s->q + 3 * (size_t)i, s->q + 3 * (size_t)i));
-	}
-	if (!m1)
-		return;
-	h /= m1;
-	double res;
+	*m1 = gather(j, s, v, 0);
+	if (!*m1)
+		return 0;
+	double o[3], h = 0.0;
+	vn_load(&j->w, j->w.type, v, o);
+	load_members(j, s, 0, *m1, o, p);
+	for (uint32_t i = 0; i < *m1; ++i)
+		h += sqrt(p->x[i] * p->x[i] + p->y[i] * p->y[i] + p->z[i] * p->z[i]);
+	h /= *m1;
+	if (!(h > 0.0 && h <= DBL_MAX))
+		return 0;
+	p->m = *m1;
 	if (j->w.method != vn_method_quadric) {
-		uint32_t m2 = m1;
-		for (uint32_t i = 0; i < m1; ++i)
-			m2 = gather(j, s, s->ring[i], m2);
-		for (uint32_t i = m1; i < m2; ++i) {
-			vn_load(&j->w, j->w.type, s->ring[i], x);
-			vn_sub(x, p, s->q + 3 * (size_t)i);
-		}
-		double f[3];
-		if (fit_twice(s->q, m2, seed, 3, h, f, &res)) {
-			if (j->w.method == vn_method_jet || res <= ADAPTIVE_RESIDUAL_MAX)
-				memcpy(n, f, sizeof(f));
-			return;
-		}
-		if (j->w.method == vn_method_adaptive)
-			return;
+		for (uint32_t i = 0; i < *m1; ++i)
+			p->m = gather(j, s, s->ring[i], p->m);
+		load_members(j, s, *m1, p->m, o, p);
 	}
-	fit_twice(s->q, m1, seed, 2, h, n, &res);
+	vn_fit_prepare(p, h);
+	return 1;
+}
+
+/* Vertices v0 .. v0 + LANES - 1 (those below v1). */
+static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
+{
+	vn_fit_points p[LANES];
+	const double* seed[LANES];
+	int act[LANES], ok[LANES];
+	uint32_t m1[LANES];
+	double n[LANES][3], res[LANES];
+	for (unsigned l = 0; l < LANES; ++l) {
+		const uint32_t v = v0 + l;
+		double* q = s->q + 4 * s->cap * l;
+		p[l] = (vn_fit_points){q, q + s->cap, q + 2 * s->cap, q + 3 * s->cap, 0};
+		seed[l] = j->seed + 3 * (size_t)(v < v1 ? v : v0);
+		act[l] = v < v1 && gather_vertex(j, s, v, p + l, m1 + l);
+		memcpy(n[l], seed[l], sizeof(n[l]));
+	}
+	if (j->w.method == vn_method_quadric)
+		fit_twice(p, act, seed, 0, j->w.simd, n, ok, NULL);
+	else {
+		const int adaptive = j->w.method == vn_method_adaptive;
+		double f[LANES][3];
+		fit_twice(p, act, seed, 1, j->w.simd, f, ok, adaptive ? res : NULL);
+		int again = 0;
+		for (unsigned l = 0; l < LANES; ++l) {
+			if (ok[l] && (!adaptive || res[l] <= ADAPTIVE_RESIDUAL_MAX))
+				memcpy(n[l], f[l], sizeof(f[l]));
+			/* JET falls back to the quadric on the 1-ring. */
+			act[l] = act[l] && !ok[l] && !adaptive;
+			again |= act[l];
+			p[l].m = m1[l];
+		}
+		if (again)
+			fit_twice(p, act, seed, 0, j->w.simd, n, ok, NULL);
+	}
+	for (unsigned l = 0; l < LANES && v0 + l < v1; ++l) {
+		const double* r = n[l];
+		if (!(j->w.keep_existing && r[0] == 0.0 && r[1] == 0.0 && r[2] == 0.0))
+			vn_store(j->w.out, v0 + l, r);
+	}
 }
 
 static void phase_fit(void* ctx, unsigned t)
 {
 	const fit_job* j = (const fit_job*)ctx;
-	scratch* s = j->scratch + t;
-	const vn_work* w = &j->w;
-	for (uint32_t v = range_lo(w->vertex_count, t, j->nt), v1 = range_lo(w->vertex_count, t + 1, j->nt); v < v1;
-	     ++v) {
-		double n[3];
-		fit_vertex(j, s, v, n);
-		if (!(w->keep_existing && n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0))
-			vn_store(w->out, v, n);
-	}
+	const uint32_t v1 = range_lo(j->w.vertex_count, t + 1, j->nt);
+	for (uint32_t v = range_lo(j->w.vertex_count, t, j->nt); v < v1; v += LANES)
+		fit_batch(j, j->scratch + t, v, v1);
 }
 
 /* ---------------------------------------------------------------- driver */
@@ -424,13 +620,14 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 		unsigned t = 0;
 		for (; t < nt; ++t) {
 			scratch* s = j.scratch + t;
-			s->stamp = (uint32_t*)heap.allocate(heap.user, ring_bytes + 3 * sizeof(double) * cap);
+			s->stamp = (uint32_t*)heap.allocate(heap.user, ring_bytes + 4 * LANES * sizeof(double) * cap);
 			if (!s->stamp)
 				break;
 			memset(s->stamp, 0, sizeof(uint32_t) * nv);
 			s->tag = 0;
 			s->ring = s->stamp + nv;
 			s->q = (double*)(void*)((unsigned char*)s->stamp + ring_bytes);
+			s->cap = cap;
 		}
 		if (t == nt)
 			vn_parallel(nt, phase_fit, &j);

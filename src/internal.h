@@ -70,15 +70,22 @@ void vn_smewcsa_combine(const double h[3], const double s[3], double n[3]);
 
 /* fit.c: QUADRIC, JET and ADAPTIVE (w->method); the same contract as vn_run. */
 vn_result vn_fit_run(const vn_work* w, const vn_options* o, vn_range_stats* st);
-/* The fit of fit.c in the frame of the unit axis a: q holds m points, 3
- * doubles each, relative to the vertex (the vertex itself, the origin, is
- * one more); degree 2 (the quadric: 1, x, y, x^2, xy, y^2) or 3 (the jet:
- * also the cubic monomials); h the length that
- * scales coordinates. On success writes the unit normal n (n . a > 0) and
- * the weighted RMS residual over h, and returns 1; returns 0 (nothing
- * written) with fewer points than unknowns or an ill-conditioned system. */
-int vn_fit_frame(const double* q, uint32_t m, const double a[3], int degree, double h, double n[3],
-                 double* residual);
+/* A fit's points, relative to the vertex (the origin, one more point):
+ * coordinates x, y, z, weights w, m of each. */
+typedef struct vn_fit_points {
+	double *x, *y, *z, *w;
+	uint32_t m;
+} vn_fit_points;
+/* Divides the coordinates by h, the length that scales them, and sets the
+ * weights 1 / (1 + |p|^2) from the result. */
+void vn_fit_prepare(const vn_fit_points* p, double h);
+/* The fit of fit.c over prepared points p, in the frame of the unit axis
+ * a; degree 2 (the quadric: 1, x, y, x^2, xy, y^2) or 3 (the jet: also
+ * the cubic monomials). On success writes the unit normal n and, when
+ * residual is not NULL, the weighted RMS residual (over h), and returns 1;
+ * returns 0 (nothing written) with fewer points than unknowns, an
+ * ill-conditioned system or a zero normal. */
+int vn_fit_frame(const vn_fit_points* p, const double a[3], int degree, double n[3], double* residual);
 
 /* One triangle's corner contributions: c[k] receives the vector the method's
  * triangle kernel adds to corner k's sum, computed with the same operations,
