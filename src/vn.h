@@ -122,9 +122,10 @@ typedef enum vn_method {
 	/* The fits (QUADRIC, JET, ADAPTIVE): rings are the vertices sharing a
 	 * non-degenerate face (a polygon's corners when it has at most 8, else
 	 * its two edge neighbours); degenerate faces add nothing, so NaN never
-	 * enters. The tangent frame of a unit axis a is t1 = e x a / |e x a|,
-	 * t2 = a x t1, e the coordinate axis of a's smallest |coordinate| (x
-	 * before y before z among equal ones). The normal does not depend on it,
+	 * enters. The tangent frame of a unit axis a = (x, y, z) is Duff et
+	 * al. 2017's: with s the sign of z (-0 negative), A = -1 / (s + z) and
+	 * B = x y A, t1 = (1 + s x^2 A, s B, -s x), t2 = (B, s + y^2 A, -y).
+	 * The normal does not depend on it,
 	 * but the conditioning test does: the system (columns 1, x, y, x^2, xy,
 	 * y^2, x^3, x^2 y, x y^2, y^3 in that order) is ill-conditioned when a
 	 * Cholesky pivot of its normal matrix scaled to unit diagonal (the

@@ -373,21 +373,15 @@ static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long doubl
 	out->borderline = 0;
 	if (rows < (size_t)k || !(h > 0) || !isfinite(h))
 		return 0;
-	/* vn.h's tangent frame: t1 = e x axis normalized, e the coordinate axis
-	 * of the axis' smallest coordinate (the first of equal ones), t2 = axis
-	 * x t1. The fitted normal does not depend on it (the polynomial space is
-	 * invariant under rotations of (x, y)), but the pivots do. */
-	vec e = vec_make(0, 0, 0);
-	long double ax = fabsl(axis.x), ay = fabsl(axis.y), az = fabsl(axis.z);
-	if (ax <= ay && ax <= az)
-		e.x = 1;
-	else if (ay <= az)
-		e.y = 1;
-	else
-		e.z = 1;
-	vec t1 = vec_cross(e, axis);
-	t1 = vec_scale(t1, 1 / vec_length(t1));
-	vec t2 = vec_cross(axis, t1);
+	/* vn.h's tangent frame (Duff et al. 2017's basis): with s the sign of
+	 * axis.z (-0 counts as negative), A = -1 / (s + z), B = x y A:
+	 * t1 = (1 + s x^2 A, s B, -s x), t2 = (B, s + y^2 A, -y). The fitted
+	 * normal does not depend on it (the polynomial space is invariant under
+	 * rotations of (x, y)), but the pivots do. */
+	const long double sgn = signbit(axis.z) ? -1.0L : 1.0L;
+	const long double fa = -1 / (sgn + axis.z), fb = axis.x * axis.y * fa;
+	vec t1 = vec_make(1 + sgn * axis.x * axis.x * fa, sgn * fb, -sgn * axis.x);
+	vec t2 = vec_make(fb, sgn + axis.y * axis.y * fa, -axis.y);
 
 	long double* a = checked_calloc(rows * (K_MAX + 5), sizeof *a); /* row-major, rows x k */
 	long double *b = a + rows * K_MAX, *z = b + rows, *w = z + rows, *x = w + rows, *y = x + rows;
