@@ -79,6 +79,14 @@ class Batch:
     def __init__(self, files, skipped, unentered, seconds):
         self.files, self.skipped, self.unentered, self.seconds = files, skipped, unentered, seconds
 
+    @classmethod
+    def of_plan(cls, planned, results, start):
+        """The Batch of plan(...)'s (files, skipped, unentered), from the
+        results in any order (FileResult, one per file), timed from start."""
+        files, skipped, unentered = planned
+        order = {f[1]: i for i, f in enumerate(files)}
+        return cls(sorted(results, key=lambda r: order[r.output]), skipped, unentered, time.perf_counter() - start)
+
     def _with(self, status):
         return [f for f in self.files if f.status == status]
 
@@ -205,22 +213,19 @@ def run_local(io, inputs, out_dir, method, recursive, overwrite, progress, optio
     GIL is released while a file converts)."""
     from concurrent.futures import ThreadPoolExecutor, as_completed
     start = time.perf_counter()
-    files, skipped, unentered = plan(io, inputs, out_dir, method, recursive, options)
-    done, todo = split(files, overwrite)
+    planned = plan(io, inputs, out_dir, method, recursive, options)
+    done, todo = split(planned[0], overwrite)
     jobs = int(options.get("threads") or os.cpu_count() or 1)
     # Files side by side, one thread each; the cores fewer files leave go to those.
     threads = max(1, jobs // max(len(todo), 1))
     bar = Progress(progress, len(todo))
-    results = {}
+    results = list(done)
     try:
         with ThreadPoolExecutor(max_workers=jobs) as pool:
             futures = [pool.submit(convert_file, *f, method, options, threads) for f in todo]
             for f in as_completed(futures):
-                r = f.result()
-                results[r.output] = r
-                bar.advance(r)
+                results.append(f.result())
+                bar.advance(results[-1])
     finally:
         bar.clear()
-    order = {f[1]: i for i, f in enumerate(files)}
-    every = sorted(done + list(results.values()), key=lambda r: order[r.output])
-    return Batch(every, skipped, unentered, time.perf_counter() - start)
+    return Batch.of_plan(planned, results, start)

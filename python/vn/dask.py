@@ -25,7 +25,6 @@ Run ``python3 -m vn.dask --help`` for the options.
 """
 
 import argparse
-import os
 import sys
 import time
 import uuid
@@ -82,14 +81,14 @@ def convert_many(client, inputs, out_dir, method="mwa", *, recursive=False, over
 
     start = time.perf_counter()
     io = _convert.io_library(library().path)
-    files, skipped, unentered = _batch.plan(io, inputs, out_dir, method, recursive, options)
-    done, todo = _batch.split(files, overwrite)
+    planned = _batch.plan(io, inputs, out_dir, method, recursive, options)
+    done, todo = _batch.split(planned[0], overwrite)
     threads = options.get("threads") or 1
     if window is None:
         window = max(64, 4 * sum(client.nthreads().values()))
     token = uuid.uuid4().hex[:8]
     bar = _batch.Progress(progress, len(todo))
-    results = {}
+    results = list(done)
 
     def submit(i):
         f = todo[i]
@@ -106,7 +105,7 @@ def convert_many(client, inputs, out_dir, method="mwa", *, recursive=False, over
             else:  # a worker died on it allowed-failures times (KilledWorker), or the run was cancelled
                 why = _killed(future.exception()) if future.status == "error" else "the task was " + future.status
                 r = _batch.FileResult(todo[i][0], todo[i][1], "failed", message="%s: %s" % (todo[i][0], why))
-            results[i] = r
+            results.append(r)
             future.release()
             bar.advance(r)
             if following < len(todo):
@@ -114,9 +113,7 @@ def convert_many(client, inputs, out_dir, method="mwa", *, recursive=False, over
                 following += 1
     finally:
         bar.clear()
-    order = {f[1]: k for k, f in enumerate(files)}
-    every = sorted(done + list(results.values()), key=lambda r: order[r.output])
-    return _batch.Batch(every, skipped, unentered, time.perf_counter() - start)
+    return _batch.Batch.of_plan(planned, results, start)
 
 
 def _task(*args):

@@ -364,7 +364,7 @@ typedef struct batch {
 	job* jobs;
 	size_t count;
 	int stdio;                          /* one job for '-': its messages as they are, no status lines */
-	size_t ok, failed, skipped, unentered, triangles;
+	size_t ok, failed, triangles;
 	double start;
 	int bar;                            /* a progress bar is on the terminal's last line */
 	vn_batch_plan plan;                 /* the files of a batch (not '-') */
@@ -551,8 +551,6 @@ static void plan(batch* b)
 	if (r != vn_io_success)
 		die(exit_status(r), "%s", err.message);
 	b->count = b->plan.count;
-	b->skipped = b->plan.skipped;
-	b->unentered = b->plan.unentered;
 	b->jobs = (job*)calloc(b->count ? b->count : 1, sizeof *b->jobs);
 	if (!b->jobs)
 		die(1, "%s", "out of memory");
@@ -579,10 +577,11 @@ static int convert_batch(args* a)
 		fprintf(stderr, "%s: %zu %s converted", prog, b.ok, noun(b.ok, "file", "files"));
 		if (b.failed)
 			fprintf(stderr, ", %zu failed", b.failed);
-		if (b.skipped)
-			fprintf(stderr, ", %zu skipped (not a format vn reads)", b.skipped);
-		if (b.unentered)
-			fprintf(stderr, ", %zu %s not entered (--recursive)", b.unentered, noun(b.unentered, "folder", "folders"));
+		if (b.plan.skipped)
+			fprintf(stderr, ", %zu skipped (not a format vn reads)", b.plan.skipped);
+		if (b.plan.unentered)
+			fprintf(stderr, ", %zu %s not entered (--recursive)", b.plan.unentered,
+			        noun(b.plan.unentered, "folder", "folders"));
 		fprintf(stderr, "; %s %s in %.2f s\n", grouped(b.triangles, n), noun(b.triangles, "triangle", "triangles"),
 		        tool_now() - b.start);
 	}

@@ -13,7 +13,7 @@ import time
 import pytest
 
 import vn
-from conftest import SOURCE, batch_lines, grid, native, same_trees, write_off
+from conftest import batch_lines, grid, native, same_trees, write_off
 
 distributed = pytest.importorskip("distributed")
 import vn.dask  # noqa: E402
