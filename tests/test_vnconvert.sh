@@ -14,6 +14,7 @@ run "$VNC" --help;          check "--help exits 0 with usage" [ $rc -eq 0 ] && c
 run "$VNC" --version;       check "--version" grep -qE "^vnconvert [0-9]+\.[0-9]+\.[0-9]+" "$T/stdout"
 run "$VNC" --list-methods;  check "--list-methods lists 11" [ "$(wc -l <"$T/stdout")" -eq 11 ]
 check "--list-methods names mewcsa with reference" grep -q "^mewcsa .*Desbrun" "$T/stdout"
+check "--list-methods: descriptions in one column (names padded to the longest, adaptive)" [ "$(cut -c1-9 "$T/stdout" | sed -n "1p;11p")" = "$(printf "mwe      \nadaptive ")" ]
 
 # ---- a normal conversion: NOFF with unit normals, same positions and faces
 run "$VNC" "$SAMPLES/torus.off" "$T/torus.off" --method MWSELR -q
