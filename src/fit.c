@@ -48,8 +48,20 @@
 #define PIVOT_MIN 1e-8
 /* The fitted normal must stay within 60 degrees of the seed. */
 #define SEED_COS_MIN 0.5
-/* ADAPTIVE: the jet where its weighted RMS residual, over h, is below this. */
-#define ADAPTIVE_RESIDUAL_MAX 0.03
+/* ADAPTIVE (chosen with vneval on the paper's ensemble and two surfaces
+ * beyond it, docs/ACCURACY.md): the 2-ring jet alone where its weighted RMS
+ * residual over h is at most ADAPTIVE_JET_EXACT (exact to its model: no
+ * wider fit can do better); the 3-ring cubic only where its GCV score is
+ * below ADAPTIVE_CUBIC times the best other one (its four extra unknowns
+ * otherwise follow the noise of marching-tetrahedra vertices); the rough
+ * fallback where the chosen fit's residual over h exceeds ADAPTIVE_FIT_MAX
+ * (no polynomial describes the neighbourhood: fractal or turbulent). */
+#define ADAPTIVE_JET_EXACT 1e-4
+#define ADAPTIVE_CUBIC 0.7
+#define ADAPTIVE_FIT_MAX 0.06
+/* ADAPTIVE's rough fallback: MWAAT, the best of the seven on the paper's
+ * fractal height fields (and within 10% of the best on turbulence). */
+#define ADAPTIVE_ROUGH vn_method_mwaat
 #define MAX_THREADS 256
 /* Below this many vertices per worker, a thread costs more than it saves. */
 #define MIN_VERTICES_PER_THREAD 4096
@@ -353,6 +365,7 @@ typedef struct scratch {
 typedef struct fit_job {
 	vn_work w;
 	const double* seed;    /* 3 per vertex */
+	const double* rough;   /* ADAPTIVE: 3 per vertex, ADAPTIVE_ROUGH's normals */
 	unsigned char* usable; /* per face */
 	uint32_t* face_of;     /* polygons: per corner */
 	uint32_t* start;       /* nv + 1: counts, then where each vertex's corners end */
@@ -438,7 +451,8 @@ static void phase_list(void* ctx, unsigned t)
 	j->top[t] = top;
 }
 
-/* Appends to s->ring the unstamped vertices sharing a usable face with u. */
+/* Appends to s->ring the unstamped vertices sharing a usable face with u,
+ * while it has fewer than s->cap members. */
 static uint32_t gather(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
 {
 	const uint32_t* idx = j->w.indices;
@@ -452,7 +466,7 @@ static uint32_t gather(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
 			if (k > RING_ALL_MAX && o != 1 && o != k - 1)
 				continue;
 			const uint32_t x = idx[b + (at + o) % k];
-			if (s->stamp[x] != s->tag)
+			if (s->stamp[x] != s->tag && m < s->cap)
 				s->stamp[x] = s->tag, s->ring[m++] = x;
 		}
 	}
@@ -472,9 +486,11 @@ static void load_members(const fit_job* j, const scratch* s, uint32_t from, uint
 	}
 }
 
-/* Vertex v's points (its 2-ring for JET and ADAPTIVE, the 1-ring first:
- * *m1 of them) into p; 0 when v keeps its seed. */
-static int gather_vertex(const fit_job* j, scratch* s, uint32_t v, vn_fit_points* p, uint32_t* m1)
+/* Vertex v's points into p: its 1-ring (ring[0, m[0])), then for JET and
+ * ADAPTIVE its 2-ring (to m[1]), then for ADAPTIVE its 3-ring (to m[2],
+ * the members nearest by rings first when it would pass the scratch's
+ * capacity); p->m = m[1]. 0 when v keeps its seed. */
+static int gather_vertex(const fit_job* j, scratch* s, uint32_t v, vn_fit_points* p, uint32_t m[3])
 {
 	const double* seed = j->seed + 3 * (size_t)v;
 	if (seed[0] == 0.0 && seed[1] == 0.0 && seed[2] == 0.0)
@@ -484,25 +500,105 @@ static int gather_vertex(const fit_job* j, scratch* s, uint32_t v, vn_fit_points
 		s->tag = 1;
 	}
 	s->stamp[v] = s->tag;
-	*m1 = gather(j, s, v, 0);
-	if (!*m1)
+	m[0] = m[1] = m[2] = gather(j, s, v, 0);
+	if (!m[0])
 		return 0;
 	double o[3], h = 0.0;
 	vn_load(&j->w, j->w.type, v, o);
-	load_members(j, s, 0, *m1, o, p);
-	for (uint32_t i = 0; i < *m1; ++i)
+	load_members(j, s, 0, m[0], o, p);
+	for (uint32_t i = 0; i < m[0]; ++i)
 		h += sqrt(p->x[i] * p->x[i] + p->y[i] * p->y[i] + p->z[i] * p->z[i]);
-	h /= *m1;
+	h /= m[0];
 	if (!(h > 0.0 && h <= DBL_MAX))
 		return 0;
-	p->m = *m1;
-	if (j->w.method != vn_method_quadric) {
-		for (uint32_t i = 0; i < *m1; ++i)
-			p->m = gather(j, s, s->ring[i], p->m);
-		load_members(j, s, *m1, p->m, o, p);
+	const int rings = j->w.method == vn_method_quadric ? 1 : j->w.method == vn_method_jet ? 2 : 3;
+	for (int r = 1; r < rings; ++r) {
+		m[r] = m[r - 1];
+		for (uint32_t i = r > 1 ? m[r - 2] : 0; i < m[r - 1]; ++i)
+			m[r] = gather(j, s, s->ring[i], m[r]);
+		load_members(j, s, m[r - 1], m[r], o, p);
 	}
+	for (int r = rings; r < 3; ++r)
+		m[r] = m[r - 1];
+	p->m = m[2];
 	vn_fit_prepare(p, h);
+	p->m = m[1];
 	return 1;
+}
+
+/* ADAPTIVE's wide fits: the points' weights become exp(-|p|^2 / (2 r^2)),
+ * r^2 the mean |p|^2 of the members (a Gaussian as wide as the 3-ring).
+ * Returns the effective number of points, (sum w)^2 / sum w^2, the vertex
+ * (weight 1) included. */
+static double gaussian_weights(const vn_fit_points* p)
+{
+	double r2 = 0.0, sw = 1.0, sww = 1.0;
+	for (uint32_t i = 0; i < p->m; ++i)
+		r2 += p->x[i] * p->x[i] + p->y[i] * p->y[i] + p->z[i] * p->z[i];
+	const double k = -0.5 * p->m / r2;
+	for (uint32_t i = 0; i < p->m; ++i) {
+		const double w = exp(k * (p->x[i] * p->x[i] + p->y[i] * p->y[i] + p->z[i] * p->z[i]));
+		p->w[i] = w, sw += w, sww += w * w;
+	}
+	return sw * sw / sww;
+}
+
+/* Generalized cross-validation score of a fit of k unknowns with weighted
+ * RMS residual res over n effective points (Craven & Wahba 1979): the
+ * residual inflated for the freedom the fit used to reach it. */
+static double gcv(double res, double n, int k)
+{
+	const double d = 1.0 - k / n;
+	return d > 0.0 ? res * res / (d * d) : DBL_MAX;
+}
+
+/* The effective number of points (sum w)^2 / sum w^2, the vertex (weight
+ * 1) included. */
+static double effective_points(const vn_fit_points* p)
+{
+	double sw = 1.0, sww = 1.0;
+	for (uint32_t i = 0; i < p->m; ++i)
+		sw += p->w[i], sww += p->w[i] * p->w[i];
+	return sw * sw / sww;
+}
+
+/* ADAPTIVE's choice for the active lanes, after the 2-ring jet f (ok,
+ * residual res): of the jet and the quadric and cubic on the 3-ring with
+ * Gaussian weights, the one of lowest GCV score, if its residual is small
+ * enough; else the rough fallback. */
+static void adaptive_lanes(const fit_job* j, vn_fit_points p[LANES], const int act[LANES], const uint32_t m[LANES][3],
+                           const double* const seed[LANES], const double f[LANES][3], const int ok[LANES],
+                           const double res[LANES], const uint32_t v0, double n[LANES][3])
+{
+	int wide[LANES], any = 0, okq[LANES], okc[LANES];
+	double q[LANES][3], c[LANES][3], resq[LANES], resc[LANES], neff[LANES], best[LANES];
+	for (unsigned l = 0; l < LANES; ++l) {
+		best[l] = DBL_MAX;
+		if (act[l] && ok[l]) {
+			memcpy(n[l], f[l], sizeof(f[l]));
+			best[l] = res[l] <= ADAPTIVE_JET_EXACT ? 0.0 : gcv(res[l], effective_points(p + l), 10);
+		}
+		wide[l] = act[l] && best[l] > 0.0 && m[l][2] > m[l][0];
+		if (wide[l]) {
+			p[l].m = m[l][2];
+			neff[l] = gaussian_weights(p + l);
+			any = 1;
+		}
+	}
+	if (any) {
+		fit_twice(p, wide, seed, 0, j->w.simd, q, okq, resq);
+		fit_twice(p, wide, seed, 1, j->w.simd, c, okc, resc);
+	}
+	for (unsigned l = 0; l < LANES; ++l) {
+		if (!act[l])
+			continue;
+		double r = ok[l] ? res[l] : DBL_MAX;
+		if (wide[l] && okq[l] && gcv(resq[l], neff[l], 6) < best[l])
+			best[l] = gcv(resq[l], neff[l], 6), r = resq[l], memcpy(n[l], q[l], sizeof(q[l]));
+		if (wide[l] && okc[l] && gcv(resc[l], neff[l], 10) < ADAPTIVE_CUBIC * best[l])
+			r = resc[l], memcpy(n[l], c[l], sizeof(c[l]));
+		if (!(r <= ADAPTIVE_FIT_MAX))
+			memcpy(n[l], j->rough + 3 * (size_t)(v0 + l), sizeof(n[l]));	}
 }
 
 /* Vertices v0 .. v0 + LANES - 1 (those below v1). */
@@ -511,30 +607,33 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 	vn_fit_points p[LANES];
 	const double* seed[LANES];
 	int act[LANES], ok[LANES];
-	uint32_t m1[LANES];
+	uint32_t m[LANES][3];
 	double n[LANES][3], res[LANES];
 	for (unsigned l = 0; l < LANES; ++l) {
 		const uint32_t v = v0 + l;
 		double* q = s->q + 4 * s->cap * l;
 		p[l] = (vn_fit_points){q, q + s->cap, q + 2 * s->cap, q + 3 * s->cap, 0};
 		seed[l] = j->seed + 3 * (size_t)(v < v1 ? v : v0);
-		act[l] = v < v1 && gather_vertex(j, s, v, p + l, m1 + l);
+		act[l] = v < v1 && gather_vertex(j, s, v, p + l, m[l]);
 		memcpy(n[l], seed[l], sizeof(n[l]));
 	}
 	if (j->w.method == vn_method_quadric)
 		fit_twice(p, act, seed, 0, j->w.simd, n, ok, NULL);
-	else {
-		const int adaptive = j->w.method == vn_method_adaptive;
+	else if (j->w.method == vn_method_adaptive) {
 		double f[LANES][3];
-		fit_twice(p, act, seed, 1, j->w.simd, f, ok, adaptive ? res : NULL);
+		fit_twice(p, act, seed, 1, j->w.simd, f, ok, res);
+		adaptive_lanes(j, p, act, (const uint32_t(*)[3])m, seed, (const double(*)[3])f, ok, res, v0, n);
+	} else {
+		double f[LANES][3];
+		fit_twice(p, act, seed, 1, j->w.simd, f, ok, NULL);
 		int again = 0;
 		for (unsigned l = 0; l < LANES; ++l) {
-			if (ok[l] && (!adaptive || res[l] <= ADAPTIVE_RESIDUAL_MAX))
+			if (ok[l])
 				memcpy(n[l], f[l], sizeof(f[l]));
 			/* JET falls back to the quadric on the 1-ring. */
-			act[l] = act[l] && !ok[l] && !adaptive;
+			act[l] = act[l] && !ok[l];
 			again |= act[l];
-			p[l].m = m1[l];
+			p[l].m = m[l][0];
 		}
 		if (again)
 			fit_twice(p, act, seed, 0, j->w.simd, n, ok, NULL);
@@ -572,10 +671,14 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 	const size_t nf = work->face_count;
 	const unsigned nt = worker_count(nv, o->threads);
 
-	/* The seeds, by the weighted family's kernels (which check the indices). */
-	double* seed = (double*)heap.allocate(heap.user, 3 * sizeof(double) * (size_t)nv);
+	/* The seeds (and ADAPTIVE's rough fallback), by the weighted family's
+	 * kernels (which check the indices). */
+	const int adaptive = work->method == vn_method_adaptive;
+	double* seed = (double*)heap.allocate(heap.user, (adaptive ? 6 : 3) * sizeof(double) * (size_t)nv);
 	if (!seed)
 		return vn_result_out_of_memory;
+	const vn_accumulate_fn weighted =
+	    work->offsets ? vn_accumulate_weighted_polygons : vn_accumulate_weighted_triangles;
 	fit_job j;
 	memset(&j, 0, sizeof(j));
 	j.w = *work;
@@ -583,8 +686,16 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 	const vn_vectors seeds = {seed, 3 * sizeof(double), vn_scalar_float64};
 	j.w.out = &seeds;
 	j.w.keep_existing = 0;
-	vn_result r = vn_run(&j.w, work->offsets ? vn_accumulate_weighted_polygons : vn_accumulate_weighted_triangles,
-	                     o, st);
+	vn_result r = vn_run(&j.w, weighted, o, st);
+	if (adaptive && r == vn_result_success) {
+		const vn_vectors rough = {seed + 3 * (size_t)nv, 3 * sizeof(double), vn_scalar_float64};
+		vn_range_stats unused = {0, 0, 0, 0};
+		j.w.method = ADAPTIVE_ROUGH;
+		j.w.out = &rough;
+		j.w.want_stats = 0;
+		r = vn_run(&j.w, weighted, o, &unused);
+		j.rough = seed + 3 * (size_t)nv;
+	}
 	j.w = *work;
 	j.seed = seed;
 	j.nt = nt;
