@@ -54,8 +54,10 @@ static const struct {
      "beyond Jin et al. 2005; O(h^2)"},
     {"jet", "weighted least-squares cubic jet on the 2-ring, in MWA's tangent frame, refitted once",
      "Cazals & Pouget 2003; O(h^3)"},
-    {"adaptive", "the cubic jet where it fits the 2-ring closely, else MWA: the choice when unsure",
-     "beyond Jin et al. 2005"},
+    {"adaptive",
+     "the 2-ring jet, or a Gaussian-weighted 3-ring fit that averages noise out, by GCV score; "
+     "MWAAT where nothing fits: the choice when unsure",
+     "beyond Jin et al. 2005; Craven & Wahba 1979 (GCV)"},
 };
 
 const char* vn_method_name(vn_method m)

@@ -35,9 +35,9 @@
  * 24 bytes a vertex (seeds) + 4 a corner + 1 a face (+ 4 a corner for
  * polygons) + 4 a vertex + 4 a vertex per thread + ring scratch.
  *
- * ADAPTIVE's threshold, 0.03 h, and MWA as the seed and fallback were
- * chosen with vneval on the paper's ensemble: the jet's residual on smooth
- * models stays mostly below it, on fractal and turbulence models above. */
+ * ADAPTIVE (vn.h) adds the 3-ring, gathered past the 2-ring up to the ring
+ * capacity, and chooses among its fits by GCV score; its fallback, MWAAT,
+ * is a second pass of the weighted kernels (24 more bytes a vertex). */
 #include "internal.h"
 #include "simd.h"
 
@@ -574,6 +574,8 @@ static void adaptive_lanes(const fit_job* j, vn_fit_points p[LANES], const int a
 	double q[LANES][3], c[LANES][3], resq[LANES], resc[LANES], neff[LANES], best[LANES];
 	for (unsigned l = 0; l < LANES; ++l) {
 		best[l] = DBL_MAX;
+		if (!act[l] && v0 + l < j->w.vertex_count) /* no ring: the fallback */
+			memcpy(n[l], j->rough + 3 * (size_t)(v0 + l), sizeof(n[l]));
 		if (act[l] && ok[l]) {
 			memcpy(n[l], f[l], sizeof(f[l]));
 			best[l] = res[l] <= ADAPTIVE_JET_EXACT ? 0.0 : gcv(res[l], effective_points(p + l), 10);

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 typedef struct vec {
 	long double x, y, z;
@@ -228,7 +229,12 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
 #define RING_ALL_MAX 8        /* a polygon gives all its corners to a ring up to this size */
 #define PIVOT_MIN 1e-8L       /* smallest squared diagonal of R (the Cholesky pivot) */
 #define SEED_COS_MIN 0.5L     /* 60 degrees from the seed */
-#define ADAPTIVE_MAX 0.03L    /* ADAPTIVE: the jet below this weighted RMS residual, over h */
+/* ADAPTIVE: the jet alone at or below this weighted RMS residual over h; the
+ * 3-ring cubic where its GCV score is below this factor times the best
+ * other; the rough fallback (MWAAT) above this residual of the chosen fit. */
+#define ADAPTIVE_JET_EXACT 1e-4L
+#define ADAPTIVE_CUBIC 0.7L
+#define ADAPTIVE_FIT_MAX 0.06L
 /* How close to a threshold a decision is borderline: far above the two
  * implementations' measured differences, far below any real margin. */
 #define BORDER 1e-9L
@@ -357,15 +363,16 @@ static long double fit_slack(long double rcond)
 
 /* Weighted least squares of z = f(x, y) over the origin (the vertex) and the
  * m points q (relative to the vertex) in a frame with height axis `axis`,
- * coordinates over h, weights 1 / (1 + |p|^2 / h^2). The columns of the
+ * coordinates over h, weights 1 / (1 + |p|^2 / h^2), or with gauss > 0
+ * exp(-|p|^2 / (2 gauss h^2)) (the origin's weight is 1 either way). The columns of the
  * weighted design matrix are scaled to unit length (so R^T R is the normal
  * matrix scaled to unit diagonal) and factored by Householder QR. Returns 0
  * when the fit is not trusted: fewer points than unknowns, a zero column, or a
  * squared diagonal of R below PIVOT_MIN. A pivot is borderline when another
  * correct computation in double, in a frame up to `slack` radians away, may
  * put it on the other side of PIVOT_MIN. */
-static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long double h, long double slack,
-                        fit_result* out)
+static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long double h, long double gauss,
+                        long double slack, fit_result* out)
 {
 	enum { K_MAX = 10 };
 	const int k = degree == 3 ? 10 : 6;
@@ -391,7 +398,7 @@ static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long doubl
 		x[i + 1] = vec_dot(p, t1) / h;
 		y[i + 1] = vec_dot(p, t2) / h;
 		z[i + 1] = vec_dot(p, axis) / h;
-		w[i + 1] = 1 / (1 + vec_dot(p, p) / (h * h));
+		w[i + 1] = gauss > 0 ? expl(-vec_dot(p, p) / (2 * gauss * h * h)) : 1 / (1 + vec_dot(p, p) / (h * h));
 	}
 	for (size_t i = 0; i < rows; i++) {
 		long double mono[K_MAX];
@@ -486,15 +493,16 @@ static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long doubl
 /* The fit in the seed's frame, then once more in the frame of its normal
  * (the first fit kept when the second is not trusted); 0 when the first is
  * not trusted or the result is more than 60 degrees from the seed. */
-static int fit_twice(const vec* q, size_t m, vec seed, int degree, long double h, fit_result* out, int* borderline)
+static int fit_twice(const vec* q, size_t m, vec seed, int degree, long double h, long double gauss, fit_result* out,
+                     int* borderline)
 {
 	fit_result first, second = {{0, 0, 0}, 0, 0, 0};
-	int ok = fit_in_frame(q, m, seed, degree, h, 0, &first);
+	int ok = fit_in_frame(q, m, seed, degree, h, gauss, 0, &first);
 	*borderline |= first.borderline;
 	if (!ok)
 		return 0;
 	/* The second frame is the first fit's normal: as uncertain as it. */
-	if (fit_in_frame(q, m, first.normal, degree, h, fit_slack(first.rcond), &second)) {
+	if (fit_in_frame(q, m, first.normal, degree, h, gauss, fit_slack(first.rcond), &second)) {
 		second.rcond = fminl(second.rcond, first.rcond);
 		first = second;
 	}
@@ -507,24 +515,106 @@ static int fit_twice(const vec* q, size_t m, vec seed, int degree, long double h
 	return 1;
 }
 
-/* QUADRIC, JET and ADAPTIVE: the MWA normal S as seed and fallback. */
+/* Whether a and b are within rounding of each other (relative), the
+ * library's fits being up to `slack` off. */
+static int near(long double a, long double b, long double slack)
+{
+	return isfinite(a) && isfinite(b) && fabsl(a - b) <= (BORDER + slack) * fmaxl(fabsl(a), fabsl(b));
+}
+
+/* (sum w)^2 / sum w^2 over the origin (weight 1) and the m points q, with
+ * fit_in_frame's weights. */
+static long double effective_points(const vec* q, size_t m, long double h, long double gauss)
+{
+	long double sw = 1, sww = 1;
+	for (size_t i = 0; i < m; i++) {
+		long double d = vec_dot(q[i], q[i]) / (h * h);
+		long double w = gauss > 0 ? expl(-d / (2 * gauss)) : 1 / (1 + d);
+		sw += w, sww += w * w;
+	}
+	return sw * sw / sww;
+}
+
+/* Generalized cross-validation (Craven & Wahba 1979): the fit's residual
+ * inflated for its k unknowns among n effective points. */
+static long double gcv(long double residual, long double n, int k)
+{
+	long double d = 1 - k / n;
+	return d > 0 ? residual * residual / (d * d) : INFINITY;
+}
+
+/* ADAPTIVE at a vertex with the 1-, 2- and 3-ring ends m1 <= m2 <= m3 of
+ * q: the jet on the 2-ring; unless its residual is at most
+ * ADAPTIVE_JET_EXACT, the quadric and the cubic on the 3-ring with Gaussian
+ * weights as wide as the ring (gauss = the mean |q|^2 / h^2); of those, the
+ * lowest GCV score (the cubic's must be below ADAPTIVE_CUBIC times the
+ * others'); the fallback where the chosen residual is above
+ * ADAPTIVE_FIT_MAX. Returns the path and sets *f to the chosen fit. */
+static int adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m3, vec s, long double h, fit_result* f,
+                           int* borderline)
+{
+	fit_result jet, wq, wc;
+	int path = ref_path_seed;
+	long double best = INFINITY, residual = INFINITY;
+	if (fit_twice(q, m2, s, 3, h, 0, &jet, borderline)) {
+		long double slack = fit_slack(jet.rcond);
+		*f = jet, path = ref_path_jet, residual = jet.residual;
+		*borderline |= fabsl(jet.residual - ADAPTIVE_JET_EXACT) < BORDER + slack;
+		best = jet.residual <= ADAPTIVE_JET_EXACT ? 0 : gcv(jet.residual, effective_points(q, m2, h, 0), 10);
+	}
+	if (best > 0 && m3 > m1) {
+		long double gauss = 0;
+		for (size_t i = 0; i < m3; i++)
+			gauss += vec_dot(q[i], q[i]) / (h * h);
+		gauss /= (long double)m3;
+		long double n = effective_points(q, m3, h, gauss);
+		if (fit_twice(q, m3, s, 2, h, gauss, &wq, borderline)) {
+			long double g = gcv(wq.residual, n, 6);
+			*borderline |= near(g, best, fit_slack(wq.rcond));
+			if (g < best)
+				best = g, *f = wq, path = ref_path_wide, residual = wq.residual;
+		}
+		if (fit_twice(q, m3, s, 3, h, gauss, &wc, borderline)) {
+			long double g = gcv(wc.residual, n, 10);
+			*borderline |= near(g, ADAPTIVE_CUBIC * best, fit_slack(wc.rcond) + fit_slack(f->rcond));
+			if (g < ADAPTIVE_CUBIC * best)
+				*f = wc, path = ref_path_wide, residual = wc.residual;
+		}
+	}
+	if (path != ref_path_seed)
+		*borderline |= near(residual, ADAPTIVE_FIT_MAX, fit_slack(f->rcond));
+	return residual <= ADAPTIVE_FIT_MAX ? path : ref_path_seed;
+}
+
+/* QUADRIC, JET and ADAPTIVE: the MWA normal S as seed, and as fallback but
+ * for ADAPTIVE, whose fallback is MWAAT. */
 static void fit_normals(int method, const tables* t, double* out, double* cond, unsigned char* path)
 {
 	size_t n = t->vertex_count;
 	weighted_normals(ref_mwa, t, out, cond); /* S, kept where chosen */
+	double* rough = NULL;
+	if (method == ref_adaptive) {
+		rough = checked_calloc(4 * n, sizeof *rough);
+		weighted_normals(ref_mwaat, t, rough, rough + 3 * n);
+	}
 	char* mark = checked_calloc(n, 1);
 	uint32_t* ring = checked_calloc(n, sizeof *ring);
 	vec* q = checked_calloc(n, sizeof *q);
 	for (size_t v = 0; v < n; v++) {
 		double* o = out + 3 * v;
-		if (is_zero(o)) {
-			path[v] = ref_path_zero;
+		vec s = load(o);
+		if (rough) { /* ADAPTIVE: MWAAT wherever no fit is taken */
+			memcpy(o, rough + 3 * v, 3 * sizeof *o);
+			cond[v] = rough[3 * n + v];
+		}
+		if (is_zero(o) || vec_dot(s, s) == 0) {
+			path[v] = is_zero(o) ? ref_path_zero : ref_path_seed;
 			continue;
 		}
 		path[v] = ref_path_seed;
-		vec p = position(t->positions, (uint32_t)v), s = load(o);
+		vec p = position(t->positions, (uint32_t)v);
 		mark[v] = 1;
-		size_t m1 = add_ring(t, (uint32_t)v, mark, ring, 0), m2 = m1;
+		size_t m1 = add_ring(t, (uint32_t)v, mark, ring, 0), m2 = m1, m3 = m1;
 		long double h = 0;
 		for (size_t i = 0; i < m1; i++) {
 			q[i] = vec_sub(position(t->positions, ring[i]), p);
@@ -534,19 +624,22 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		if (method != ref_quadric) {
 			for (size_t i = 0; i < m1; i++)
 				m2 = add_ring(t, ring[i], mark, ring, m2);
+			m3 = m2;
+		}
+		if (method == ref_adaptive)
 			for (size_t i = m1; i < m2; i++)
-				q[i] = vec_sub(position(t->positions, ring[i]), p);
-		}
+				m3 = add_ring(t, ring[i], mark, ring, m3);
+		for (size_t i = m1; i < m3; i++)
+			q[i] = vec_sub(position(t->positions, ring[i]), p);
 		fit_result f = {{0, 0, 0}, 0, 0, 0};
-		int borderline = 0, done = 0;
-		if (m1 && method != ref_quadric && fit_twice(q, m2, s, 3, h, &f, &borderline)) {
-			done = 1;
-			borderline |= method == ref_adaptive && fabsl(f.residual - ADAPTIVE_MAX) < BORDER + fit_slack(f.rcond);
-			if (method == ref_jet || f.residual <= ADAPTIVE_MAX)
-				path[v] = ref_path_jet;
-		}
-		if (m1 && !done && method != ref_adaptive && fit_twice(q, m1, s, 2, h, &f, &borderline))
+		int borderline = 0;
+		if (m1 && method == ref_adaptive)
+			path[v] = (unsigned char)adaptive_vertex(q, m1, m2, m3, s, h, &f, &borderline);
+		else if (m1 && method == ref_jet && fit_twice(q, m2, s, 3, h, 0, &f, &borderline)) {
+			path[v] = ref_path_jet;
+		} else if (m1 && method != ref_adaptive && fit_twice(q, m1, s, 2, h, 0, &f, &borderline)) {
 			path[v] = ref_path_quadric;
+		}
 		if (path[v] != ref_path_seed) {
 			o[0] = (double)f.normal.x;
 			o[1] = (double)f.normal.y;
@@ -555,10 +648,11 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		}
 		if (borderline)
 			path[v] |= ref_path_borderline;
-		for (size_t i = 0; i < m2; i++)
+		for (size_t i = 0; i < m3; i++)
 			mark[ring[i]] = 0;
 		mark[v] = 0;
 	}
+	free(rough);
 	free(q);
 	free(ring);
 	free(mark);

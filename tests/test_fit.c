@@ -341,6 +341,47 @@ static void torus_outward_everywhere(void** state)
 	grid_free(&g);
 }
 
+/* ADAPTIVE on the ellipsoid band (64 x 32, jittered): sampled exactly, as
+ * accurate as the jet; with every vertex moved along its exact normal by up
+ * to `noise` of the mean edge (as marching tetrahedra misplace vertices),
+ * better than every one of the seven by its 3-ring fits; with noise as large
+ * as the edges, MWAAT, its fallback. Returns the median errors of ADAPTIVE,
+ * JET, the best of the seven and MWAAT. */
+static void adaptive_medians(double noise, double med[4])
+{
+	grid_mesh g = make_surface(0, 64, 32, 0.3);
+	uint32_t s = 5;
+	const double edge = 2 * PI / 64 * 0.9; /* about the band's mean edge */
+	for (size_t v = 0; v < g.nv; ++v) {
+		const double d = noise * edge * jitter(&s);
+		for (int k = 0; k < 3; ++k)
+			g.pos[3 * v + k] += d * g.exact[3 * v + k];
+	}
+	med[0] = median_error(&g, 64, vn_method_adaptive);
+	med[1] = median_error(&g, 64, vn_method_jet);
+	med[2] = DBL_MAX;
+	for (int m = 0; m < 6; ++m) /* MEWCSA, the seventh, is never the best here */
+		med[2] = fmin(med[2], median_error(&g, 64, (vn_method)m));
+	med[3] = median_error(&g, 64, vn_method_mwaat);
+	print_message("noise %.2f: adaptive %g, jet %g, best of the seven %g, mwaat %g degrees\n", noise, med[0], med[1],
+	              med[2], med[3]);
+	grid_free(&g);
+}
+
+static void adaptive_across_noise(void** state)
+{
+	(void)state;
+	double med[4];
+	adaptive_medians(0, med);
+	assert_true(med[0] == med[1]);        /* the jet everywhere it matters */
+	assert_true(med[0] < 0.25 * med[2]);  /* O(h^3) against O(h) */
+	adaptive_medians(0.05, med);
+	assert_true(med[0] < 0.5 * med[1]);   /* the wide fits average the noise out */
+	assert_true(med[0] < 0.5 * med[2]);
+	adaptive_medians(1.0, med);
+	assert_true(med[0] == med[3]); /* no fit describes it: the fallback */
+}
+
 static void threads_bit_identical(void** state)
 {
 	(void)state;
@@ -360,8 +401,9 @@ static void threads_bit_identical(void** state)
 
 /* A tetrahedron (valence 3), one triangle, an isolated vertex (6), and a
  * vertex (7) whose 1-ring (8..12) is collinear: too few points or an
- * ill-conditioned system, so every fit gives the seed, MWA's normal, and
- * SMEWCSA a unit vector; never NaN. */
+ * ill-conditioned system, so QUADRIC and JET give the seed, MWA's normal,
+ * ADAPTIVE its rough fallback, MWAAT's, and SMEWCSA a unit vector; never
+ * NaN. */
 static void degenerate_rings(void** state)
 {
 	(void)state;
@@ -373,9 +415,11 @@ static void degenerate_rings(void** state)
 	                      5, 1, 0};
 	const uint32_t idx[] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3, 4, 5, 13,
 	                        7, 8, 9, 7, 9, 10, 7, 10, 11, 7, 11, 12};
-	double mwa[42], out[42];
+	double mwa[42], mwaat[42], out[42];
 	assert_int_equal(tri(pos, 14, idx, 27, vn_method_mwa, 1, mwa), vn_result_success);
+	assert_int_equal(tri(pos, 14, idx, 27, vn_method_mwaat, 1, mwaat), vn_result_success);
 	for (size_t k = 0; k < sizeof(fits) / sizeof(fits[0]); ++k) {
+		const double* seed = fits[k] == vn_method_adaptive ? mwaat : mwa;
 		assert_int_equal(tri(pos, 14, idx, 27, fits[k], 1, out), vn_result_success);
 		for (int i = 0; i < 42; ++i)
 			assert_true(isfinite(out[i]));
@@ -383,8 +427,8 @@ static void degenerate_rings(void** state)
 		assert_vec(out + 12, 0, 0, 1, 1e-15); /* the lone triangle */
 		if (fits[k] == vn_method_smewcsa)
 			continue;
-		assert_memory_equal(out, mwa, 4 * 3 * sizeof(double)); /* valence 3: 4 points < 6 unknowns */
-		assert_memory_equal(out + 21, mwa + 21, 3 * sizeof(double)); /* collinear */
+		assert_memory_equal(out, seed, 4 * 3 * sizeof(double)); /* valence 3: 4 points < 6 unknowns */
+		assert_memory_equal(out + 21, seed + 21, 3 * sizeof(double)); /* collinear */
 	}
 }
 
@@ -448,6 +492,7 @@ int main(void)
 	    cmocka_unit_test(jet_converges_as_h3),
 	    cmocka_unit_test(mwa_converges_as_h),
 	    cmocka_unit_test(torus_outward_everywhere),
+	    cmocka_unit_test(adaptive_across_noise),
 	    cmocka_unit_test(threads_bit_identical),
 	    cmocka_unit_test(degenerate_rings),
 	    cmocka_unit_test(corners_follow_the_vertex_rule),

@@ -654,7 +654,7 @@ static double tolerance(unsigned char path, double cond)
 {
 	if (path & ref_path_borderline)
 		return -1;
-	if (path == ref_path_quadric || path == ref_path_jet)
+	if (path == ref_path_quadric || path == ref_path_jet || path == ref_path_wide)
 		return FIT_TOLERANCE(cond);
 	return cond >= MIN_CONDITION ? TOLERANCE_RAD : -1;
 }
@@ -693,7 +693,8 @@ static size_t compare_normals(const mesh* m, const char* what, const double* ref
 				angle = angle3(n, r);
 				if (angle > *worst)
 					*worst = angle;
-				if ((path[v] == ref_path_quadric || path[v] == ref_path_jet) && angle * cond[v] > *worst_scaled)
+				if ((path[v] == ref_path_quadric || path[v] == ref_path_jet || path[v] == ref_path_wide) &&
+				    angle * cond[v] > *worst_scaled)
 					*worst_scaled = angle * cond[v];
 				if (!(angle <= allowed + rounding))
 					problem = "angle above tolerance";
@@ -718,9 +719,10 @@ static int same3(const double* a, const double* b, double sign)
 
 /* The library's path at vertex v under `method`, read from its outputs
  * (float64 in and out, lib[method]) without looking inside it: a fallback
- * returns its seed method's normal bit for bit (MWA's for the fits,
- * MWSELR's for SMEWCSA), JET's fallback is QUADRIC's very computation and
- * ADAPTIVE's fit is JET's; SMEWCSA's other path is MEWCSA's normal or its
+ * returns its seed method's normal bit for bit (MWA's for QUADRIC and JET,
+ * MWAAT's for ADAPTIVE, MWSELR's for SMEWCSA), JET's fallback is QUADRIC's
+ * very computation and ADAPTIVE's 2-ring fit is JET's (any other ADAPTIVE
+ * normal is a 3-ring fit); SMEWCSA's other path is MEWCSA's normal or its
  * negation. -1: none of these. A fit that equals its fallback to the last bit
  * (possible on a plane) reads as the fallback. */
 static int lib_path(int method, size_t v, double* const* lib)
@@ -736,18 +738,18 @@ static int lib_path(int method, size_t v, double* const* lib)
 			return ref_path_cotangent;
 		return -1;
 	}
-	if (same3(n, lib[ref_mwa] + 3 * v, 1))
+	if (same3(n, lib[method == ref_adaptive ? ref_mwaat : ref_mwa] + 3 * v, 1))
 		return ref_path_seed;
 	if (method == ref_quadric)
 		return ref_path_quadric;
 	if (method == ref_jet)
 		return same3(n, lib[ref_quadric] + 3 * v, 1) ? ref_path_quadric : ref_path_jet;
-	return same3(n, lib[ref_jet] + 3 * v, 1) ? ref_path_jet : -1;
+	return same3(n, lib[ref_jet] + 3 * v, 1) ? ref_path_jet : ref_path_wide;
 }
 
 /* Path counts of a method beyond the paper on one mesh. */
 typedef struct path_counts {
-	size_t ref[ref_path_jet + 1], lib[ref_path_jet + 1];
+	size_t ref[ref_path_wide + 1], lib[ref_path_wide + 1];
 	size_t differ;     /* the library took another path than the reference */
 	size_t borderline; /* not compared: a decision within rounding of its threshold */
 	size_t coincident; /* the library's fit equals its fallback to the last bit, the reference's to 1e-12 */
@@ -770,9 +772,12 @@ static void compare_paths(const mesh* m, const char* entry, int method, const un
 			continue;
 		}
 		/* The fallback the library's output equals, and the reference's fit. */
-		int fallback = taken == ref_path_seed ? (method == ref_smewcsa ? ref_mwselr : ref_mwa) : ref_quadric;
+		int fallback = taken != ref_path_seed         ? ref_quadric
+		               : method == ref_smewcsa       ? ref_mwselr
+		               : method == ref_adaptive      ? ref_mwaat
+		                                             : ref_mwa;
 		if (taken != want && (taken == ref_path_seed || taken == ref_path_quadric) &&
-		    (want == ref_path_quadric || want == ref_path_jet) &&
+		    (want == ref_path_quadric || want == ref_path_jet || want == ref_path_wide) &&
 		    angle3(ref[method] + 3 * v, ref[fallback] + 3 * v) <= 1e-12) {
 			pc->coincident++;
 			continue;
@@ -873,15 +878,16 @@ static void check_mesh_paths(const mesh* m, double (*worst_deg)[ref_method_count
 			              &reports);
 		int entries = triangles ? 2 : 1;
 		print_message("  %-8s paths (ref/lib, %d entr%s): zero %zu/%zu seed %zu/%zu cotangent %zu/%zu quadric %zu/%zu "
-		              "jet %zu/%zu; borderline %zu, coincident %zu, differ %zu\n",
+		              "jet %zu/%zu wide %zu/%zu; borderline %zu, coincident %zu, differ %zu\n",
 		              method_names[method], entries, entries > 1 ? "ies" : "y", pc.ref[ref_path_zero],
 		              pc.lib[ref_path_zero], pc.ref[ref_path_seed], pc.lib[ref_path_seed], pc.ref[ref_path_cotangent],
 		              pc.lib[ref_path_cotangent], pc.ref[ref_path_quadric], pc.lib[ref_path_quadric],
-		              pc.ref[ref_path_jet], pc.lib[ref_path_jet], pc.borderline, pc.coincident, pc.differ);
+		              pc.ref[ref_path_jet], pc.lib[ref_path_jet], pc.ref[ref_path_wide], pc.lib[ref_path_wide],
+		              pc.borderline, pc.coincident, pc.differ);
 		bad += pc.differ;
 		if (exact_paths) {
 			bad += pc.borderline + pc.coincident;
-			for (int i = 0; i <= ref_path_jet; i++)
+			for (int i = 0; i <= ref_path_wide; i++)
 				bad += pc.ref[i] != pc.lib[i];
 		}
 	}
@@ -941,7 +947,7 @@ static void test_hand_computed(void** state)
 		/* 3 ring members, fewer than the fits' unknowns: S = mwa */
 		{0, PI / 2, PI / 4}, /* quadric */
 		{0, PI / 2, PI / 4}, /* jet */
-		{0, PI / 2, PI / 4}, /* adaptive */
+		{0, 1, 1},           /* adaptive: its fallback, mwaat */
 	};
 	mesh m;
 	mesh_init(&m, "hand computed");
@@ -1309,8 +1315,8 @@ static void test_mewcsa_dimple_and_bump(void** state)
 }
 
 /* 6. The schemes beyond the paper on surfaces where they do their work: a
- * torus (saddles on its inner half), a height field with noise (ADAPTIVE
- * chooses MWA where the jet's residual is large) and every vertex's path
+ * torus (saddles on its inner half), height fields with noise (ADAPTIVE
+ * chooses between its fits and MWAAT) and every vertex's path
  * taken exactly as the reference takes it, counted path by path. */
 static void test_beyond_the_paper(void** state)
 {
@@ -1328,11 +1334,18 @@ static void test_beyond_the_paper(void** state)
 	check_mesh_paths(&m, worst, 1);
 	mesh_free(&m);
 
-	/* Noise of up to 12% of an edge in every direction: ADAPTIVE takes MWA at
-	 * a part of the vertices, the jet elsewhere. */
+	/* Noise of up to 12% of an edge in every direction: ADAPTIVE takes the
+	 * 3-ring fits at most vertices, the jet at some; at 60%, its fallback
+	 * (MWAAT) at a part. */
 	mesh_init(&m, "noisy height field");
 	make_height_field(&m, 21, 30, 26, 0.07, 0.3);
 	mesh_jitter(&m, 25, 0.12 * 0.07);
+	check_mesh_paths(&m, worst, 1);
+	mesh_free(&m);
+
+	mesh_init(&m, "rough height field");
+	make_height_field(&m, 27, 30, 26, 0.07, 0.3);
+	mesh_jitter(&m, 29, 0.6 * 0.07);
 	check_mesh_paths(&m, worst, 1);
 	mesh_free(&m);
 
