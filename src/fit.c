@@ -26,16 +26,19 @@
  * non-manifold vertices the union of their sheets' rings.
  *
  * Adjacency: a vertex -> corners table (CSR by counting sort, each worker
- * the vertices of its own range, in corner order), built once per call from
- * the allocator; rings are gathered from it on the fly, deduplicated with a
- * per-worker stamp array. Each vertex's result depends only on data that
- * does not depend on the split, so it is bit-identical for any thread count.
+ * the vertices of its own range, in corner order), then from it every
+ * vertex's 1-ring (CSR, in the order of its corners), built once per call
+ * from the allocator; wider rings are gathered from the 1-rings on the fly,
+ * deduplicated with a per-worker stamp array. Each vertex's result depends
+ * only on data that does not depend on the split, so it is bit-identical
+ * for any thread count.
  *
  * Work memory, from the allocator (the workspace serves the seed pass):
  * 24 bytes a vertex (seeds) + 4 a corner + 1 a face (+ 4 a corner for
- * polygons) + 4 a vertex + 4 a vertex per thread + ring scratch.
+ * polygons) + 8 a vertex + 4 a 1-ring member + 4 a vertex per thread + ring
+ * scratch.
  *
- * ADAPTIVE (vn.h) adds the 3-ring, gathered past the 2-ring up to the ring
+ * ADAPTIVE (vn.h) adds the 4-ring, gathered past the 2-ring up to the ring
  * capacity, and chooses among its fits by GCV score; its fallback, MWAAT,
  * is a second pass of the weighted kernels (24 more bytes a vertex). */
 #include "internal.h"
@@ -51,7 +54,7 @@
 /* ADAPTIVE (chosen with vneval on the paper's ensemble and two surfaces
  * beyond it, docs/ACCURACY.md): the 2-ring jet alone where its weighted RMS
  * residual over h is at most ADAPTIVE_JET_EXACT (exact to its model: no
- * wider fit can do better); the 3-ring cubic only where its GCV score is
+ * wider fit can do better); the 4-ring cubic only where its GCV score is
  * below ADAPTIVE_CUBIC times the best other one (its four extra unknowns
  * otherwise follow the noise of marching-tetrahedra vertices); the rough
  * fallback where the chosen fit's residual over h exceeds ADAPTIVE_FIT_MAX
@@ -213,12 +216,27 @@ VN_INLINE void solve(const lanes s[S_MAX], lanes t[T_MAX], int k, fits* f)
 		f->c[i] = one - one;
 }
 
-/* Fits the active lanes' points p[l] in the frames of the unit axes
- * a[.][l]; the others fail. */
-VN_INLINE void fit_lanes(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], int cubic,
-                         fits* f)
+/* The unit normal of each lane's fit, or ok cleared. */
+VN_INLINE void fit_normals(fits* f)
 {
-	const int k = cubic ? 10 : 6;
+	UNROLL for (int l = 0; l < LANES; ++l) {
+		double n[3];
+		UNROLL for (int d = 0; d < 3; ++d)
+			n[d] = f->a[d][l] - f->c[1][l] * f->t1[d][l] - f->c[2][l] * f->t2[d][l];
+		f->ok[l] &= !vn_normalize(n);
+		UNROLL for (int d = 0; d < 3; ++d)
+			f->n[d][l] = n[d];
+	}
+}
+
+/* Fits the active lanes' points p[l] in the frames of the unit axes
+ * a[.][l]; the others fail. kind 0: the quadric into f[0]; 1: the cubic
+ * into f[0]; 2: both from one pass over the points, the quadric into f[0]
+ * and the cubic into f[1] (the quadric's moments are a subset of the
+ * cubic's, so each equals its own fit bit for bit). */
+VN_INLINE void fit_lanes(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], int kind, fits* f)
+{
+	const int k = kind == 1 ? 10 : 6;
 	/* A unit tangent pair without a square root (Duff et al. 2017). */
 	UNROLL for (int l = 0; l < LANES; ++l) {
 		const double x = a[0][l], y = a[1][l], z = a[2][l], sign = copysign(1.0, z);
@@ -231,7 +249,7 @@ VN_INLINE void fit_lanes(const vn_fit_points p[LANES], const int act[LANES], lan
 	lanes s[S_MAX], t[T_MAX];
 	for (unsigned l = 0; l < LANES; ++l) {
 		if (f->ok[l])
-			moments(p + l, f, l, cubic, s, t);
+			moments(p + l, f, l, kind != 0, s, t);
 		else { /* zero: fails the first pivot */
 			UNROLL for (int q = 0; q < S_MAX; ++q)
 				s[q][l] = 0.0;
@@ -239,15 +257,17 @@ VN_INLINE void fit_lanes(const vn_fit_points p[LANES], const int act[LANES], lan
 				t[q][l] = 0.0;
 		}
 	}
-	solve(s, t, k, f);
-	UNROLL for (int l = 0; l < LANES; ++l) {
-		double n[3];
-		UNROLL for (int d = 0; d < 3; ++d)
-			n[d] = f->a[d][l] - f->c[1][l] * f->t1[d][l] - f->c[2][l] * f->t2[d][l];
-		f->ok[l] &= !vn_normalize(n);
-		UNROLL for (int d = 0; d < 3; ++d)
-			f->n[d][l] = n[d];
+	if (kind == 2) {
+		lanes t3[T_MAX];
+		memcpy(t3, t, sizeof(t3));
+		memcpy(f[1].t1, f->t1, sizeof(f->t1)), memcpy(f[1].t2, f->t2, sizeof(f->t2)), memcpy(f[1].a, f->a, sizeof(f->a));
+		UNROLL for (int l = 0; l < LANES; ++l)
+			f[1].ok[l] = f->ok[l] && p[l].m + 1 >= 10;
+		solve(s, t3, 10, f + 1);
+		fit_normals(f + 1);
 	}
+	solve(s, t, k, f);
+	fit_normals(f);
 }
 
 static void fit_quadrics(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
@@ -260,9 +280,15 @@ static void fit_jets(const vn_fit_points p[LANES], const int act[LANES], lanes a
 	fit_lanes(p, act, a, 1, f);
 }
 
+static void fit_pairs(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
+{
+	fit_lanes(p, act, a, 2, f);
+}
+
 /* The same arithmetic in AVX2 registers: the same results, bit for bit
  * (IEEE operations lane by lane, no FMA, sums in the same order). */
 typedef void (*fit_fn)(const vn_fit_points*, const int*, lanes*, fits*);
+static const fit_fn fit_kinds[3] = {fit_quadrics, fit_jets, fit_pairs};
 #ifdef VN_HAVE_AVX2
 static VN_AVX2 void fit_quadrics_avx2(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
 {
@@ -274,15 +300,22 @@ static VN_AVX2 void fit_jets_avx2(const vn_fit_points p[LANES], const int act[LA
 	fit_lanes(p, act, a, 1, f);
 }
 
-static fit_fn fit_kernel(int cubic, int simd)
+static VN_AVX2 void fit_pairs_avx2(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
 {
-	return simd ? (cubic ? fit_jets_avx2 : fit_quadrics_avx2) : cubic ? fit_jets : fit_quadrics;
+	fit_lanes(p, act, a, 2, f);
+}
+
+static const fit_fn fit_kinds_avx2[3] = {fit_quadrics_avx2, fit_jets_avx2, fit_pairs_avx2};
+
+static fit_fn fit_kernel(int kind, int simd)
+{
+	return (simd ? fit_kinds_avx2 : fit_kinds)[kind];
 }
 #else
-static fit_fn fit_kernel(int cubic, int simd)
+static fit_fn fit_kernel(int kind, int simd)
 {
 	(void)simd;
-	return cubic ? fit_jets : fit_quadrics;
+	return fit_kinds[kind];
 }
 #endif
 
@@ -306,6 +339,20 @@ static double fit_residual(const vn_fit_points* p, const fits* f, unsigned l)
 	return sqrt(swr / sw);
 }
 
+/* Lane l of fit r, if it succeeded within 60 degrees of the seed: its
+ * normal into n and, when res is not NULL, its residual; returns whether. */
+static int take(const vn_fit_points* p, const fits* r, int first_ok, unsigned l, const double* seed, double n[3],
+                double* res)
+{
+	if (!(first_ok && r->n[0][l] * seed[0] + r->n[1][l] * seed[1] + r->n[2][l] * seed[2] >= SEED_COS_MIN))
+		return 0;
+	for (int d = 0; d < 3; ++d)
+		n[d] = r->n[d][l];
+	if (res)
+		*res = fit_residual(p, r, l);
+	return 1;
+}
+
 /* The fit in the seed's frame, then once more in the result's, for the
  * active lanes: ok[l] says whether n[l] was written (0 when the first fit
  * fails or the result strays from the seed); res[l] is the residual of the
@@ -321,17 +368,8 @@ static void fit_twice(const vn_fit_points p[LANES], const int act[LANES], const 
 	const fit_fn fit = fit_kernel(cubic, simd);
 	fit(p, act, a, f);
 	fit(p, f[0].ok, f[0].n, f + 1);
-	for (unsigned l = 0; l < LANES; ++l) {
-		const fits* r = f[1].ok[l] ? f + 1 : f;
-		ok[l] = f[0].ok[l] &&
-		        r->n[0][l] * seed[l][0] + r->n[1][l] * seed[l][1] + r->n[2][l] * seed[l][2] >= SEED_COS_MIN;
-		if (!ok[l])
-			continue;
-		for (int d = 0; d < 3; ++d)
-			n[l][d] = r->n[d][l];
-		if (res)
-			res[l] = fit_residual(p + l, r, l);
-	}
+	for (unsigned l = 0; l < LANES; ++l)
+		ok[l] = take(p + l, f[1].ok[l] ? f + 1 : f, f[0].ok[l], l, seed[l], n[l], res ? res + l : NULL);
 }
 
 int vn_fit_frame(const vn_fit_points* p, const double a[3], int degree, double n[3], double* residual)
@@ -357,7 +395,7 @@ int vn_fit_frame(const vn_fit_points* p, const double a[3], int degree, double n
 typedef struct scratch {
 	uint32_t* stamp; /* nv: the tag of the ring a vertex was last added to */
 	uint32_t tag;
-	uint32_t* ring;  /* up to cap members */
+	uint32_t* ring;  /* up to cap members (and room for one more) */
 	double* q;       /* per lane 4 cap: members' x, y, z (minus the vertex's, then over h), weight */
 	size_t cap;
 } scratch;
@@ -371,6 +409,8 @@ typedef struct fit_job {
 	uint32_t* start;       /* nv + 1: counts, then where each vertex's corners end */
 	uint32_t* list;        /* corners by vertex, in corner order */
 	uint32_t* top;         /* per worker: its largest 1-ring candidate count */
+	uint32_t* nstart;      /* nv + 1: where each vertex's 1-ring begins in nbr */
+	uint32_t* nbr;         /* every vertex's 1-ring, as gather lists it */
 	scratch* scratch;      /* per worker */
 	unsigned nt;
 } fit_job;
@@ -455,9 +495,21 @@ static void phase_list(void* ctx, unsigned t)
  * while it has fewer than s->cap members. */
 static uint32_t gather(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
 {
+	static const unsigned char next[3] = {1, 2, 0}, prev[3] = {2, 0, 1};
 	const uint32_t* idx = j->w.indices;
 	for (uint32_t i = u ? j->start[u - 1] : 0; i < j->start[u]; ++i) {
 		const uint32_t c = j->list[i];
+		if (!j->w.offsets) { /* a triangle: its next corner, then its previous */
+			const uint32_t f = c / 3, at = c - 3 * f;
+			if (!j->usable[f])
+				continue;
+			const uint32_t x = idx[3 * f + next[at]], y = idx[3 * f + prev[at]];
+			if (s->stamp[x] != s->tag && m < s->cap)
+				s->stamp[x] = s->tag, s->ring[m++] = x;
+			if (s->stamp[y] != s->tag && m < s->cap)
+				s->stamp[y] = s->tag, s->ring[m++] = y;
+			continue;
+		}
 		uint32_t b, k;
 		if (!j->usable[face_at(j, c, &b, &k)])
 			continue;
@@ -469,6 +521,52 @@ static uint32_t gather(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
 			if (s->stamp[x] != s->tag && m < s->cap)
 				s->stamp[x] = s->tag, s->ring[m++] = x;
 		}
+	}
+	return m;
+}
+
+/* A fresh tag: no vertex is stamped with it yet. */
+static void new_tag(const fit_job* j, scratch* s)
+{
+	if (++s->tag == 0) { /* wrapped: forget every stamp */
+		memset(s->stamp, 0, sizeof(uint32_t) * j->w.vertex_count);
+		s->tag = 1;
+	}
+}
+
+/* The 1-rings, once: each worker gathers its vertices' (v stamped first, so
+ * it is not its own member), counting them (into nstart[v + 1]) or, when
+ * nbr is set, copying them there. Rings of rings then read these lists,
+ * not the faces again. */
+static void phase_rings(void* ctx, unsigned t)
+{
+	const fit_job* j = (const fit_job*)ctx;
+	scratch* s = j->scratch + t;
+	for (uint32_t v = range_lo(j->w.vertex_count, t, j->nt), v1 = range_lo(j->w.vertex_count, t + 1, j->nt); v < v1;
+	     ++v) {
+		new_tag(j, s);
+		s->stamp[v] = s->tag;
+		const uint32_t m = gather(j, s, v, 0);
+		if (j->nbr)
+			memcpy(j->nbr + j->nstart[v], s->ring, sizeof(uint32_t) * m);
+		else
+			j->nstart[v + 1] = m;
+	}
+}
+
+/* Appends to s->ring the unstamped members of u's 1-ring, while it has
+ * fewer than s->cap members. */
+static uint32_t expand(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
+{
+	/* Without a branch on the stamp, which is as often set as not: every
+	 * member is written at m (the ring has room for one more than cap),
+	 * and m moves on when it was new. */
+	const uint32_t tag = s->tag, cap = (uint32_t)s->cap;
+	for (uint32_t i = j->nstart[u]; i < j->nstart[u + 1]; ++i) {
+		const uint32_t x = j->nbr[i], fresh = s->stamp[x] != tag;
+		s->stamp[x] = tag;
+		s->ring[m] = x;
+		m += fresh & (m < cap);
 	}
 	return m;
 }
@@ -487,20 +585,17 @@ static void load_members(const fit_job* j, const scratch* s, uint32_t from, uint
 }
 
 /* Vertex v's points into p: its 1-ring (ring[0, m[0])), then for JET and
- * ADAPTIVE its 2-ring (to m[1]), then for ADAPTIVE its 3-ring (to m[2],
- * the members nearest by rings first when it would pass the scratch's
- * capacity); p->m = m[1]. 0 when v keeps its seed. */
-static int gather_vertex(const fit_job* j, scratch* s, uint32_t v, vn_fit_points* p, uint32_t m[3])
+ * ADAPTIVE its 2-ring (to m[1]), then for ADAPTIVE its 3- and 4-rings (to
+ * m[2] and m[3], the members nearest by rings first when they would pass
+ * the scratch's capacity); p->m = m[1]. 0 when v keeps its seed. */
+static int gather_vertex(const fit_job* j, scratch* s, uint32_t v, vn_fit_points* p, uint32_t m[4])
 {
 	const double* seed = j->seed + 3 * (size_t)v;
 	if (seed[0] == 0.0 && seed[1] == 0.0 && seed[2] == 0.0)
 		return 0;
-	if (++s->tag == 0) { /* wrapped: forget every stamp */
-		memset(s->stamp, 0, sizeof(uint32_t) * j->w.vertex_count);
-		s->tag = 1;
-	}
+	new_tag(j, s);
 	s->stamp[v] = s->tag;
-	m[0] = m[1] = m[2] = gather(j, s, v, 0);
+	m[0] = m[1] = m[2] = m[3] = expand(j, s, v, 0);
 	if (!m[0])
 		return 0;
 	double o[3], h = 0.0;
@@ -511,23 +606,23 @@ static int gather_vertex(const fit_job* j, scratch* s, uint32_t v, vn_fit_points
 	h /= m[0];
 	if (!(h > 0.0 && h <= DBL_MAX))
 		return 0;
-	const int rings = j->w.method == vn_method_quadric ? 1 : j->w.method == vn_method_jet ? 2 : 3;
+	const int rings = j->w.method == vn_method_quadric ? 1 : j->w.method == vn_method_jet ? 2 : 4;
 	for (int r = 1; r < rings; ++r) {
 		m[r] = m[r - 1];
 		for (uint32_t i = r > 1 ? m[r - 2] : 0; i < m[r - 1]; ++i)
-			m[r] = gather(j, s, s->ring[i], m[r]);
+			m[r] = expand(j, s, s->ring[i], m[r]);
 		load_members(j, s, m[r - 1], m[r], o, p);
 	}
-	for (int r = rings; r < 3; ++r)
+	for (int r = rings; r < 4; ++r)
 		m[r] = m[r - 1];
-	p->m = m[2];
+	p->m = m[3];
 	vn_fit_prepare(p, h);
 	p->m = m[1];
 	return 1;
 }
 
 /* ADAPTIVE's wide fits: the points' weights become exp(-|p|^2 / (2 r^2)),
- * r^2 the mean |p|^2 of the members (a Gaussian as wide as the 3-ring).
+ * r^2 the mean |p|^2 of the members (a Gaussian as wide as the 4-ring).
  * Returns the effective number of points, (sum w)^2 / sum w^2, the vertex
  * (weight 1) included. */
 static double gaussian_weights(const vn_fit_points* p)
@@ -563,15 +658,16 @@ static double effective_points(const vn_fit_points* p)
 }
 
 /* ADAPTIVE's choice for the active lanes, after the 2-ring jet f (ok,
- * residual res): of the jet and the quadric and cubic on the 3-ring with
+ * residual res): of the jet and the quadric and cubic on the 4-ring with
  * Gaussian weights, the one of lowest GCV score, if its residual is small
  * enough; else the rough fallback. */
-static void adaptive_lanes(const fit_job* j, vn_fit_points p[LANES], const int act[LANES], const uint32_t m[LANES][3],
+static void adaptive_lanes(const fit_job* j, vn_fit_points p[LANES], const int act[LANES], const uint32_t m[LANES][4],
                            const double* const seed[LANES], const double f[LANES][3], const int ok[LANES],
                            const double res[LANES], const uint32_t v0, double n[LANES][3])
 {
-	int wide[LANES], any = 0, okq[LANES], okc[LANES];
-	double q[LANES][3], c[LANES][3], resq[LANES], resc[LANES], neff[LANES], best[LANES];
+	int wide[LANES], any = 0;
+	double neff[LANES], best[LANES];
+	lanes axis[3];
 	for (unsigned l = 0; l < LANES; ++l) {
 		best[l] = DBL_MAX;
 		if (!act[l] && v0 + l < j->w.vertex_count) /* no ring: the fallback */
@@ -580,27 +676,30 @@ static void adaptive_lanes(const fit_job* j, vn_fit_points p[LANES], const int a
 			memcpy(n[l], f[l], sizeof(f[l]));
 			best[l] = res[l] <= ADAPTIVE_JET_EXACT ? 0.0 : gcv(res[l], effective_points(p + l), 10);
 		}
-		wide[l] = act[l] && best[l] > 0.0 && m[l][2] > m[l][0];
+		wide[l] = act[l] && best[l] > 0.0 && m[l][3] > m[l][0];
 		if (wide[l]) {
-			p[l].m = m[l][2];
+			p[l].m = m[l][3];
 			neff[l] = gaussian_weights(p + l);
 			any = 1;
 		}
+		for (int d = 0; d < 3; ++d) /* the wide fits' frame: the jet's, else S's */
+			axis[d][l] = !wide[l] ? (d == 2) : ok[l] ? f[l][d] : seed[l][d];
 	}
-	if (any) {
-		fit_twice(p, wide, seed, 0, j->w.simd, q, okq, resq);
-		fit_twice(p, wide, seed, 1, j->w.simd, c, okc, resc);
-	}
+	fits w[2];
+	if (any)
+		fit_kernel(2, j->w.simd)(p, wide, axis, w);
 	for (unsigned l = 0; l < LANES; ++l) {
 		if (!act[l])
 			continue;
-		double r = ok[l] ? res[l] : DBL_MAX;
-		if (wide[l] && okq[l] && gcv(resq[l], neff[l], 6) < best[l])
-			best[l] = gcv(resq[l], neff[l], 6), r = resq[l], memcpy(n[l], q[l], sizeof(q[l]));
-		if (wide[l] && okc[l] && gcv(resc[l], neff[l], 10) < ADAPTIVE_CUBIC * best[l])
-			r = resc[l], memcpy(n[l], c[l], sizeof(c[l]));
+		double r = ok[l] ? res[l] : DBL_MAX, q[3], rq, c[3], rc;
+		if (wide[l] && take(p + l, w, w[0].ok[l], l, seed[l], q, &rq) && gcv(rq, neff[l], 6) < best[l])
+			best[l] = gcv(rq, neff[l], 6), r = rq, memcpy(n[l], q, sizeof(q));
+		if (wide[l] && take(p + l, w + 1, w[1].ok[l], l, seed[l], c, &rc) &&
+		    gcv(rc, neff[l], 10) < ADAPTIVE_CUBIC * best[l])
+			r = rc, memcpy(n[l], c, sizeof(c));
 		if (!(r <= ADAPTIVE_FIT_MAX))
-			memcpy(n[l], j->rough + 3 * (size_t)(v0 + l), sizeof(n[l]));	}
+			memcpy(n[l], j->rough + 3 * (size_t)(v0 + l), sizeof(n[l]));
+	}
 }
 
 /* Vertices v0 .. v0 + LANES - 1 (those below v1). */
@@ -609,7 +708,7 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 	vn_fit_points p[LANES];
 	const double* seed[LANES];
 	int act[LANES], ok[LANES];
-	uint32_t m[LANES][3];
+	uint32_t m[LANES][4];
 	double n[LANES][3], res[LANES];
 	for (unsigned l = 0; l < LANES; ++l) {
 		const uint32_t v = v0 + l;
@@ -624,7 +723,7 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 	else if (j->w.method == vn_method_adaptive) {
 		double f[LANES][3];
 		fit_twice(p, act, seed, 1, j->w.simd, f, ok, res);
-		adaptive_lanes(j, p, act, (const uint32_t(*)[3])m, seed, (const double(*)[3])f, ok, res, v0, n);
+		adaptive_lanes(j, p, act, (const uint32_t(*)[4])m, seed, (const double(*)[3])f, ok, res, v0, n);
 	} else {
 		double f[LANES][3];
 		fit_twice(p, act, seed, 1, j->w.simd, f, ok, NULL);
@@ -653,6 +752,25 @@ static void phase_fit(void* ctx, unsigned t)
 	const uint32_t v1 = range_lo(j->w.vertex_count, t + 1, j->nt);
 	for (uint32_t v = range_lo(j->w.vertex_count, t, j->nt); v < v1; v += LANES)
 		fit_batch(j, j->scratch + t, v, v1);
+}
+
+/* Every vertex's 1-ring into j->nbr (from the allocator; NULL on failure),
+ * j->nstart its offsets: counted, then listed. */
+static vn_result rings(fit_job* j, const vn_allocator* heap)
+{
+	j->nbr = NULL;
+	j->nstart[0] = 0;
+	vn_parallel(j->nt, phase_rings, j);
+	uint64_t sum = 0;
+	for (uint32_t v = 0; v < j->w.vertex_count; ++v)
+		j->nstart[v + 1] = (uint32_t)(sum += j->nstart[v + 1]);
+	if (sum > UINT32_MAX)
+		return vn_result_out_of_memory;
+	j->nbr = (uint32_t*)heap->allocate(heap->user, sizeof(uint32_t) * (sum ? (size_t)sum : 1));
+	if (!j->nbr)
+		return vn_result_out_of_memory;
+	vn_parallel(j->nt, phase_rings, j);
+	return vn_result_success;
 }
 
 /* ---------------------------------------------------------------- driver */
@@ -702,7 +820,7 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 	j.seed = seed;
 	j.nt = nt;
 
-	const size_t words = (size_t)nv + 1 + nc + (work->offsets ? nc : 0) + nt;
+	const size_t words = 2 * ((size_t)nv + 1) + nc + (work->offsets ? nc : 0) + nt;
 	const size_t bytes = sizeof(scratch) * nt + sizeof(uint32_t) * words + nf;
 	unsigned char* block = r == vn_result_success ? (unsigned char*)heap.allocate(heap.user, bytes) : NULL;
 	if (r == vn_result_success && !block)
@@ -712,7 +830,8 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 		j.start = (uint32_t*)(void*)(j.scratch + nt);
 		j.list = j.start + nv + 1;
 		j.top = j.list + nc;
-		j.face_of = work->offsets ? j.top + nt : NULL;
+		j.nstart = j.top + nt;
+		j.face_of = work->offsets ? j.nstart + nv + 1 : NULL;
 		j.usable = (unsigned char*)(j.start + words);
 		vn_parallel(nt, phase_count, &j);
 		/* start[v + 1] holds v's count: make start[v] where v's corners begin. */
@@ -729,7 +848,7 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 		/* A 2-ring has at most top (1 + top) members, and fewer than nv. */
 		const uint64_t want = (uint64_t)top * (1 + (uint64_t)top);
 		const size_t cap = want < nv ? (size_t)want : nv;
-		const size_t ring_bytes = (sizeof(uint32_t) * ((size_t)nv + cap) + 7) & ~(size_t)7;
+		const size_t ring_bytes = (sizeof(uint32_t) * ((size_t)nv + cap + 1) + 7) & ~(size_t)7;
 		unsigned t = 0;
 		for (; t < nt; ++t) {
 			scratch* s = j.scratch + t;
@@ -742,10 +861,15 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 			s->q = (double*)(void*)((unsigned char*)s->stamp + ring_bytes);
 			s->cap = cap;
 		}
-		if (t == nt)
-			vn_parallel(nt, phase_fit, &j);
-		else
+		if (t == nt) {
+			r = rings(&j, &heap);
+		} else {
 			r = vn_result_out_of_memory;
+		}
+		if (r == vn_result_success)
+			vn_parallel(nt, phase_fit, &j);
+		if (j.nbr)
+			heap.deallocate(heap.user, j.nbr);
 		while (t-- > 0)
 			heap.deallocate(heap.user, j.scratch[t].stamp);
 		heap.deallocate(heap.user, block);

@@ -113,30 +113,30 @@ typedef enum vn_method {
 	                      over the vertex and its 2-ring (Cazals & Pouget 2003,
 	                      osculating jets), h still the 1-ring's; O(h^3);
 	                      falls back to QUADRIC. */
-	vn_method_adaptive, /* per vertex, one of three fits, all in S's frame
-	                      and refitted once like JET's: JET's 2-ring jet
+	vn_method_adaptive, /* per vertex, one of three fits: JET's 2-ring jet
 	                      (without its QUADRIC fallback), and on the vertex
-	                      and its 3-ring a quadric and a cubic with weights
+	                      and its 4-ring a quadric and a cubic with weights
 	                      exp(-|p|^2 / (2 r^2)), r^2 the mean |p|^2 of the
-	                      3-ring members (wide enough to average out the
+	                      4-ring members (wide enough to average out the
 	                      position noise of e.g. marching-tetrahedra
-	                      vertices). Each fit's score is its generalized
-	                      cross-validation (Craven & Wahba 1979) e^2 /
-	                      (1 - k / n)^2: e its weighted RMS residual over h,
-	                      k its unknowns (6 or 10), n its effective number
-	                      of points (sum w)^2 / sum w^2. The jet is taken
-	                      outright where e <= 1e-4 (exact to its model); else
-	                      the lowest score, the cubic's counted only when
-	                      below 0.7 times the best other. Where the chosen
-	                      fit's e exceeds 0.06 (no polynomial describes the
-	                      neighbourhood: fractal or turbulent), or no fit
-	                      succeeds, MWAAT's normal (the best of the seven on
-	                      rough height fields). The 3-ring stops at the ring
-	                      capacity of JET's 2-rings (the largest vertex's
-	                      candidate count c: c (c + 1) members, nearest
-	                      rings first). The constants were chosen with
-	                      vneval (docs/ACCURACY.md): the scheme to use when
-	                      unsure. */
+	                      vertices), both fitted once, in the jet's frame
+	                      (S's where the jet failed). Each fit's score is its
+	                      generalized cross-validation (Craven & Wahba 1979)
+	                      e^2 / (1 - k / n)^2: e its weighted RMS residual
+	                      over h, k its unknowns (6 or 10), n its effective
+	                      number of points (sum w)^2 / sum w^2. The jet is
+	                      taken outright where e <= 1e-4 (exact to its
+	                      model); else the lowest score, the cubic's counted
+	                      only when below 0.7 times the best other. Where the
+	                      chosen fit's e exceeds 0.06 (no polynomial
+	                      describes the neighbourhood: fractal or turbulent),
+	                      or no fit succeeds, MWAAT's normal (the best of the
+	                      seven on rough height fields). The 4-ring stops at
+	                      the ring capacity of JET's 2-rings (the largest
+	                      vertex's candidate count c: c (c + 1) members,
+	                      nearest rings first). The constants were chosen
+	                      with vneval (docs/ACCURACY.md): the scheme to use
+	                      when unsure. */
 	/* The fits (QUADRIC, JET, ADAPTIVE): rings are the vertices sharing a
 	 * non-degenerate face (a polygon's corners when it has at most 8, else
 	 * its two edge neighbours); degenerate faces add nothing, so NaN never
@@ -151,12 +151,13 @@ typedef enum vn_method {
 	 * ones the union of their sheets. A vertex whose S is zero gets zero
 	 * (ADAPTIVE: MWAAT's, zero as well unless the sums cancel); every
 	 * other fitted normal is unit with a positive dot product with S.
-	 * Memory: about 9 bytes a corner + 1 a face + 28 a vertex (ADAPTIVE 52)
-	 * + 4 a vertex per thread from the allocator (the workspace serves the
-	 * seed pass only), + 128 bytes a 2-ring member per thread. Cost on one
-	 * thread: QUADRIC about 15-20x MWSELR's, JET about 40x, ADAPTIVE 40x
-	 * on exactly sampled smooth surfaces and about 150x on noisy ones,
-	 * where it fits the 3-ring as well. Per corner (vn_corner_normals, vn_polygon_corner_normals): a
+	 * Memory: about 9 bytes a corner + 1 a face + 32 a vertex (ADAPTIVE 56)
+	 * + 4 a 1-ring member + 4 a vertex per thread from the allocator (the
+	 * workspace serves the seed pass only), + 128 bytes a 2-ring member
+	 * per thread. Cost on one thread: QUADRIC about 25x MWSELR's, JET about
+	 * 45x, ADAPTIVE 45x on exactly sampled smooth surfaces and about 170x
+	 * on noisy ones, where it fits the 4-ring as well. Per corner
+	 * (vn_corner_normals, vn_polygon_corner_normals): a
 	 * corner whose fan is its vertex's whole star (one fan, no degenerate
 	 * face, with face strengths all equally strong) gets the vertex's
 	 * fitted normal, any other corner its fan's MWA normal. SMEWCSA per

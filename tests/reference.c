@@ -230,7 +230,7 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
 #define PIVOT_MIN 1e-8L       /* smallest squared diagonal of R (the Cholesky pivot) */
 #define SEED_COS_MIN 0.5L     /* 60 degrees from the seed */
 /* ADAPTIVE: the jet alone at or below this weighted RMS residual over h; the
- * 3-ring cubic where its GCV score is below this factor times the best
+ * 4-ring cubic where its GCV score is below this factor times the best
  * other; the rough fallback (MWAAT) above this residual of the chosen fit. */
 #define ADAPTIVE_JET_EXACT 1e-4L
 #define ADAPTIVE_CUBIC 0.7L
@@ -543,46 +543,63 @@ static long double gcv(long double residual, long double n, int k)
 	return d > 0 ? residual * residual / (d * d) : INFINITY;
 }
 
-/* ADAPTIVE at a vertex with the 1-, 2- and 3-ring ends m1 <= m2 <= m3 of
+/* One fit in the frame of `axis` (itself up to `slack` radians uncertain),
+ * trusted like fit_twice's: 0 when not, or more than 60 degrees from S. */
+static int fit_once(const vec* q, size_t m, vec axis, vec s, int degree, long double h, long double gauss,
+                    long double slack, fit_result* out, int* borderline)
+{
+	int ok = fit_in_frame(q, m, axis, degree, h, gauss, slack, out);
+	*borderline |= out->borderline;
+	if (!ok)
+		return 0;
+	long double d = vec_dot(out->normal, s);
+	*borderline |= fabsl(d - SEED_COS_MIN) < BORDER + slack + fit_slack(out->rcond);
+	return d >= SEED_COS_MIN;
+}
+
+/* ADAPTIVE at a vertex with the 1-, 2- and 4-ring ends m1 <= m2 <= m4 of
  * q: the jet on the 2-ring; unless its residual is at most
- * ADAPTIVE_JET_EXACT, the quadric and the cubic on the 3-ring with Gaussian
- * weights as wide as the ring (gauss = the mean |q|^2 / h^2); of those, the
- * lowest GCV score (the cubic's must be below ADAPTIVE_CUBIC times the
- * others'); the fallback where the chosen residual is above
- * ADAPTIVE_FIT_MAX. Returns the path and sets *f to the chosen fit. */
-static int adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m3, vec s, long double h, fit_result* f,
+ * ADAPTIVE_JET_EXACT, the quadric and the cubic on the 4-ring with Gaussian
+ * weights as wide as the ring (gauss = the mean |q|^2 / h^2), each fitted
+ * once in the jet's frame (S's where the jet failed); of those, the lowest
+ * GCV score (the cubic's must be below ADAPTIVE_CUBIC times the others');
+ * the fallback where the chosen residual is above ADAPTIVE_FIT_MAX.
+ * Returns the path and sets *f to the chosen fit. */
+static int adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m4, vec s, long double h, fit_result* f,
                            int* borderline)
 {
 	fit_result jet, wq, wc;
-	int path = ref_path_seed;
-	long double best = INFINITY, residual = INFINITY;
+	int path = ref_path_seed, jet_ok = 0;
+	long double best = INFINITY, residual = INFINITY, slack = 0;
 	if (fit_twice(q, m2, s, 3, h, 0, &jet, borderline)) {
-		long double slack = fit_slack(jet.rcond);
+		slack = fit_slack(jet.rcond);
+		jet_ok = 1;
 		*f = jet, path = ref_path_jet, residual = jet.residual;
 		*borderline |= fabsl(jet.residual - ADAPTIVE_JET_EXACT) < BORDER + slack;
 		best = jet.residual <= ADAPTIVE_JET_EXACT ? 0 : gcv(jet.residual, effective_points(q, m2, h, 0), 10);
 	}
-	if (best > 0 && m3 > m1) {
+	if (best > 0 && m4 > m1) {
+		vec axis = jet_ok ? jet.normal : s;
 		long double gauss = 0;
-		for (size_t i = 0; i < m3; i++)
+		for (size_t i = 0; i < m4; i++)
 			gauss += vec_dot(q[i], q[i]) / (h * h);
-		gauss /= (long double)m3;
-		long double n = effective_points(q, m3, h, gauss);
-		if (fit_twice(q, m3, s, 2, h, gauss, &wq, borderline)) {
+		gauss /= (long double)m4;
+		long double n = effective_points(q, m4, h, gauss);
+		if (fit_once(q, m4, axis, s, 2, h, gauss, slack, &wq, borderline)) {
 			long double g = gcv(wq.residual, n, 6);
-			*borderline |= near(g, best, fit_slack(wq.rcond));
+			*borderline |= near(g, best, slack + fit_slack(wq.rcond));
 			if (g < best)
 				best = g, *f = wq, path = ref_path_wide, residual = wq.residual;
 		}
-		if (fit_twice(q, m3, s, 3, h, gauss, &wc, borderline)) {
+		if (fit_once(q, m4, axis, s, 3, h, gauss, slack, &wc, borderline)) {
 			long double g = gcv(wc.residual, n, 10);
-			*borderline |= near(g, ADAPTIVE_CUBIC * best, fit_slack(wc.rcond) + fit_slack(f->rcond));
+			*borderline |= near(g, ADAPTIVE_CUBIC * best, slack + fit_slack(wc.rcond) + fit_slack(f->rcond));
 			if (g < ADAPTIVE_CUBIC * best)
 				*f = wc, path = ref_path_wide, residual = wc.residual;
 		}
 	}
 	if (path != ref_path_seed)
-		*borderline |= near(residual, ADAPTIVE_FIT_MAX, fit_slack(f->rcond));
+		*borderline |= near(residual, ADAPTIVE_FIT_MAX, slack + fit_slack(f->rcond));
 	return residual <= ADAPTIVE_FIT_MAX ? path : ref_path_seed;
 }
 
@@ -614,7 +631,7 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		path[v] = ref_path_seed;
 		vec p = position(t->positions, (uint32_t)v);
 		mark[v] = 1;
-		size_t m1 = add_ring(t, (uint32_t)v, mark, ring, 0), m2 = m1, m3 = m1;
+		size_t m1 = add_ring(t, (uint32_t)v, mark, ring, 0), m2 = m1, m4 = m1;
 		long double h = 0;
 		for (size_t i = 0; i < m1; i++) {
 			q[i] = vec_sub(position(t->positions, ring[i]), p);
@@ -624,17 +641,20 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		if (method != ref_quadric) {
 			for (size_t i = 0; i < m1; i++)
 				m2 = add_ring(t, ring[i], mark, ring, m2);
-			m3 = m2;
+			m4 = m2;
 		}
-		if (method == ref_adaptive)
-			for (size_t i = m1; i < m2; i++)
-				m3 = add_ring(t, ring[i], mark, ring, m3);
-		for (size_t i = m1; i < m3; i++)
+		for (size_t from = m1, r = 3; method == ref_adaptive && r <= 4; r++) { /* the 3- and 4-rings */
+			size_t to = m4;
+			for (size_t i = from; i < to; i++)
+				m4 = add_ring(t, ring[i], mark, ring, m4);
+			from = to;
+		}
+		for (size_t i = m1; i < m4; i++)
 			q[i] = vec_sub(position(t->positions, ring[i]), p);
 		fit_result f = {{0, 0, 0}, 0, 0, 0};
 		int borderline = 0;
 		if (m1 && method == ref_adaptive)
-			path[v] = (unsigned char)adaptive_vertex(q, m1, m2, m3, s, h, &f, &borderline);
+			path[v] = (unsigned char)adaptive_vertex(q, m1, m2, m4, s, h, &f, &borderline);
 		else if (m1 && method == ref_jet && fit_twice(q, m2, s, 3, h, 0, &f, &borderline)) {
 			path[v] = ref_path_jet;
 		} else if (m1 && method != ref_adaptive && fit_twice(q, m1, s, 2, h, 0, &f, &borderline)) {
@@ -648,7 +668,7 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		}
 		if (borderline)
 			path[v] |= ref_path_borderline;
-		for (size_t i = 0; i < m3; i++)
+		for (size_t i = 0; i < m4; i++)
 			mark[ring[i]] = 0;
 		mark[v] = 0;
 	}

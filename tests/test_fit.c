@@ -344,7 +344,7 @@ static void torus_outward_everywhere(void** state)
 /* ADAPTIVE on the ellipsoid band (64 x 32, jittered): sampled exactly, as
  * accurate as the jet; with every vertex moved along its exact normal by up
  * to `noise` of the mean edge (as marching tetrahedra misplace vertices),
- * better than every one of the seven by its 3-ring fits; with noise as large
+ * better than every one of the seven by its 4-ring fits; with noise as large
  * as the edges, MWAAT, its fallback. Returns the median errors of ADAPTIVE,
  * JET, the best of the seven and MWAAT. */
 static void adaptive_medians(double noise, double med[4])
