@@ -709,45 +709,12 @@ static vn_result run_seven(job* j, vn_method m, const vn_options* options, vn_st
 	return run(j, options, stats);
 }
 
-/* SMEWCSA per corner: its rule (vn_smewcsa_combine) on each corner's
- * MEWCSA and MWSELR fan normals. */
-static vn_result run_smewcsa(job* j, const vn_options* options, vn_stats* stats)
-{
-	const vn_allocator heap = vn_heap(options ? &options->allocator : NULL);
-	const size_t n = j->n;
-	if (n > SIZE_MAX / 48)
-		return vn_result_out_of_memory;
-	double* buf = (double*)heap.allocate(heap.user, 6 * sizeof(double) * n);
-	if (!buf)
-		return vn_result_out_of_memory;
-	const vn_vectors user = j->out;
-	const vn_vectors h = {buf, 3 * sizeof(double), vn_scalar_float64};
-	const vn_vectors sd = {buf + 3 * n, 3 * sizeof(double), vn_scalar_float64};
-	j->out = h;
-	vn_result r = run_seven(j, vn_method_mewcsa, options, stats);
-	j->out = sd;
-	j->want_stats = 0;
-	if (r == vn_result_success)
-		r = run_seven(j, vn_method_mwselr, options, NULL);
-	if (r == vn_result_success) {
-		size_t zero = 0;
-		for (size_t c = 0; c < n; ++c) {
-			double v[3];
-			vn_smewcsa_combine(buf + 3 * c, buf + 3 * (n + c), v);
-			zero += v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
-			vn_store(&user, c, v);
-		}
-		if (stats)
-			stats->zero_normals = zero;
-	}
-	heap.deallocate(heap.user, buf);
-	return r;
-}
-
-/* The fits per corner: a corner whose fan is its vertex's whole star gets
- * the vertex's fitted normal (the vertex-normal function's), any other its
- * fan's MWA normal (the seed, per fan). */
-static vn_result run_fit(job* j, const vn_options* options, vn_stats* stats)
+/* The methods beyond the seven per corner: a corner whose fan is its
+ * vertex's whole star gets the vertex's normal (the vertex-normal
+ * function's), any other its fan's normal by the method's seed (MWA for the
+ * fits, MWSELR for SMEWCSA): a fit needs the whole ring, and a partial fan's
+ * MEWCSA sum is no mean-curvature normal. */
+static vn_result run_whole_star(job* j, vn_method seed, const vn_options* options, vn_stats* stats)
 {
 	const vn_allocator heap = vn_heap(options ? &options->allocator : NULL);
 	const size_t nv = j->nv;
@@ -756,22 +723,22 @@ static vn_result run_fit(job* j, const vn_options* options, vn_stats* stats)
 	unsigned char* block = (unsigned char*)heap.allocate(heap.user, 25 * nv);
 	if (!block)
 		return vn_result_out_of_memory;
-	double* fit = (double*)(void*)block;
+	double* vert = (double*)(void*)block; /* the vertex normals */
 	const vn_method method = j->w.method;
 	j->single = block + 24 * nv;
-	vn_result r = run_seven(j, vn_method_mwa, options, stats);
+	vn_result r = run_seven(j, seed, options, stats);
 	if (r == vn_result_success) {
 		vn_options o;
 		memset(&o, 0, sizeof(o));
 		if (options)
 			o.threads = options->threads, o.simd = options->simd, o.allocator = options->allocator;
 		const vn_positions p = {j->w.positions, nv, j->w.stride, j->w.type};
-		const vn_vectors fv = {fit, 3 * sizeof(double), vn_scalar_float64};
+		const vn_vectors fv = {vert, 3 * sizeof(double), vn_scalar_float64};
 		r = j->w.offsets ? vn_polygon_normals(&fv, &p, j->w.indices, j->w.offsets, j->w.face_count, method, &o, NULL)
 		                 : vn_triangle_normals(&fv, &p, j->w.indices, j->n, method, &o, NULL);
 		for (size_t c = 0; r == vn_result_success && c < j->n; ++c)
 			if (j->single[j->w.indices[c]])
-				vn_store(&j->out, c, fit + 3 * (size_t)j->w.indices[c]);
+				vn_store(&j->out, c, vert + 3 * (size_t)j->w.indices[c]);
 	}
 	heap.deallocate(heap.user, block);
 	return r;
@@ -781,11 +748,11 @@ static vn_result run_method(job* j, const vn_options* options, vn_stats* stats)
 {
 	switch (j->w.method) {
 	case vn_method_smewcsa:
-		return run_smewcsa(j, options, stats);
+		return run_whole_star(j, vn_method_mwselr, options, stats);
 	case vn_method_quadric:
 	case vn_method_jet:
 	case vn_method_adaptive:
-		return run_fit(j, options, stats);
+		return run_whole_star(j, vn_method_mwa, options, stats);
 	default:
 		return run_seven(j, j->w.method, options, stats);
 	}

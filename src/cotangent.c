@@ -13,16 +13,21 @@
  * outward normal where the mean curvature is positive and inward where it is
  * negative, which is the failure mode the paper reports.
  *
- * SMEWCSA corrects it: the MEWCSA and MWSELR normals, each by its own pass
- * of the kernels, combined per vertex by vn_smewcsa_combine (vn.h). */
+ * SMEWCSA corrects it (vn.h): a pass of the MWSELR kernels gives the seed
+ * normals, then the MEWCSA kernels sum each vertex's contributions and, in
+ * the fourth accumulator, their lengths, and vn_run's finalize applies the
+ * rule (vn_smewcsa_finalize) instead of normalizing. */
 #include "internal.h"
 #include "simd.h"
 
-VN_INLINE void add_edge_cross(double* acc, const double d[3], const double n[3])
+/* Adds d x n to acc[0..2] and, with lengths (SMEWCSA), |d x n| to acc[3]. */
+VN_INLINE void add_edge_cross(double* acc, const double d[3], const double n[3], int lengths)
 {
 	double c[3];
 	vn_cross(d, n, c);
 	acc[0] += c[0], acc[1] += c[1], acc[2] += c[2];
+	if (lengths)
+		acc[3] += sqrt(vn_dot(c, c));
 }
 
 /* The unit normal (n, normalized in place) and each corner's p_next - p_prev:
@@ -36,7 +41,7 @@ VN_INLINE void unit_and_chords(const double e01[3], const double e12[3], const d
 		d[0][i] = -e12[i], d[1][i] = -e20[i], d[2][i] = -e01[i];
 }
 
-VN_INLINE void triangles(const vn_work* w, vn_scalar type, vn_range range, vn_range_stats* st)
+VN_INLINE void triangles(const vn_work* w, vn_scalar type, int lengths, vn_range range, vn_range_stats* st)
 {
 	const uint32_t* idx = w->indices;
 	double* acc = w->acc;
@@ -61,11 +66,11 @@ VN_INLINE void triangles(const vn_work* w, vn_scalar type, vn_range range, vn_ra
 		}
 		unit_and_chords(e01, e12, e20, l2, n, d);
 		if (o0)
-			add_edge_cross(acc + 4 * (size_t)i0, d[0], n);
+			add_edge_cross(acc + 4 * (size_t)i0, d[0], n, lengths);
 		if (o1)
-			add_edge_cross(acc + 4 * (size_t)i1, d[1], n);
+			add_edge_cross(acc + 4 * (size_t)i1, d[1], n, lengths);
 		if (o2)
-			add_edge_cross(acc + 4 * (size_t)i2, d[2], n);
+			add_edge_cross(acc + 4 * (size_t)i2, d[2], n, lengths);
 	}
 	st->degenerate_faces += degenerate;
 }
@@ -83,14 +88,25 @@ int vn_cotangent_triangle(vn_method method, const double p0[3], const double p1[
 	return 1;
 }
 
+/* One copy per position type, without and with lengths (SMEWCSA). */
 static void triangles_f(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	VN_DISPATCH_RANGE(w, lo, hi, triangles(w, vn_scalar_float32, range, st));
+	VN_DISPATCH_RANGE(w, lo, hi, triangles(w, vn_scalar_float32, 0, range, st));
 }
 
 static void triangles_d(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	VN_DISPATCH_RANGE(w, lo, hi, triangles(w, vn_scalar_float64, range, st));
+	VN_DISPATCH_RANGE(w, lo, hi, triangles(w, vn_scalar_float64, 0, range, st));
+}
+
+static void triangles_fl(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	VN_DISPATCH_RANGE(w, lo, hi, triangles(w, vn_scalar_float32, 1, range, st));
+}
+
+static void triangles_dl(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	VN_DISPATCH_RANGE(w, lo, hi, triangles(w, vn_scalar_float64, 1, range, st));
 }
 
 #ifdef VN_HAVE_AVX2
@@ -111,62 +127,103 @@ VN_AVX2_INLINE void cotangent_group(vn_method method, const __m256d e[3][3], con
 	}
 }
 
-static VN_AVX2 void triangles_f_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
-{
-	VN_DISPATCH_RANGE(w, lo, hi,
-	                  vn_triangles_avx2(w, vn_scalar_float32, vn_method_mewcsa, range, st, cotangent_group, triangles_f));
-}
-
-static VN_AVX2 void triangles_d_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
-{
-	VN_DISPATCH_RANGE(w, lo, hi,
-	                  vn_triangles_avx2(w, vn_scalar_float64, vn_method_mewcsa, range, st, cotangent_group, triangles_d));
-}
+#define VN_TRIANGLES_AVX2(name, type, lengths, scalar)                                                         \
+	static VN_AVX2 void name(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)                     \
+	{                                                                                                            \
+		VN_DISPATCH_RANGE(w, lo, hi,                                                                             \
+		                  vn_triangles_avx2(w, type, vn_method_mewcsa, lengths, range, st, cotangent_group, scalar)); \
+	}
+VN_TRIANGLES_AVX2(triangles_f_avx2, vn_scalar_float32, 0, triangles_f)
+VN_TRIANGLES_AVX2(triangles_d_avx2, vn_scalar_float64, 0, triangles_d)
+VN_TRIANGLES_AVX2(triangles_fl_avx2, vn_scalar_float32, 1, triangles_fl)
+VN_TRIANGLES_AVX2(triangles_dl_avx2, vn_scalar_float64, 1, triangles_dl)
 #endif
 
+/* SMEWCSA's pass (w->seed set) also sums the contributions' lengths. */
 void vn_accumulate_cotangent_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	const int f64 = w->type == vn_scalar_float64;
+	const int f64 = w->type == vn_scalar_float64, lengths = w->seed != NULL;
 #ifdef VN_HAVE_AVX2
 	if (w->simd) {
-		(f64 ? triangles_d_avx2 : triangles_f_avx2)(w, lo, hi, st);
+		(lengths ? (f64 ? triangles_dl_avx2 : triangles_fl_avx2) : (f64 ? triangles_d_avx2 : triangles_f_avx2))(w, lo, hi,
+		                                                                                                        st);
 		return;
 	}
 #endif
-	(f64 ? triangles_d : triangles_f)(w, lo, hi, st);
+	(lengths ? (f64 ? triangles_dl : triangles_fl) : (f64 ? triangles_d : triangles_f))(w, lo, hi, st);
 }
 
-/* (p_next - p_prev) x N_f = (E' - E) x N_f for a polygon corner. */
+/* (p_next - p_prev) x N_f = (E' - E) x N_f for a polygon corner; with
+ * lengths, its length too (SMEWCSA, never in corner.c's per-corner mode,
+ * whose accumulators have 3 doubles). */
+VN_INLINE void polygon_corner(double* acc, const double n[3], const double e[3], const double e2[3], int lengths)
+{
+	double d[3];
+	vn_sub(e2, e, d);
+	add_edge_cross(acc, d, n, lengths);
+}
+
 static void cotangent_corner(vn_method method, double* acc, const double n[3], const double e[3], const double e2[3])
 {
 	(void)method;
-	double d[3];
-	vn_sub(e2, e, d);
-	add_edge_cross(acc, d, n);
+	polygon_corner(acc, n, e, e2, 0);
+}
+
+static void cotangent_corner_lengths(vn_method method, double* acc, const double n[3], const double e[3],
+                                     const double e2[3])
+{
+	(void)method;
+	polygon_corner(acc, n, e, e2, 1);
 }
 
 void vn_accumulate_cotangent_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	VN_DISPATCH_RANGE(w, lo, hi, vn_polygons(w, range, st, cotangent_corner));
+	if (w->seed)
+		VN_DISPATCH_RANGE(w, lo, hi, vn_polygons(w, range, st, cotangent_corner_lengths));
+	else
+		VN_DISPATCH_RANGE(w, lo, hi, vn_polygons(w, range, st, cotangent_corner));
 }
 
 /* ---------------------------------------------------------------- SMEWCSA */
 
 /* cos 30 degrees: beyond it from the seed, the MEWCSA vector is mostly its
- * tangential part (discretization error), so the mean curvature is about zero. */
+ * tangential part (discretization error). */
 #define SMEWCSA_COS_MIN 0.86602540378443865
+/* At or below this fraction of the sum of its contributions' lengths, the
+ * MEWCSA sum is about zero (vn.h): rounding float32 positions moves a flat
+ * mesh's points off their plane by up to 2^-24 |p|, which leaves a sum of
+ * about 2^-24 |p| / h of the lengths (measured: at most 2.5x that), below
+ * this while |p| stays under about 1000 edge lengths h; double positions'
+ * rounding stays below it anywhere. */
+#define SMEWCSA_FLAT 0x1p-12
 
-void vn_smewcsa_combine(const double h[3], const double s[3], double n[3])
+int vn_smewcsa_finish(const double acc[4], const double s[3], double n[3])
 {
+	double h[3] = {acc[0], acc[1], acc[2]};
+	const int zero_h = vn_normalize(h);
 	const double d = vn_dot(h, s);
-	const int zero_h = h[0] == 0.0 && h[1] == 0.0 && h[2] == 0.0;
-	const int zero_s = s[0] == 0.0 && s[1] == 0.0 && s[2] == 0.0;
-	if (zero_s || (!zero_h && fabs(d) >= SMEWCSA_COS_MIN)) {
+	/* h . acc is |acc| without squaring acc (no overflow); a zero s fails
+	 * the angle test and gives zero. */
+	if (!zero_h && vn_dot(h, acc) > SMEWCSA_FLAT * acc[3] && fabs(d) >= SMEWCSA_COS_MIN) {
 		const double sign = d < 0.0 ? -1.0 : 1.0;
 		n[0] = sign * h[0], n[1] = sign * h[1], n[2] = sign * h[2];
-	} else {
-		memcpy(n, s, 3 * sizeof(double));
+		return 0;
 	}
+	memcpy(n, s, 3 * sizeof(double));
+	return s[0] == 0.0 && s[1] == 0.0 && s[2] == 0.0;
+}
+
+void vn_smewcsa_finalize(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	size_t zero = 0;
+	for (uint32_t v = lo; v < hi; ++v) {
+		double n[3];
+		const int z = vn_smewcsa_finish(w->acc + 4 * (size_t)v, w->seed + 3 * (size_t)v, n);
+		zero += (size_t)z;
+		if (!(z && w->keep_existing))
+			vn_store(w->out, v, n);
+	}
+	st->zero_normals += zero;
 }
 
 vn_result vn_smewcsa_run(const vn_work* work, vn_accumulate_fn mewcsa, vn_accumulate_fn seed, const vn_options* o,
@@ -174,34 +231,23 @@ vn_result vn_smewcsa_run(const vn_work* work, vn_accumulate_fn mewcsa, vn_accumu
 {
 	const vn_allocator heap = vn_heap(&o->allocator);
 	const uint32_t nv = work->vertex_count;
-	double* buf = (double*)heap.allocate(heap.user, 6 * sizeof(double) * (size_t)nv);
-	if (!buf)
+	double* s = (double*)heap.allocate(heap.user, 3 * sizeof(double) * (size_t)nv);
+	if (!s)
 		return vn_result_out_of_memory;
-	const vn_vectors hv = {buf, 3 * sizeof(double), vn_scalar_float64};
-	const vn_vectors sv = {buf + 3 * (size_t)nv, 3 * sizeof(double), vn_scalar_float64};
+	const vn_vectors sv = {s, 3 * sizeof(double), vn_scalar_float64};
 	vn_work w = *work;
 	w.keep_existing = 0;
-	w.out = &hv;
-	w.method = vn_method_mewcsa;
-	vn_range_stats first = {0, 0, 0, 0}, second = {0, 0, 0, 0};
-	vn_result r = vn_run(&w, mewcsa, o, &first);
+	w.want_stats = 0;
 	w.out = &sv;
 	w.method = vn_method_mwselr;
-	w.want_stats = 0;
-	if (r == vn_result_success)
-		r = vn_run(&w, seed, o, &second);
+	vn_range_stats ignored = {0, 0, 0, 0};
+	vn_result r = vn_run(&w, seed, o, &ignored);
 	if (r == vn_result_success) {
-		st->degenerate_faces += first.degenerate_faces;
-		st->nonfinite_vertices += first.nonfinite_vertices;
-		for (uint32_t v = 0; v < nv; ++v) {
-			double n[3];
-			vn_smewcsa_combine(buf + 3 * (size_t)v, buf + 3 * ((size_t)nv + v), n);
-			const int zero = n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0;
-			st->zero_normals += zero;
-			if (!(zero && work->keep_existing))
-				vn_store(work->out, v, n);
-		}
+		w = *work;
+		w.method = vn_method_mewcsa;
+		w.seed = s;
+		r = vn_run(&w, mewcsa, o, st);
 	}
-	heap.deallocate(heap.user, buf);
+	heap.deallocate(heap.user, s);
 	return r;
 }

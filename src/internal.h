@@ -37,6 +37,10 @@ typedef struct vn_work {
 	 * (3 doubles a corner, indexed by the corner's place in indices)
 	 * instead of to its vertex's sum. */
 	double* face_normals;
+	/* SMEWCSA's MEWCSA pass, when not NULL: the seed (MWSELR) normals, 3
+	 * doubles a vertex; the kernels also sum the contributions' lengths in
+	 * acc[3], and vn_run finalizes by vn_smewcsa_finalize. */
+	const double* seed;
 } vn_work;
 
 /* Counts one worker gathers for its vertex range. */
@@ -61,12 +65,17 @@ void vn_accumulate_weighted_polygons(const vn_work* w, uint32_t lo, uint32_t hi,
 void vn_accumulate_cotangent_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 void vn_accumulate_cotangent_polygons(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 
-/* cotangent.c: SMEWCSA, two passes (the MEWCSA and the seed kernels given)
- * combined per vertex; the same contract as vn_run. */
+/* cotangent.c: SMEWCSA, a pass of the seed kernels, then one of the MEWCSA
+ * kernels finalized by its rule; the same contract as vn_run. */
 vn_result vn_smewcsa_run(const vn_work* w, vn_accumulate_fn mewcsa, vn_accumulate_fn seed, const vn_options* o,
                          vn_range_stats* st);
-/* SMEWCSA's rule (vn.h) from the unit (or zero) MEWCSA normal h and seed s. */
-void vn_smewcsa_combine(const double h[3], const double s[3], double n[3]);
+/* SMEWCSA's rule (vn.h) at one vertex: n from its MEWCSA sum acc[0..2], the
+ * sum of its contributions' lengths acc[3] and its seed normal s (unit or
+ * zero); returns 1 when n is zero. */
+int vn_smewcsa_finish(const double acc[4], const double s[3], double n[3]);
+/* vn_smewcsa_finish on the vertices [lo, hi) of w (w->seed set) into w->out,
+ * as vn_run's finalize does. */
+void vn_smewcsa_finalize(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st);
 
 /* fit.c: QUADRIC, JET and ADAPTIVE (w->method); the same contract as vn_run. */
 vn_result vn_fit_run(const vn_work* w, const vn_options* o, vn_range_stats* st);

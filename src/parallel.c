@@ -117,11 +117,13 @@ static void* finalize_task(void* arg)
 {
 	vn_task* t = (vn_task*)arg;
 	const vn_work* w = t->work;
+	if (w->seed)
+		vn_smewcsa_finalize(w, t->lo, t->hi, &t->stats);
 #ifdef VN_HAVE_AVX2
-	if (w->simd)
+	else if (w->simd)
 		finalize_avx2(w, t->lo, t->hi, &t->stats);
-	else
 #endif
+	else
 		finalize(w, t->lo, t->hi, &t->stats);
 	if (w->want_stats)
 		t->stats.nonfinite_vertices += vn_count_nonfinite(w, t->lo, t->hi);

@@ -118,15 +118,16 @@ VN_AVX2_INLINE int vn_usable4(__m256d len2)
 }
 
 /* Adds corner c's vector (x[c], y[c], z[c]) lane k to acc[idx[3k + c]] for the
- * usable lanes whose corner is owned, triangle by triangle in index order. */
-VN_AVX2_INLINE void vn_scatter_group(double* acc, const uint32_t* idx, int usable, vn_range range,
+ * usable lanes whose corner is owned, triangle by triangle in index order;
+ * with lengths, its length to the fourth double too (else 0). */
+VN_AVX2_INLINE void vn_scatter_group(double* acc, const uint32_t* idx, int usable, vn_range range, int lengths,
                                      const __m256d x[3], const __m256d y[3], const __m256d z[3])
 {
-	__m256d v[3][4]; /* [corner][lane]: (x, y, z, 0) */
-	const __m256d zero = _mm256_setzero_pd();
+	__m256d v[3][4]; /* [corner][lane]: (x, y, z, length or 0) */
 	for (int c = 0; c < 3; ++c) {
+		const __m256d l = lengths ? _mm256_sqrt_pd(vn_dot4(x[c], y[c], z[c], x[c], y[c], z[c])) : _mm256_setzero_pd();
 		const __m256d t0 = _mm256_unpacklo_pd(x[c], y[c]), t1 = _mm256_unpackhi_pd(x[c], y[c]);
-		const __m256d t2 = _mm256_unpacklo_pd(z[c], zero), t3 = _mm256_unpackhi_pd(z[c], zero);
+		const __m256d t2 = _mm256_unpacklo_pd(z[c], l), t3 = _mm256_unpackhi_pd(z[c], l);
 		v[c][0] = _mm256_permute2f128_pd(t0, t2, 0x20);
 		v[c][1] = _mm256_permute2f128_pd(t1, t3, 0x20);
 		v[c][2] = _mm256_permute2f128_pd(t0, t2, 0x31);
@@ -163,11 +164,12 @@ typedef void (*vn_group_fn)(vn_method method, const __m256d e[3][3], const __m25
                             __m256d cy[3], __m256d cz[3]);
 
 /* The triangle loop both families share, four triangles per step: group
- * classification, loads, edges and normal, degenerate count, scatter.
- * Groups that touch the last vertex, and the tail, go to `scalar`, the
- * family's scalar kernel for the same position type and method. */
-VN_AVX2_INLINE void vn_triangles_avx2(const vn_work* w, vn_scalar type, vn_method method, vn_range range,
-                                      vn_range_stats* st, vn_group_fn group, vn_accumulate_fn scalar)
+ * classification, loads, edges and normal, degenerate count, scatter (with
+ * lengths: vn_scatter_group's). Groups that touch the last vertex, and the
+ * tail, go to `scalar`, the family's scalar kernel for the same position
+ * type, method and lengths. */
+VN_AVX2_INLINE void vn_triangles_avx2(const vn_work* w, vn_scalar type, vn_method method, int lengths,
+                                      vn_range range, vn_range_stats* st, vn_group_fn group, vn_accumulate_fn scalar)
 {
 	const uint32_t last = w->vertex_count - 1;
 	const uint32_t lo = range.full ? 0 : range.lo, hi = range.full ? w->vertex_count : range.lo + range.span;
@@ -205,7 +207,7 @@ VN_AVX2_INLINE void vn_triangles_avx2(const vn_work* w, vn_scalar type, vn_metho
 			continue;
 		__m256d cx[3], cy[3], cz[3];
 		group(method, (const __m256d(*)[3])e, n, l2, cx, cy, cz);
-		vn_scatter_group(w->acc, idx, usable, range, cx, cy, cz);
+		vn_scatter_group(w->acc, idx, usable, range, lengths, cx, cy, cz);
 	}
 	st->degenerate_faces += degenerate;
 	/* No arithmetic on a NULL indices (a mesh without faces). */

@@ -86,13 +86,17 @@ typedef enum vn_method {
 	                      corrected: it points inward where mean curvature < 0. */
 
 	/* Beyond the paper (they keep the seven's indices). */
-	vn_method_smewcsa, /* MEWCSA with its sign corrected (Meyer et al. 2003): H =
-	                      the MEWCSA normal, S = the MWSELR normal; H flipped
-	                      when H . S < 0, and S where H is zero or more than
-	                      30 degrees from S: the mean curvature is about zero,
-	                      the cotangent vector's normal part no larger than its
-	                      tangential part (its discretization error); H where
-	                      S is zero. Two passes: about twice MEWCSA's cost. */
+	vn_method_smewcsa, /* MEWCSA with its sign corrected (Meyer et al. 2003): K =
+	                      the MEWCSA sum, H = K / |K|, S = the MWSELR normal;
+	                      H flipped when H . S < 0, and S where the mean
+	                      curvature is about zero: where |K| <= 2^-12 times
+	                      the sum of its contributions' lengths (a flat
+	                      region: K is rounding noise, float32 positions'
+	                      included while |p| is under about 1000 edge
+	                      lengths), or H is more than 30 degrees from S (K's
+	                      normal part no larger than its tangential part,
+	                      its discretization error). Zero where S is zero.
+	                      Two passes: about twice MEWCSA's cost. */
 	vn_method_quadric, /* weighted least squares of z = f(x, y) = c + a x + b y
 	                      + d x^2 + e xy + g y^2 over the vertex and its 1-ring,
 	                      in the tangent frame of the vertex's MWA normal S, the
@@ -161,7 +165,8 @@ typedef enum vn_method {
 	 * corner whose fan is its vertex's whole star (one fan, no degenerate
 	 * face, with face strengths all equally strong) gets the vertex's
 	 * fitted normal, any other corner its fan's MWA normal. SMEWCSA per
-	 * corner applies its rule to the corner's MEWCSA and MWSELR normals. */
+	 * corner likewise: the vertex's normal, or the fan's MWSELR normal (a
+	 * partial fan's MEWCSA sum is no mean-curvature normal). */
 	vn_method_count
 } vn_method;
 

@@ -165,10 +165,10 @@ VN_AVX2_INLINE void weighted_group(vn_method method, const __m256d e[3][3], cons
 		cx[k] = _mm256_mul_pd(n[0], wt[k]), cy[k] = _mm256_mul_pd(n[1], wt[k]), cz[k] = _mm256_mul_pd(n[2], wt[k]);
 }
 
-#define VN_TRIANGLES_FAST(name, type, method)                                                              \
-	static VN_AVX2 void name##_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)        \
-	{                                                                                                      \
-		VN_DISPATCH_RANGE(w, lo, hi, vn_triangles_avx2(w, type, method, range, st, weighted_group, name)); \
+#define VN_TRIANGLES_FAST(name, type, method)                                                                 \
+	static VN_AVX2 void name##_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)           \
+	{                                                                                                         \
+		VN_DISPATCH_RANGE(w, lo, hi, vn_triangles_avx2(w, type, method, 0, range, st, weighted_group, name)); \
 	}
 #else
 #define VN_TRIANGLES_FAST(name, type, method)

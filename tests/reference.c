@@ -235,6 +235,7 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
 #define ADAPTIVE_JET_EXACT 1e-4L
 #define ADAPTIVE_CUBIC 0.7L
 #define ADAPTIVE_FIT_MAX 0.06L
+#define SMEWCSA_FLAT 0x1p-12L /* SMEWCSA: MEWCSA's condition at or below it is flat */
 /* How close to a threshold a decision is borderline: far above the two
  * implementations' measured differences, far below any real margin. */
 #define BORDER 1e-9L
@@ -254,9 +255,10 @@ static long double dot_d(const double* a, const double* b)
 	return (long double)a[0] * b[0] + (long double)a[1] * b[1] + (long double)a[2] * b[2];
 }
 
-/* SMEWCSA from the MEWCSA normal H and the MWSELR normal S: H, its sign
- * flipped when H . S < 0, unless H is zero or more than 30 degrees from S;
- * then S. */
+/* SMEWCSA from the MEWCSA sum K, H = K / |K|, and the MWSELR normal S: H,
+ * its sign flipped when H . S < 0, unless |K| <= SMEWCSA_FLAT times the sum
+ * of K's contributions' lengths (MEWCSA's condition) or H is more than 30
+ * degrees from S; then S (zero where S is). */
 static void smewcsa_normals(const tables* t, double* out, double* cond, unsigned char* path)
 {
 	size_t n = t->vertex_count;
@@ -269,11 +271,11 @@ static void smewcsa_normals(const tables* t, double* out, double* cond, unsigned
 		const double* hv = h + 3 * v;
 		double* o = out + 3 * v;
 		long double d = dot_d(hv, o);
-		if (is_zero(hv) && is_zero(o)) {
+		if (is_zero(o)) {
 			path[v] = ref_path_zero;
 			continue;
 		}
-		if (is_zero(o) || (!is_zero(hv) && fabsl(d) >= cos30)) {
+		if (hc[v] > SMEWCSA_FLAT && fabsl(d) >= cos30) {
 			long double sign = d < 0 ? -1 : 1;
 			for (int i = 0; i < 3; i++)
 				o[i] = (double)(sign * hv[i]);
@@ -282,8 +284,7 @@ static void smewcsa_normals(const tables* t, double* out, double* cond, unsigned
 		} else {
 			path[v] = ref_path_seed;
 		}
-		/* H of a flat vertex is rounding noise: its angle to S is arbitrary. */
-		if (!is_zero(hv) && !is_zero(o) && (hc[v] < 1e-9 || fabsl(fabsl(d) - cos30) < BORDER))
+		if (fabsl(hc[v] / SMEWCSA_FLAT - 1) < BORDER || (hc[v] > SMEWCSA_FLAT && fabsl(fabsl(d) - cos30) < BORDER))
 			path[v] |= ref_path_borderline;
 	}
 	free(hc);

@@ -41,9 +41,9 @@ enum {
 	ref_path_jet,      /* the 2-ring cubic jet fit */
 	ref_path_wide,     /* ADAPTIVE: a 4-ring fit with Gaussian weights */
 	/* Added to the path: a decision on the way (a pivot, the 60 degree or
-	 * 30 degree rule, ADAPTIVE's residual) was within rounding of its
-	 * threshold, or SMEWCSA's MEWCSA direction is rounding noise; another
-	 * correct implementation may decide otherwise. */
+	 * 30 degree rule, ADAPTIVE's residual, SMEWCSA's flatness) was within
+	 * rounding of its threshold; another correct implementation may decide
+	 * otherwise. */
 	ref_path_borderline = 8
 };
 
