@@ -18,7 +18,8 @@
  * 1-ring, the quadric to S. Untrusted means fewer points than unknowns, an
  * ill-conditioned system (a Cholesky pivot of the unit-diagonal normal
  * matrix below PIVOT_MIN: some monomial is, to 1e-4 in the weighted norm, a
- * combination of the others, e.g. collinear members), or a normal more than
+ * combination of the others, e.g. collinear members; or its reciprocal
+ * condition below RCOND_MIN: several such near-dependencies), or a normal more than
  * 60 degrees from S (the neighbourhood is not a height field over S's plane).
  * A vertex with a zero seed (isolated, or every face degenerate) gets zero,
  * as with the seven; every other result is a unit vector with a positive
@@ -49,6 +50,10 @@
 #define RING_ALL_MAX 8
 /* Smallest pivot of the unit-diagonal normal matrix's Cholesky factor. */
 #define PIVOT_MIN 1e-8
+/* Smallest reciprocal condition 1 / (k trace(M~^-1)) of that matrix M~:
+ * below it, rounding moves the normal by more than about 1e-13 / RCOND_MIN
+ * = 1e-3 radians (pivots alone admit condition numbers up to 1e17). */
+#define RCOND_MIN 1e-10
 /* The fitted normal must stay within 60 degrees of the seed. */
 #define SEED_COS_MIN 0.5
 /* ADAPTIVE (chosen with vneval on the paper's ensemble and two surfaces
@@ -182,9 +187,10 @@ VN_INLINE void moments(const vn_fit_points* p, const fits* f, unsigned to, int c
 
 /* Solves M c = t for each lane's k x k normal matrix (M_il = s[MOMENT[i][l]])
  * by LDL^T with reciprocal pivots; a lane fails when a pivot of its M scaled
- * to unit diagonal (D_j / M_jj) is below PIVOT_MIN: some monomial is, to
- * 1e-4 in the weighted norm, a combination of the others. Inlined with k a
- * constant, so the loops unroll. */
+ * to unit diagonal (D_j / M_jj) is below PIVOT_MIN (some monomial is, to
+ * 1e-4 in the weighted norm, a combination of the others) or its
+ * reciprocal condition is below RCOND_MIN. Inlined with k a constant, so
+ * the loops unroll. */
 VN_INLINE void solve(const lanes s[S_MAX], lanes t[T_MAX], int k, fits* f)
 {
 	lanes L[10][10], U[10][10], inv[10];
@@ -204,6 +210,25 @@ VN_INLINE void solve(const lanes s[S_MAX], lanes t[T_MAX], int k, fits* f)
 			U[i][j] = x, L[i][j] = x * inv[j];
 		}
 	}
+	/* The condition: trace(M~^-1) = sum_j M_jj (M^-1)_jj, M~ = M scaled to
+	 * unit diagonal; M^-1 = L^-T D^-1 L^-1, so (M^-1)_jj = sum_i>=j
+	 * (L^-1)_ij^2 / D_i, column j of L^-1 by forward substitution. */
+	lanes trace = one - one;
+	UNROLL for (int j = 0; j < k; ++j) {
+		lanes x[10], sum = inv[j];
+		x[j] = one;
+		UNROLL for (int i = j + 1; i < k; ++i) {
+			x[i] = -L[i][j];
+			UNROLL for (int p = j + 1; p < i; ++p)
+				x[i] -= L[i][p] * x[p];
+			sum += x[i] * x[i] * inv[i];
+		}
+		trace += s[MOMENT[j][j]] * sum;
+	}
+	/* 1 / (k trace) below RCOND_MIN: fail. */
+	const masks conditioned = trace * (double)k <= 1.0 / RCOND_MIN;
+	UNROLL for (int l = 0; l < LANES; ++l)
+		f->ok[l] &= conditioned[l] != 0;
 	UNROLL for (int i = 0; i < k; ++i) /* forward: t becomes L^-1 t */
 		UNROLL for (int p = 0; p < i; ++p)
 			t[i] -= L[i][p] * t[p];

@@ -151,7 +151,10 @@ typedef enum vn_method {
 	 * but the conditioning test does: the system (columns 1, x, y, x^2, xy,
 	 * y^2, x^3, x^2 y, x y^2, y^3 in that order) is ill-conditioned when a
 	 * Cholesky pivot of its normal matrix scaled to unit diagonal (the
-	 * squared diagonal of R) is below 1e-8. Boundary vertices fit their one-sided rings, non-manifold
+	 * squared diagonal of R) is below 1e-8, or the reciprocal condition
+	 * 1 / (k trace(M~^-1)) of that matrix M~ is below 1e-10 (rounding
+	 * would move the normal by more than about 1e-3 radians). Boundary
+	 * vertices fit their one-sided rings, non-manifold
 	 * ones the union of their sheets. A vertex whose S is zero gets zero
 	 * (ADAPTIVE: MWAAT's, zero as well unless the sums cancel); every
 	 * other fitted normal is unit with a positive dot product with S.

@@ -228,6 +228,7 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
 /* vn.h's constants. */
 #define RING_ALL_MAX 8        /* a polygon gives all its corners to a ring up to this size */
 #define PIVOT_MIN 1e-8L       /* smallest squared diagonal of R (the Cholesky pivot) */
+#define RCOND_MIN 1e-10L      /* smallest 1 / (|R|_F |R^-1|_F)^2 */
 #define SEED_COS_MIN 0.5L     /* 60 degrees from the seed */
 /* ADAPTIVE: the jet alone at or below this weighted RMS residual over h; the
  * 4-ring cubic where its GCV score is below this factor times the best
@@ -368,8 +369,10 @@ static long double fit_slack(long double rcond)
  * exp(-|p|^2 / (2 gauss h^2)) (the origin's weight is 1 either way). The columns of the
  * weighted design matrix are scaled to unit length (so R^T R is the normal
  * matrix scaled to unit diagonal) and factored by Householder QR. Returns 0
- * when the fit is not trusted: fewer points than unknowns, a zero column, or a
- * squared diagonal of R below PIVOT_MIN. A pivot is borderline when another
+ * when the fit is not trusted: fewer points than unknowns, a zero column, a
+ * squared diagonal of R below PIVOT_MIN, or 1 / (|R|_F |R^-1|_F)^2 (R^T R
+ * having unit diagonal: 1 / (k trace((R^T R)^-1)), the library's estimate)
+ * below RCOND_MIN. A pivot is borderline when another
  * correct computation in double, in a frame up to `slack` radians away, may
  * put it on the other side of PIVOT_MIN. */
 static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long double h, long double gauss,
@@ -484,6 +487,10 @@ static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long doubl
 			out->normal = vec_scale(n, 1 / len);
 			out->residual = sqrtl(swe / sw);
 			out->rcond = upper_rcond(r, k);
+			/* The library's estimate, from its normal equations, is exact to
+			 * about eps / rcond relative; its frame may be `slack` away. */
+			borderline |= fabsl(out->rcond / RCOND_MIN - 1) < 1e-3L + 1e3L * slack;
+			ok = out->rcond >= RCOND_MIN;
 		}
 	}
 	out->borderline = borderline;

@@ -512,6 +512,26 @@ static void degenerate_rings(void** state)
 	}
 }
 
+/* Ring members near the cubic y = 0.5 x^2 + 0.3 x^3 (to 1e-4; coordinates
+ * in units of h = 0.1): every Cholesky pivot of the jet's scaled normal
+ * matrix is above 1e-7, yet its reciprocal condition is 6.6e-13 (numpy:
+ * 1 / (k trace(M~^-1))), so the cubic's coefficients are rounding noise and
+ * the fit is refused; the quadric's (2.7e-4) is fine and exact on z = 0. */
+static void fit_refuses_ill_conditioned(void** state)
+{
+	(void)state;
+	const double x[] = {0.92, -0.21, 0.74, 0.29, 0.92, 1.23, -0.75, -1.22, -0.62, -0.92, 0.7};
+	const double y[] = {0.656696, 0.019382, 0.395478, 0.049256, 0.656696, 1.314821,
+	                    0.154798, 0.199335, 0.120812, 0.189704, 0.348011};
+	double q[3 * 11], n[3] = {0, 0, 0};
+	for (int i = 0; i < 11; ++i)
+		q[3 * i] = 0.1 * x[i], q[3 * i + 1] = 0.1 * y[i], q[3 * i + 2] = 0;
+	assert_int_equal(fit_ring(q, 11, 3, n, NULL), 0);
+	assert_vec(n, 0, 0, 0, 0); /* nothing written */
+	assert_int_equal(fit_ring(q, 11, 2, n, NULL), 1);
+	assert_vec(n, 0, 0, 1, 1e-12);
+}
+
 /* ---------------------------------------------------------------- per corner */
 
 /* With nothing sharp on a closed mesh every corner gets its vertex's
@@ -559,6 +579,7 @@ int main(void)
 	    cmocka_unit_test(adaptive_across_noise),
 	    cmocka_unit_test(threads_bit_identical),
 	    cmocka_unit_test(degenerate_rings),
+	    cmocka_unit_test(fit_refuses_ill_conditioned),
 	    cmocka_unit_test(corners_follow_the_vertex_rule),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
