@@ -620,7 +620,7 @@ static int gather_vertex(const fit_job* j, scratch* s, uint32_t v, vn_fit_points
 		return 0;
 	new_tag(j, s);
 	s->stamp[v] = s->tag;
-	m[0] = m[1] = m[2] = m[3] = expand(j, s, v, 0);
+	m[0] = m[1] = m[2] = m[3] = j->nbr ? expand(j, s, v, 0) : gather(j, s, v, 0);
 	if (!m[0])
 		return 0;
 	double o[3], h = 0.0;
@@ -780,7 +780,8 @@ static void phase_fit(void* ctx, unsigned t)
 }
 
 /* Every vertex's 1-ring into j->nbr (from the allocator; NULL on failure),
- * j->nstart its offsets: counted, then listed. */
+ * j->nstart its offsets: counted, then listed. Wider rings read these
+ * instead of the faces again. */
 static vn_result rings(fit_job* j, const vn_allocator* heap)
 {
 	j->nbr = NULL;
@@ -886,8 +887,8 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 			s->q = (double*)(void*)((unsigned char*)s->stamp + ring_bytes);
 			s->cap = cap;
 		}
-		if (t == nt) {
-			r = rings(&j, &heap);
+		if (t == nt) { /* QUADRIC reads each 1-ring once: straight from the faces */
+			r = work->method == vn_method_quadric ? vn_result_success : rings(&j, &heap);
 		} else {
 			r = vn_result_out_of_memory;
 		}

@@ -159,11 +159,12 @@ typedef enum vn_method {
 	 * (ADAPTIVE: MWAAT's, zero as well unless the sums cancel); every
 	 * other fitted normal is unit with a positive dot product with S.
 	 * Memory: about 9 bytes a corner + 1 a face + 32 a vertex (ADAPTIVE 56)
-	 * + 4 a 1-ring member + 4 a vertex per thread from the allocator (the
-	 * workspace serves the seed pass only), + 128 bytes a 2-ring member
-	 * per thread. Cost on one thread: QUADRIC about 25x MWSELR's, JET about
-	 * 45x, ADAPTIVE 45x on exactly sampled smooth surfaces and about 170x
-	 * on noisy ones, where it fits the 4-ring as well. Per corner
+	 * + 4 a 1-ring member (JET, ADAPTIVE) + 4 a vertex per thread from the
+	 * allocator (the workspace serves the seed pass only), + 128 bytes a
+	 * 2-ring member per thread. Cost on one thread: QUADRIC about 20x
+	 * MWSELR's, JET about 40x, ADAPTIVE 40x on exactly sampled smooth
+	 * surfaces and about 150x on noisy ones, where it fits the 4-ring as
+	 * well. Per corner
 	 * (vn_corner_normals, vn_polygon_corner_normals): a
 	 * corner whose fan is its vertex's whole star (one fan, no degenerate
 	 * face, with face strengths all equally strong) gets the vertex's
