@@ -203,6 +203,9 @@ void vn_parallel(unsigned nt, void (*fn)(void* ctx, unsigned t), void* ctx);
 /* parallel.c: zeroes, accumulates and normalizes on o->threads workers, in
  * o->workspace when it is large enough, else in memory from o->allocator. */
 vn_result vn_run(const vn_work* w, vn_accumulate_fn accumulate, const vn_options* o, vn_range_stats* st);
+/* The workers vn_run uses for nv vertices and the options' threads: fewer
+ * than asked below 16384 vertices a worker, at most 256. */
+unsigned vn_worker_count(uint32_t nv, unsigned threads);
 /* The work memory vn_run needs for nv vertices. */
 size_t vn_work_bytes(uint32_t nv, unsigned threads);
 

@@ -179,7 +179,7 @@ void vn_parallel(unsigned nt, void (*fn)(void* ctx, unsigned t), void* ctx)
 	}
 }
 
-static unsigned worker_count(uint32_t nv, unsigned threads)
+unsigned vn_worker_count(uint32_t nv, unsigned threads)
 {
 	unsigned nt = threads ? threads : 1;
 	if (nt > VN_MAX_THREADS)
@@ -193,7 +193,7 @@ static unsigned worker_count(uint32_t nv, unsigned threads)
  * thread ids and their started flags, plus slack for the alignment. */
 size_t vn_work_bytes(uint32_t nv, unsigned threads)
 {
-	const size_t nt = worker_count(nv, threads);
+	const size_t nt = vn_worker_count(nv, threads);
 	return 4 * sizeof(double) * (size_t)nv + (sizeof(vn_task) + sizeof(pthread_t) + 1) * nt + 32;
 }
 
@@ -202,7 +202,7 @@ vn_result vn_run(const vn_work* work, vn_accumulate_fn accumulate, const vn_opti
 	const vn_allocator heap = vn_heap(&o->allocator);
 
 	const uint32_t nv = work->vertex_count;
-	const unsigned nt = worker_count(nv, o->threads);
+	const unsigned nt = vn_worker_count(nv, o->threads);
 	const size_t need = vn_work_bytes(nv, o->threads);
 	const int own = !(o->workspace && o->workspace_size >= need);
 	unsigned char* block = own ? (unsigned char*)heap.allocate(heap.user, need) : (unsigned char*)o->workspace;

@@ -393,6 +393,76 @@ VN_API vn_result vn_polygon_corner_normals(const vn_vectors* normals, const vn_p
                                            vn_method method, double crease_angle, const uint8_t* sharp_edges,
                                            const vn_options* options, vn_stats* stats);
 
+/* ------------------------------------------------------------------ per-frame plans
+ *
+ * Animation, simulation and editing recompute normals every frame on a mesh
+ * whose faces do not change. A plan does the topology work once: it checks
+ * the indices, copies them, lists the corners around every vertex and holds
+ * all the work memory; each frame then only reads positions and writes
+ * normals. A plan serves one call at a time (distinct plans may run on
+ * distinct threads); it keeps no pointer to the caller's arrays except
+ * options->face_strength, which vn_plan_corner_normals reads. */
+typedef struct vn_plan vn_plan;
+
+/* Builds a plan for faces as vn_triangle_normals takes them (face_offsets
+ * NULL: face_count triangles, 3 indices each) or as vn_polygon_normals does
+ * (face_offsets: face_count + 1 non-decreasing entries), over vertex_count
+ * vertices. options (NULL: defaults) give the threads, simd, allocator,
+ * keep_existing and face_strength of every later call; its workspace is not
+ * used (the plan holds its own). Every index is checked here, once:
+ * index_out_of_range for one >= vertex_count; invalid_argument for NULL
+ * out, NULL indices with corners, decreasing offsets, more than UINT32_MAX
+ * indices or vertices, or a half-set allocator; out_of_memory when the
+ * allocator fails. *out is written on success only. Memory, in one block
+ * from the allocator: the indices (4 bytes a corner), for triangles 32
+ * bytes a vertex of corner table (+ 4 a corner beyond 8 at a vertex), and
+ * a work area of the largest of 64 bytes a triangle, vn_workspace_size()
+ * and vn_polygon_corner_normals' workspace bound (about 108 bytes a
+ * triangle). Takes about the time of two vn_triangle_normals calls. */
+VN_API vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
+                                size_t vertex_count, const vn_options* options, vn_plan** out);
+
+/* Frees the plan; NULL is ignored. */
+VN_API void vn_plan_destroy(vn_plan* plan);
+
+/* Per-vertex normals of the plan's mesh at `positions` (count must equal the
+ * plan's vertex_count, else invalid_argument), as vn_triangle_normals or
+ * vn_polygon_normals compute them: normals receives vertex_count vectors;
+ * degenerate faces, NaN positions, isolated vertices, keep_existing and
+ * stats (may be NULL) behave as there. Indices are never checked again.
+ *
+ * The fast path: MWE, MWA, MWSELR, MWAAT, MWELR and MWRELR on triangles.
+ * Each face's normal and corner weights go to a face buffer, then each
+ * vertex sums its corners in face order; both passes run on the plan's
+ * threads, results are bit-identical whatever their number, and the call
+ * allocates nothing.
+ *  - float64 positions: double arithmetic, equal to vn_triangle_normals bit
+ *    for bit.
+ *  - float32 positions: float arithmetic, within 1e-4 degrees of
+ *    vn_triangle_normals on the same positions (MWA's corner angles from a
+ *    polynomial atan2 within 3e-7 rad). A triangle whose float arithmetic
+ *    leaves the float range (zero or non-finite area, or weights beyond
+ *    about 1e38, e.g. MWSELR's on edges below about 1e-9 units) is computed
+ *    in double, its weights clamped to the float range.
+ * Everything else (polygons, MEWCSA, SMEWCSA, QUADRIC, JET, ADAPTIVE) runs
+ * vn_polygon_normals or vn_triangle_normals on the plan's indices with the
+ * plan's memory as workspace: the same results, speed and threads as those
+ * calls; MEWCSA and the polygon walk allocate nothing, the fits allocate as
+ * vn.h says for them. */
+VN_API vn_result vn_plan_normals(vn_plan* plan, const vn_positions* positions, vn_method method,
+                                 const vn_vectors* normals, vn_stats* stats);
+
+/* Per-corner normals of the plan's mesh: vn_corner_normals (triangles) or
+ * vn_polygon_corner_normals (polygons) on the plan's indices, with the
+ * plan's memory as workspace and its options (threads, face_strength), so
+ * the results equal theirs; nothing is allocated but the scratch those
+ * functions take for a vertex of more than 24 corners and the fits' memory.
+ * normals receives one vector per corner; positions->count must equal the
+ * plan's vertex_count. */
+VN_API vn_result vn_plan_corner_normals(vn_plan* plan, const vn_positions* positions, vn_method method,
+                                        double crease_angle, const uint8_t* sharp_edges, const vn_vectors* normals,
+                                        vn_stats* stats);
+
 #ifdef __cplusplus
 }
 #endif

@@ -445,37 +445,6 @@ static void corner_angle_matches_libm(void** state)
 
 /* ---------------------------------------------------------------- SIMD == scalar */
 
-/* A jittered height field, n x n vertices, with 2 (n-1)^2 + 1 triangles: the
- * extra one makes the count odd (a scalar tail) and uses the last vertex
- * (groups touching it take the scalar path), and one triangle is degenerate. */
-static uint32_t* grid(size_t n, double* pos, size_t* ni)
-{
-	uint32_t seed = 12345;
-	for (size_t i = 0; i < n * n; ++i) {
-		double r[3];
-		for (int k = 0; k < 3; ++k) {
-			seed ^= seed << 13, seed ^= seed >> 17, seed ^= seed << 5;
-			r[k] = (double)seed / 4294967296.0 - 0.5;
-		}
-		pos[3 * i] = (double)(i % n) + 0.3 * r[0];
-		pos[3 * i + 1] = (double)(i / n) + 0.3 * r[1];
-		pos[3 * i + 2] = 0.2 * sin(0.3 * (double)i) + 0.3 * r[2];
-	}
-	uint32_t* idx = (uint32_t*)malloc(sizeof(uint32_t) * (6 * (n - 1) * (n - 1) + 6));
-	size_t k = 0;
-	for (uint32_t y = 0; y + 1 < n; ++y)
-		for (uint32_t x = 0; x + 1 < n; ++x) {
-			const uint32_t a = y * (uint32_t)n + x, b = a + 1, c = a + (uint32_t)n + 1, d = a + (uint32_t)n;
-			const uint32_t t[6] = {a, b, c, a, c, d};
-			memcpy(idx + k, t, sizeof(t));
-			k += 6;
-		}
-	const uint32_t last = (uint32_t)(n * n - 1), extra[6] = {0, last, 1, 5, 5, 6};
-	memcpy(idx + k, extra, sizeof(extra));
-	*ni = k + 6;
-	return idx;
-}
-
 static void simd_matches_scalar_bit_for_bit(void** state)
 {
 	(void)state;
@@ -485,7 +454,7 @@ static void simd_matches_scalar_bit_for_bit(void** state)
 	double* a = (double*)malloc(sizeof(double) * 3 * nv);
 	double* b = (double*)malloc(sizeof(double) * 3 * nv);
 	size_t ni;
-	uint32_t* idx = grid(n, pos, &ni);
+	uint32_t* idx = test_grid(n, pos, &ni);
 	for (size_t i = 0; i < 3 * nv; ++i)
 		pos32[i] = (float)pos[i];
 	vn_options on, off;
@@ -522,7 +491,7 @@ static void large_work_memory_paths_agree(void** state)
 	double* a = (double*)malloc(sizeof(double) * 3 * nv);
 	double* b = (double*)malloc(sizeof(double) * 3 * nv);
 	size_t ni;
-	uint32_t* idx = grid(n, pos, &ni);
+	uint32_t* idx = test_grid(n, pos, &ni);
 	const vn_positions p = {pos, nv, 0, vn_scalar_float64};
 	const vn_vectors oa = {a, 0, vn_scalar_float64}, ob = {b, 0, vn_scalar_float64};
 	vn_options opt;
