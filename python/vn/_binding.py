@@ -78,6 +78,12 @@ def _declare(lib):
         "vn_polygon_corner_normals": (c.c_int, [_P(_Vectors), _P(_Positions), c.c_void_p, c.c_void_p,
                                                 c.c_size_t, c.c_int, c.c_double, c.c_void_p,
                                                 _P(_Options), _P(_Stats)]),
+        "vn_plan_create": (c.c_int, [c.c_void_p, c.c_void_p, c.c_size_t, c.c_size_t, _P(_Options),
+                                     _P(c.c_void_p)]),
+        "vn_plan_destroy": (None, [c.c_void_p]),
+        "vn_plan_normals": (c.c_int, [c.c_void_p, _P(_Positions), c.c_int, _P(_Vectors), _P(_Stats)]),
+        "vn_plan_corner_normals": (c.c_int, [c.c_void_p, _P(_Positions), c.c_int, c.c_double, c.c_void_p,
+                                             _P(_Vectors), _P(_Stats)]),
     }
     for name, (restype, argtypes) in sigs.items():
         try:
@@ -274,18 +280,16 @@ class Library:
         opt, counts = self._options(threads), _Stats() if stats else None
         self._workspace(pos.count, opt)
         counted = None if counts is None else ctypes.byref(counts)
-        if face_offsets is None:
-            if idx.size % 3:
-                raise Error("triangles need 3 indices each, not %d in all" % idx.size)
+        off, faces = self._faces(idx, face_offsets)
+        if off is None:
             r = self._lib.vn_triangle_normals(ctypes.byref(vec), ctypes.byref(pos), idx.ctypes.data, idx.size,
                                               method, ctypes.byref(opt), counted)
             self._check(r, "vn_triangle_normals")
         else:
-            off = self._offsets(face_offsets, idx.size)
             r = self._lib.vn_polygon_normals(ctypes.byref(vec), ctypes.byref(pos), idx.ctypes.data, off.ctypes.data,
-                                             off.size - 1, method, ctypes.byref(opt), counted)
+                                             faces, method, ctypes.byref(opt), counted)
             self._check(r, "vn_polygon_normals")
-        return out, None if counts is None else {f: getattr(counts, f) for f, _ in _Stats._fields_}
+        return out, _stats_dict(counts)
 
     def corner_normals(self, co, corner_vert, face_offsets, method, crease_angle=np.pi,
                        sharp_edges=None, threads=None, dtype=np.float64, face_strength=None):
@@ -300,43 +304,160 @@ class Library:
         offsets, int32 strengths, contiguous) are passed as they are, not
         copied."""
         method = self.method_index(method)
-        if not crease_angle >= 0:
-            raise Error("crease angle %r: must be 0 or more radians (pi and more: no crease)" % crease_angle)
+        crease = _crease(crease_angle)
         co, pos = self._positions(co)
         idx = _indices(corner_vert, "faces")
-        off = None
-        if face_offsets is None:
-            if idx.size % 3:
-                raise Error("triangles need 3 indices each, not %d in all" % idx.size)
-            faces = idx.size // 3
-        else:
-            off = self._offsets(face_offsets, idx.size)
-            faces = off.size - 1
-        sharp = None
-        if sharp_edges is not None:
-            sharp = np.ascontiguousarray(sharp_edges)
-            sharp = sharp.view(np.uint8) if sharp.dtype == np.bool_ else sharp.astype(np.uint8, copy=False)
-            if sharp.size != idx.size:
-                raise Error("one sharp-edge flag per corner is needed: %d flags, %d corners" % (sharp.size, idx.size))
-        strength = None
-        if face_strength is not None:
-            strength = np.ascontiguousarray(face_strength, dtype=np.int32)
-            if strength.size != faces:
-                raise Error("one face strength per face is needed")
+        off, faces = self._faces(idx, face_offsets)
+        sharp = _sharp(sharp_edges, idx.size)
+        strength = _strength(face_strength, faces)
         out, vec = self._vectors(None, idx.size, dtype)
         opt, stats = self._options(threads), _Stats()
         opt.face_strength = None if strength is None else strength.ctypes.data
         sharp_p = None if sharp is None else sharp.ctypes.data
         if off is None:
             r = self._lib.vn_corner_normals(ctypes.byref(vec), ctypes.byref(pos), idx.ctypes.data, idx.size, method,
-                                            float(crease_angle), sharp_p, ctypes.byref(opt), ctypes.byref(stats))
+                                            crease, sharp_p, ctypes.byref(opt), ctypes.byref(stats))
             self._check(r, "vn_corner_normals")
         else:
             r = self._lib.vn_polygon_corner_normals(
                 ctypes.byref(vec), ctypes.byref(pos), idx.ctypes.data, off.ctypes.data, faces, method,
-                float(crease_angle), sharp_p, ctypes.byref(opt), ctypes.byref(stats))
+                crease, sharp_p, ctypes.byref(opt), ctypes.byref(stats))
             self._check(r, "vn_polygon_corner_normals")
-        return out, {f: getattr(stats, f) for f, _ in _Stats._fields_}
+        return out, _stats_dict(stats)
+
+    def _faces(self, idx, face_offsets):
+        """(offsets or None, face count) of corner indices idx."""
+        if face_offsets is None:
+            if idx.size % 3:
+                raise Error("triangles need 3 indices each, not %d in all" % idx.size)
+            return None, idx.size // 3
+        off = self._offsets(face_offsets, idx.size)
+        return off, off.size - 1
+
+    def plan(self, corner_vert, face_offsets=None, vertex_count=None, threads=None, face_strength=None):
+        """A Plan of these faces (vn_plan_create)."""
+        return Plan(self, corner_vert, face_offsets, vertex_count, threads, face_strength)
+
+
+def _crease(crease_angle):
+    if not crease_angle >= 0:
+        raise Error("crease angle %r: must be 0 or more radians (pi and more: no crease)" % crease_angle)
+    return float(crease_angle)
+
+
+def _sharp(sharp_edges, corners):
+    """sharp_edges as contiguous uint8 (bool read in place), or None."""
+    if sharp_edges is None:
+        return None
+    sharp = np.ascontiguousarray(sharp_edges)
+    sharp = sharp.view(np.uint8) if sharp.dtype == np.bool_ else sharp.astype(np.uint8, copy=False)
+    if sharp.size != corners:
+        raise Error("one sharp-edge flag per corner is needed: %d flags, %d corners" % (sharp.size, corners))
+    return sharp.ravel()
+
+
+def _strength(face_strength, faces):
+    if face_strength is None:
+        return None
+    strength = np.ascontiguousarray(face_strength, dtype=np.int32)
+    if strength.size != faces:
+        raise Error("one face strength per face is needed: %d strengths, %d faces" % (strength.size, faces))
+    return strength.ravel()
+
+
+def _stats_dict(stats):
+    return None if stats is None else {f: getattr(stats, f) for f, _ in _Stats._fields_}
+
+
+class Plan:
+    """A vn_plan: faces checked and laid out once (vn_plan_create), then
+    normals of any number of position sets with no check, copy or
+    allocation of their own. One call runs at a time (a lock: the plan has
+    one work area); close() frees it, as does garbage collection."""
+
+    def __init__(self, lib, corner_vert, face_offsets=None, vertex_count=None, threads=None, face_strength=None):
+        self._lib = lib
+        self._handle = None
+        self._lock = threading.Lock()
+        idx = _indices(corner_vert, "faces")
+        off, self.face_count = lib._faces(idx, face_offsets)
+        self.corner_count = idx.size
+        if vertex_count is None:
+            vertex_count = int(idx.max()) + 1 if idx.size else 0
+        if not isinstance(vertex_count, (int, np.integer)) or not 0 <= vertex_count <= _UINT32_MAX:
+            raise Error("vertex count %r: must be an integer from 0 to %d" % (vertex_count, _UINT32_MAX))
+        self.vertex_count = int(vertex_count)
+        # vn_plan_corner_normals reads the strengths at each call: the plan
+        # owns this array, and a caller may change its values in place.
+        self.face_strength = _strength(face_strength, self.face_count)
+        if self.face_strength is not None and self.face_strength is face_strength:
+            self.face_strength = self.face_strength.copy()
+        opt = lib._options(threads)
+        opt.face_strength = None if self.face_strength is None else self.face_strength.ctypes.data
+        handle = ctypes.c_void_p()
+        r = lib._lib.vn_plan_create(idx.ctypes.data, None if off is None else off.ctypes.data, self.face_count,
+                                    self.vertex_count, ctypes.byref(opt), ctypes.byref(handle))
+        if r == 2:  # vn_result_index_out_of_range: say which
+            raise Error("faces: index %d out of range for %d vertices" % (int(idx.max()), self.vertex_count))
+        if r == 1 and off is not None and (np.diff(off.astype(np.int64)) < 0).any():
+            raise Error("face offsets must not decrease")
+        lib._check(r, "vn_plan_create")
+        self._handle = handle
+
+    def close(self):
+        """Frees the plan's memory; later calls raise Error. Calling it again does nothing."""
+        with self._lock:
+            if self._handle is not None:
+                self._lib._lib.vn_plan_destroy(self._handle)
+                self._handle = None
+
+    def __del__(self):
+        if getattr(self, "_handle", None) is not None:
+            self.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    @property
+    def closed(self):
+        return self._handle is None
+
+    def _call(self, name, co, out, dtype_out, rows, stats, *args):
+        """Runs vn_plan_<name> on positions co: (out, stats dict or None).
+        The output's dtype follows the positions' (float32 or float64)
+        unless out or dtype_out says otherwise."""
+        co, pos = self._lib._positions(co)
+        if pos.count != self.vertex_count:
+            raise Error("positions: %d vertices; this plan's faces are over %d" % (pos.count, self.vertex_count))
+        if dtype_out is None:
+            dtype_out = np.float32 if pos.type == _FLOAT32 else np.float64
+        out, vec = self._lib._vectors(out, rows, dtype_out)
+        counts = _Stats() if stats else None
+        with self._lock:
+            if self._handle is None:
+                raise Error("this plan is closed")
+            f = getattr(self._lib._lib, "vn_plan_" + name)
+            r = f(self._handle, ctypes.byref(pos), *args, ctypes.byref(vec),
+                  None if counts is None else ctypes.byref(counts))
+        self._lib._check(r, "vn_plan_" + name)
+        return out, _stats_dict(counts)
+
+    def normals(self, co, method, out=None, dtype=None, stats=False):
+        """(normals, stats): per vertex, as vertex_normals computes them
+        (vn_plan_normals); written into out when given, else a new array of
+        dtype (default: the positions' float32 or float64)."""
+        return self._call("normals", co, out, dtype, self.vertex_count, stats, self._lib.method_index(method))
+
+    def corner_normals(self, co, method, crease_angle=np.pi, sharp_edges=None, out=None, dtype=None, stats=False):
+        """(normals, stats): per corner, as corner_normals computes them
+        (vn_plan_corner_normals); face strengths are the plan's."""
+        sharp = _sharp(sharp_edges, self.corner_count)
+        return self._call("corner_normals", co, out, dtype, self.corner_count, stats,
+                          self._lib.method_index(method), _crease(crease_angle),
+                          None if sharp is None else sharp.ctypes.data)
 
 
 _loaded = {}
