@@ -295,7 +295,7 @@ class MESH_OT_vn_recompute_normals(bpy.types.Operator):
                     if members is not None and not members.any():
                         no_group.append(obj.name)
                         continue
-                    c, m = _compute(lib, work, self, selected_only, members=members)
+                    c, m = _compute(lib, work, self, selected_only, members=members, owner=obj.data)
                     _store_live(obj.data, self, work)
                     if copies:
                         _load_edit_mesh(obj.data, work)
@@ -366,10 +366,11 @@ def _group_members(obj, mesh, s):
     return None if members.all() else members
 
 
-def _compute(lib, mesh, s, selected_only=False, a=None, members=None):
+def _compute(lib, mesh, s, selected_only=False, a=None, members=None, owner=None):
     """Computes and stores a mesh's normals with the settings s (the operator,
     or a live mesh's copy: the same names); a: its arrays when already read;
-    members: per vertex, whether it changes (None: all).
+    members: per vertex, whether it changes (None: all); owner: the mesh in
+    bpy.data that mesh is a copy of (Edit Mode), whose plan it uses.
     Returns (corners changed, edges marked sharp)."""
     if not mesh.loops:
         return 0, 0
@@ -385,9 +386,13 @@ def _compute(lib, mesh, s, selected_only=False, a=None, members=None):
     crease = min(s.crease_angle if s.use_crease else math.pi, mesh_io.auto_smooth_angle(mesh))
     # Face Influence without face strengths on the mesh: all medium, no effect
     strength = a.face_strength if s.use_face_influence else None
-    normals, stats = lib.corner_normals(a.co, corner_vert, a.face_offsets, s.method.lower(),
-                                        crease, a.sharp_corner_flags(s.keep_sharp), dtype=np.float32,
-                                        face_strength=strength)
+    sharp = a.sharp_corner_flags(s.keep_sharp)
+    if len(a.face_size) > PLAN_MIN_FACES:
+        plan = _plan(lib, owner or mesh, a, corner_vert, strength)
+        normals, stats = plan.corner_normals(a.co, s.method.lower(), crease, sharp, dtype=np.float32, stats=True)
+    else:
+        normals, stats = lib.corner_normals(a.co, corner_vert, a.face_offsets, s.method.lower(), crease, sharp,
+                                            dtype=np.float32, face_strength=strength)
     has_zero_rows = stats["zero_normals"] > 0
     changed = None
     if selected_only:
@@ -408,6 +413,61 @@ def _compute(lib, mesh, s, selected_only=False, a=None, members=None):
     _set_own_sharp(mesh, split)
     mesh_io.set_custom_normals(mesh, a, normals, has_zero_rows)
     return int(changed.sum()) if changed is not None else len(normals), int(split.sum())
+
+
+# ------------------------------------------------------------------ plans
+# Meshes of more faces than this are computed through a vn plan (issue 20)
+# kept per mesh, so that the next run on the same faces (a live recompute,
+# the redo panel) has the indices checked and the work memory allocated
+# already. Below it the saving is not worth keeping the plan's memory
+# (about 4 bytes a corner and 110 a triangle).
+PLAN_MIN_FACES = 100_000
+# Plans kept at most, for this many meshes (the least recently used is freed).
+PLAN_CACHE_SIZE = 4
+# mesh.as_pointer() -> (mesh name, library, plan, corner_vert, face_offsets),
+# least recently used first. A plan depends on the faces only: one found
+# under a pointer a freed mesh left to a new one serves it if they match.
+_plans = {}
+# Plans made since the add-on was loaded (the tests count them).
+plan_stats = {"created": 0}
+
+
+def _plan(lib, mesh, a, corner_vert, strength):
+    """The plan of mesh's faces (corners corner_vert, a.face_offsets),
+    made again when they changed, with the face strengths to use."""
+    key = mesh.as_pointer()
+    entry = _plans.pop(key, None)
+    if entry is not None:
+        _name, plan_lib, plan, plan_corner_vert, plan_offsets = entry
+        if not (plan_lib is lib and plan.vertex_count == len(a.co) and
+                (plan.face_strength is None) == (strength is None) and
+                np.array_equal(plan_corner_vert, corner_vert) and np.array_equal(plan_offsets, a.face_offsets)):
+            plan.close()
+            entry = None
+    if entry is None:
+        plan = lib.plan(corner_vert, a.face_offsets, len(a.co), face_strength=strength)
+        entry = (None, lib, plan, corner_vert.copy(), a.face_offsets.copy())
+        plan_stats["created"] += 1
+    elif strength is not None:
+        plan.face_strength[:] = strength
+    _plans[key] = (mesh.name,) + entry[1:]
+    while len(_plans) > PLAN_CACHE_SIZE:
+        _plans.pop(next(iter(_plans)))[2].close()
+    return plan
+
+
+def _free_plans(every=False):
+    """Frees the plans of meshes no longer in bpy.data under their name
+    (every: all plans). A plan by name: no pass over every mesh."""
+    for key, entry in list(_plans.items()):
+        mesh = None if every else bpy.data.meshes.get(entry[0])
+        if mesh is None or mesh.as_pointer() != key:
+            _plans.pop(key)[2].close()
+
+
+@bpy.app.handlers.persistent
+def _on_load_pre(*_args):
+    _free_plans(every=True)
 
 
 def _own_sharp(mesh):
@@ -580,6 +640,8 @@ def _on_depsgraph_update(scene, depsgraph):
     handlers)."""
     if _busy:
         return
+    if _plans:  # a mesh removed: its plan goes too
+        _free_plans()
     meshes = [u.id.original for u in depsgraph.updates
               if u.is_updated_geometry and isinstance(u.id, bpy.types.Mesh)]
     for mesh in meshes:
@@ -701,10 +763,13 @@ def register():
     draws[0] = _object_menu(draws[0])
     bpy.types.VIEW3D_MT_edit_mesh_normals.append(_normals_menu_entry)
     bpy.app.handlers.depsgraph_update_post.append(_on_depsgraph_update)
+    bpy.app.handlers.load_pre.append(_on_load_pre)
 
 
 def unregister():
     bpy.app.handlers.depsgraph_update_post.remove(_on_depsgraph_update)
+    bpy.app.handlers.load_pre.remove(_on_load_pre)
+    _free_plans(every=True)
     bpy.types.VIEW3D_MT_edit_mesh_normals.remove(_normals_menu_entry)
     draws = _menu_draws()
     for i, f in enumerate(draws):

@@ -15,7 +15,10 @@ error report rather than a traceback. Live normals (issue 15): recomputed
 once per edit (mesh data in Object Mode, leaving Edit or Sculpt Mode) with
 every stored setting, never for their own write, a frame change or a
 shape key's value, turned off and on, reported once when failing, and still
-live after the file is saved and reopened. Then parity with Blender's
+live after the file is saved and reopened. Meshes above PLAN_MIN_FACES
+(issue 20): computed on a plan kept per mesh, equal bit for bit to the
+computation without one, made again when the faces change, freed with the
+mesh and on disabling. Then parity with Blender's
 Weighted Normal modifier (issue 15): MWA = its Corner Angle mode, and the
 add-on's Face Influence, Vertex Group and Invert = the modifier's. Any
 failure raises (exit status 1).
@@ -1448,6 +1451,178 @@ check(m == "{'FINISHED'}" and angles_deg(blender_normals(other.data), before).ma
       "second object without the group: left alone (%s)" % m)
 bpy.data.objects.remove(other)
 bpy.data.objects.remove(obj)
+
+# ------------------------------------------------------------------ issue 20: plans for large meshes
+# Above PLAN_MIN_FACES faces the operator and live recomputes go through a
+# vn plan kept per mesh: the same normals, bit for bit, as without one; made
+# again when the faces change; freed with the mesh and on disabling.
+t0 = time.perf_counter()
+for o in list(bpy.data.objects):
+    bpy.data.objects.remove(o)
+addon = importlib.import_module(MODULE)
+check(addon.plan_stats["created"] == 0 and not addon._plans,
+      "plans: none made for the meshes above (%d faces and fewer)" % addon.PLAN_MIN_FACES)
+written = []  # the normals each run stores (the array given to set_custom_normals)
+_store = addon.mesh_io.set_custom_normals
+addon.mesh_io.set_custom_normals = lambda mesh, a, normals, zero: written.append(normals.copy()) or _store(
+    mesh, a, normals, zero)
+
+
+def big_grid():
+    """A bumpy grid of quads above PLAN_MIN_FACES, a few edges marked sharp and faces flat-shaded."""
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=320, y_subdivisions=320, size=2.0)
+    me = bpy.context.active_object.data
+    co = positions(me)
+    co[:, 2] = 0.05 * np.sin(9 * co[:, 0]) * np.cos(7 * co[:, 1])
+    me.vertices.foreach_set("co", co.ravel())
+    shade_smooth(me)
+    me.polygons.foreach_set("use_smooth", np.arange(len(me.polygons)) % 997 != 0)
+    me.edges.foreach_set("use_edge_sharp", np.arange(len(me.edges)) % 1009 == 0)
+    if V < (4, 1, 0):
+        me.use_auto_smooth = True
+        me.auto_smooth_angle = math.pi
+    me.update()
+
+
+def fresh(me, method, crease=math.pi):
+    """The library's float32 corner normals of the mesh as it is now, without a plan, in vn's corner order."""
+    a = mesh_io.MeshArrays(me)
+    flags = a.edge_sharp[a.corner_edge] | ~a.face_smooth[a.face_of_corner]
+    return lib.corner_normals(a.co, a.corner_vert, a.face_offsets, method.lower(), crease, flags,
+                              dtype=np.float32)[0]
+
+
+obj = new_scene_object(big_grid)
+me = obj.data
+faces = len(me.polygons)
+created = addon.plan_stats["created"]
+r = bpy.ops.mesh.vn_recompute_normals(method="MWA", use_crease=True, crease_angle=math.radians(20))
+key = me.as_pointer()
+check(r_ok(r) and faces > addon.PLAN_MIN_FACES and addon.plan_stats["created"] == created + 1 and key in addon._plans,
+      "plans: operator on %d faces made one, kept for the mesh" % faces)
+compare("plans: operator, %d faces" % faces, blender_normals(me), reference(me, "MWA", math.radians(20)))
+r = bpy.ops.mesh.vn_recompute_normals(method="MWA", use_crease=True, crease_angle=math.radians(20))
+check(r_ok(r) and addon.plan_stats["created"] == created + 1 and np.array_equal(written[-1], written[-2]),
+      "plans: run again (the redo panel): the plan reused, the same normals")
+addon.PLAN_MIN_FACES, min_faces = faces, addon.PLAN_MIN_FACES  # this mesh no longer above it
+r = bpy.ops.mesh.vn_recompute_normals(method="MWA", use_crease=True, crease_angle=math.radians(20))
+addon.PLAN_MIN_FACES = min_faces
+check(r_ok(r) and addon.plan_stats["created"] == created + 1 and np.array_equal(written[-1], written[-2]),
+      "plans: without a plan, the same normals bit for bit (%d corners)" % len(written[-1]))
+
+# Live across frames: at each frame a script writes a shape key + armature deformation (another
+# object's, evaluated) into the mesh data, as a bake or simulation step does; each write is
+# recomputed on the plan. (Not from a frame_change_post handler: Blender runs no
+# depsgraph_update_post for what those write, so live meshes do not see it.)
+source = obj.copy()
+source.data = me.copy()
+bpy.context.collection.objects.link(source)
+source.shape_key_add(name="Basis")
+bulge = source.shape_key_add(name="Bulge")
+co = positions(me)
+bulge.data.foreach_set("co", (co + np.float32([0, 0, 0.3]) * np.exp(-4 * (co ** 2).sum(axis=1))[:, None]).ravel())
+bulge.value = 0.0
+bulge.keyframe_insert("value", frame=1)
+bulge.value = 1.0
+bulge.keyframe_insert("value", frame=4)
+bpy.ops.object.armature_add(location=(-1.0, 0.0, 0.0))
+arm = bpy.context.active_object
+source.vertex_groups.new(name=arm.pose.bones[0].name).add(list(range(len(me.vertices))), 1.0, "REPLACE")
+source.modifiers.new("Armature", "ARMATURE").object = arm
+bone = arm.pose.bones[0]
+bone.rotation_mode = "XYZ"
+bone.keyframe_insert("rotation_euler", frame=1)
+bone.rotation_euler = (0.0, 0.4, 0.0)
+bone.keyframe_insert("rotation_euler", frame=4)
+bpy.ops.object.select_all(action="DESELECT")
+obj.select_set(True)
+bpy.context.view_layer.objects.active = obj
+check(r_ok(bpy.ops.mesh.vn_recompute_normals(method="MWSELR", live=True)), "plans: live on")
+settle()
+
+
+def follow_source():
+    ev = source.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    co = np.empty(len(ev.vertices) * 3, dtype=np.float32)
+    ev.vertices.foreach_get("co", co)
+    me.vertices.foreach_set("co", co)
+    me.update()
+
+
+n0, created, frames, moved = recomputed(), addon.plan_stats["created"], [], 0.0
+first = positions(me)
+for f in (2, 3, 4, 1):  # the scene starts at frame 1, where nothing is deformed
+    written.clear()
+    bpy.context.scene.frame_set(f)
+    follow_source()
+    settle()  # the event loop's update after the edit: the live handler
+    frames.append(len(written) == 1 and np.array_equal(written[0], fresh(me, "MWSELR")))
+    moved = max(moved, float(np.abs(positions(me) - first).max()))
+check(all(frames) and recomputed() == n0 + 4 and addon.plan_stats["created"] == created and moved > 0.2,
+      "plans: live, 4 frames of shape key + armature deformation (moved %.2f): %d recomputes on the one plan, "
+      "each equal to a fresh computation bit for bit (%s)" % (moved, recomputed() - n0, frames))
+compare("plans: live, last frame as stored", blender_normals(me), reference(me, "MWSELR"))
+
+
+def edit_faces(me, change):
+    bm = bmesh.new()
+    bm.from_mesh(me)
+    bm.faces.ensure_lookup_table()
+    change(bm)
+    bm.to_mesh(me)
+    bm.free()
+    me.update()
+
+
+# New faces: the plan is made again, for the new faces only
+for label, change in (("a face deleted", lambda bm: bmesh.ops.delete(bm, geom=[bm.faces[5000]], context="FACES_ONLY")),
+                      ("a face turned over (the same counts)", lambda bm: bmesh.ops.reverse_faces(
+                          bm, faces=[bm.faces[70000]]))):
+    created, n0 = addon.plan_stats["created"], recomputed()
+    written.clear()
+    edit_faces(me, change)
+    settle()
+    check(recomputed() == n0 + 1 and addon.plan_stats["created"] == created + 1 and len(written) == 1
+          and np.array_equal(written[0], fresh(me, "MWSELR")),
+          "plans: %s: recomputed on a new plan (%d faces), equal to a fresh computation" % (label, len(me.polygons)))
+    written.clear()
+    move_vertices(me, 0.001, 13)
+    settle()
+    check(addon.plan_stats["created"] == created + 1 and len(written) == 1
+          and np.array_equal(written[0], fresh(me, "MWSELR")), "plans: %s: the next edit reuses it" % label)
+compare("plans: live after new faces, as stored", blender_normals(me), reference(me, "MWSELR"))
+check(list(addon._plans) == [key], "plans: one kept, for the one mesh (%d)" % len(addon._plans))
+
+# Freed with the mesh, and on disabling the add-on
+plan = addon._plans[key][2]
+arm_data, actions = arm.data, [source.data.shape_keys.animation_data.action, arm.animation_data.action]
+for o in (obj, source, arm):
+    me_o = o.data
+    bpy.data.objects.remove(o)
+    (bpy.data.armatures if o is arm else bpy.data.meshes).remove(me_o)
+for a in actions:
+    bpy.data.actions.remove(a)
+settle()
+check(not addon._plans and plan.closed, "plans: the mesh removed, its plan freed")
+obj = new_scene_object(big_grid)
+written.clear()
+created = addon.plan_stats["created"]
+bpy.ops.mesh.vn_recompute_normals(method="MWE")
+plan = addon._plans[obj.data.as_pointer()][2]
+bpy.ops.object.mode_set(mode="EDIT")  # the operator computes a copy of the edit mesh: the mesh's plan serves it
+r = bpy.ops.mesh.vn_recompute_normals(method="MWE")
+bpy.ops.object.mode_set(mode="OBJECT")
+check(r_ok(r) and addon.plan_stats["created"] == created + 1 and len(written) == 2
+      and np.array_equal(written[0], written[1]), "plans: Edit Mode uses the mesh's plan, the same normals")
+addon.mesh_io.set_custom_normals = _store
+bpy.ops.preferences.addon_disable(module=MODULE)
+check(not addon._plans and plan.closed, "plans: add-on disabled, plans freed")
+bpy.ops.preferences.addon_enable(module=MODULE)
+addon = importlib.import_module(MODULE)
+me = obj.data
+bpy.data.objects.remove(obj)
+bpy.data.meshes.remove(me)
+print("plans in %.2f s" % (time.perf_counter() - t0))
 
 print("storage precision: worst corner %.3f deg from the library's normals" % max(PRECISION))
 
