@@ -1,17 +1,22 @@
 /* Per-frame plans: the topology work of a normal computation done once.
  *
  * vn_plan_create checks the indices once, copies them and lists the corners
- * of every vertex in 8 fixed slots (corner code 4 f + k, ascending, so in
- * face order; unused slots name a zero record; vertices with more corners
+ * of every vertex in 8 fixed slots (corner 3 f + k, ascending, so in face
+ * order; unused slots name a zero corner; vertices with more corners
  * continue in an overflow list). vn_plan_normals then gathers, for the
- * weighted family on triangles, in two passes split by ranges:
- *  - faces: face f's record gets its unnormalized normal n and its three
- *    corner weights w (vn_triangle_weights' quantities), or zeros when it
- *    contributes nothing;
- *  - vertices: each vertex adds n * w over its slots in order, normalizes
- *    and stores.
- * A vertex's sum is formed by one worker in a fixed order whatever the
- * split, so results are bit-identical for any thread count; and the double
+ * weighted family on triangles, in two passes:
+ *  - faces: corner 3 f + k of the corner buffer gets its contribution
+ *    n * w_k (n the unnormalized normal, w_k vn_triangle_weights' weight,
+ *    the scatter's product) as x, y, z, 0; zeros when the face contributes
+ *    nothing;
+ *  - vertices: each vertex adds its slots' 16 (float) or 32 (double) bytes
+ *    in order, normalizes and stores.
+ * The passes are interleaved in chunks of CHUNK faces: after each chunk, a
+ * worker sums the vertices whose last face it was (a schedule built at
+ * create), while the chunk's records are still in cache; vertices whose
+ * faces fall in two workers' ranges, and isolated ones, are summed after
+ * all faces. A vertex's sum is formed by one worker in a fixed order
+ * whatever the split, so results are bit-identical for any thread count; and the double
  * path adds the scatter's products (n * w, vn_add_scaled) in the scatter's
  * order, plus exact zeros, so it equals vn_triangle_normals bit for bit.
  * Float32 positions are computed in float arithmetic: eight triangles per
@@ -29,8 +34,14 @@
 
 #define SLOTS 8
 #define MAX_WORKERS 256 /* vn_parallel's limit */
-/* Face codes 4 f + k must fit 32 bits. */
-#define MAX_GATHER_FACES (UINT32_MAX / 4)
+/* Faces per chunk: 64 KB of float32 records, 128 KB of double. */
+#define CHUNK 2048
+/* Corners 3 f + k take 31 bits; the top bit of a vertex's last slot says
+ * that it continues in the overflow list. */
+#define MAX_GATHER_FACES (1u << 29)
+#define MORE 0x80000000u
+/* Corner c's x, y, z, 0 in the corner buffer, in scalars. */
+#define CORNER(c) (4 * (size_t)((c) & ~MORE))
 /* Float sums normalized directly; outside, rescaled first (vn_normalize). */
 #define LEN2F_MIN 0x1p-100f
 #define LEN2F_MAX 0x1p100f
@@ -49,7 +60,13 @@ struct vn_plan {
 	uint32_t* over_vertex; /* vertices with more than SLOTS corners, ascending */
 	uint32_t* over_start;  /* over_count + 1 offsets into over_code */
 	uint32_t* over_code;
-	unsigned char* records; /* 64 bytes a face and the zero record, 64-byte aligned; also the workspace */
+	/* Vertices in the order they are summed: worker t's chunk k's vertices
+	 * are order[start[base[t] + k] .. start[base[t] + k + 1]), then the
+	 * rest (shared and isolated vertices) from start[chunks] to the end. */
+	uint32_t* order;
+	uint32_t* start;
+	uint32_t base[MAX_WORKERS + 1];
+	unsigned char* records; /* the corner buffer: 96 bytes a face and a zero corner, 64-byte aligned; also the workspace */
 };
 
 /* One vn_plan_normals call on the gather path, shared by its workers. */
@@ -88,31 +105,29 @@ VN_INLINE void loadf(const vn_work* w, uint32_t i, float p[3])
 }
 
 /* A face that float arithmetic cannot represent (zero or non-finite area,
- * or weights beyond float range) in double: a unit n and weights w l,
- * clamped to float range. Returns 0, and zeros, when it contributes
- * nothing in double either. */
-static int face_fallback(const vn_work* w, vn_method method, const uint32_t* idx, float rec[8])
+ * or weights beyond float range) in double, its contributions rounded to
+ * float and clamped to its range. Returns 0, and zeros, when it
+ * contributes nothing in double either. */
+static int face_fallback(const vn_work* w, vn_method method, const uint32_t* idx, float rec[12])
 {
 	double p0[3], p1[3], p2[3], e01[3], e12[3], e20[3], n[3], wt[3];
 	vn_load(w, vn_scalar_float32, idx[0], p0);
 	vn_load(w, vn_scalar_float32, idx[1], p1);
 	vn_load(w, vn_scalar_float32, idx[2], p2);
-	memset(rec, 0, 8 * sizeof(float));
+	memset(rec, 0, 12 * sizeof(float));
 	const double l2 = vn_triangle_edges(p0, p1, p2, e01, e12, e20, n);
 	if (!vn_usable(l2))
 		return 0;
 	vn_triangle_weights(method, e01, e12, e20, l2, wt);
-	const double l = sqrt(l2);
-	for (int k = 0; k < 3; ++k) {
-		rec[k] = (float)(n[k] / l);
-		rec[4 + k] = (float)fmin(wt[k] * l, FLT_MAX);
-	}
+	for (int k = 0; k < 3; ++k)
+		for (int i = 0; i < 3; ++i)
+			rec[4 * k + i] = (float)fmax(fmin(n[i] * wt[k], FLT_MAX), -FLT_MAX);
 	return 1;
 }
 
-/* Face idx[0..3)'s record in float arithmetic; 0 when it must take the
+/* Face idx[0..3)'s corners in float arithmetic; 0 when it must take the
  * fallback. The AVX2 kernel below does the same operations on 8 lanes. */
-VN_INLINE int face_float(const vn_work* w, vn_method method, const uint32_t* idx, float rec[8])
+VN_INLINE int face_float(const vn_work* w, vn_method method, const uint32_t* idx, float rec[12])
 {
 	float p0[3], p1[3], p2[3], e01[3], e12[3], e20[3], n[3];
 	loadf(w, idx[0], p0), loadf(w, idx[1], p1), loadf(w, idx[2], p2);
@@ -154,8 +169,10 @@ VN_INLINE int face_float(const vn_work* w, vn_method method, const uint32_t* idx
 	}
 	const int ok = l2 >= FLT_MIN && l2 <= FLT_MAX && den >= FLT_MIN && den <= FLT_MAX && wt[0] <= FLT_MAX &&
 	               wt[1] <= FLT_MAX && wt[2] <= FLT_MAX;
-	const float r[8] = {n[0], n[1], n[2], 0.0f, wt[0], wt[1], wt[2], 0.0f};
-	memcpy(rec, r, sizeof(r));
+	for (int k = 0; k < 3; ++k) {
+		const float c[4] = {n[0] * wt[k], n[1] * wt[k], n[2] * wt[k], 0.0f};
+		memcpy(rec + 4 * k, c, sizeof(c));
+	}
 	return ok;
 }
 
@@ -165,8 +182,8 @@ VN_INLINE size_t faces_float(const vn_work* w, vn_method method, const uint32_t*
 {
 	size_t degenerate = 0;
 	for (size_t f = f0; f < f1; ++f)
-		if (!face_float(w, method, indices + 3 * f, records + 8 * f))
-			degenerate += !face_fallback(w, method, indices + 3 * f, records + 8 * f);
+		if (!face_float(w, method, indices + 3 * f, records + 12 * f))
+			degenerate += !face_fallback(w, method, indices + 3 * f, records + 12 * f);
 	return degenerate;
 }
 
@@ -189,7 +206,7 @@ VN_AVX2_INLINE __m256 dot8(__m256 ax, __m256 ay, __m256 az, __m256 bx, __m256 by
 	return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(ax, bx), _mm256_mul_ps(ay, by)), _mm256_mul_ps(az, bz));
 }
 
-/* face_float on the eight faces idx[0..24), records rec[0..64); returns the
+/* face_float on the eight faces idx[0..24), corners rec[0..96); returns the
  * mask of the lanes that must take the fallback. */
 VN_AVX2_INLINE int faces_float8(const vn_work* w, vn_method method, const uint32_t* idx, float* rec)
 {
@@ -261,19 +278,19 @@ VN_AVX2_INLINE int faces_float8(const vn_work* w, vn_method method, const uint32
 	for (int k = 0; k < 3; ++k)
 		ok = _mm256_and_ps(ok, _mm256_cmp_ps(wt[k], hi, _CMP_LE_OQ));
 
-	/* Records [n, 0, w, 0]: lanes to rows, faces j and j + 4 per register. */
+	/* Corner k of face j at rec[12 j + 4 k]: lanes to rows, faces j and j + 4
+	 * in the two halves of a register. */
 	const __m256 zero = _mm256_setzero_ps();
-	const __m256 a0 = _mm256_unpacklo_ps(nx, ny), a1 = _mm256_unpackhi_ps(nx, ny);
-	const __m256 a2 = _mm256_unpacklo_ps(nz, zero), a3 = _mm256_unpackhi_ps(nz, zero);
-	const __m256 b0 = _mm256_unpacklo_ps(wt[0], wt[1]), b1 = _mm256_unpackhi_ps(wt[0], wt[1]);
-	const __m256 b2 = _mm256_unpacklo_ps(wt[2], zero), b3 = _mm256_unpackhi_ps(wt[2], zero);
-	const __m256 nrow[4] = {_mm256_shuffle_ps(a0, a2, 0x44), _mm256_shuffle_ps(a0, a2, 0xee),
-	                        _mm256_shuffle_ps(a1, a3, 0x44), _mm256_shuffle_ps(a1, a3, 0xee)};
-	const __m256 wrow[4] = {_mm256_shuffle_ps(b0, b2, 0x44), _mm256_shuffle_ps(b0, b2, 0xee),
-	                        _mm256_shuffle_ps(b1, b3, 0x44), _mm256_shuffle_ps(b1, b3, 0xee)};
-	for (int j = 0; j < 4; ++j) {
-		_mm256_store_ps(rec + 8 * j, _mm256_permute2f128_ps(nrow[j], wrow[j], 0x20));
-		_mm256_store_ps(rec + 8 * (j + 4), _mm256_permute2f128_ps(nrow[j], wrow[j], 0x31));
+	for (int k = 0; k < 3; ++k) {
+		const __m256 cx = _mm256_mul_ps(nx, wt[k]), cy = _mm256_mul_ps(ny, wt[k]), cz = _mm256_mul_ps(nz, wt[k]);
+		const __m256 a0 = _mm256_unpacklo_ps(cx, cy), a1 = _mm256_unpackhi_ps(cx, cy);
+		const __m256 a2 = _mm256_unpacklo_ps(cz, zero), a3 = _mm256_unpackhi_ps(cz, zero);
+		const __m256 row[4] = {_mm256_shuffle_ps(a0, a2, 0x44), _mm256_shuffle_ps(a0, a2, 0xee),
+		                       _mm256_shuffle_ps(a1, a3, 0x44), _mm256_shuffle_ps(a1, a3, 0xee)};
+		for (int j = 0; j < 4; ++j) {
+			_mm_store_ps(rec + 12 * j + 4 * k, _mm256_castps256_ps128(row[j]));
+			_mm_store_ps(rec + 12 * (j + 4) + 4 * k, _mm256_extractf128_ps(row[j], 1));
+		}
 	}
 	return ~_mm256_movemask_ps(ok) & 0xff;
 }
@@ -291,11 +308,11 @@ VN_AVX2_INLINE size_t faces_float_avx2(const vn_work* w, vn_method method, const
 			degenerate += faces_float(w, method, indices, records, f, f + 8);
 			continue;
 		}
-		int redo = faces_float8(w, method, idx, records + 8 * f);
+		int redo = faces_float8(w, method, idx, records + 12 * f);
 		while (redo) {
 			const int j = __builtin_ctz((unsigned)redo);
 			redo &= redo - 1;
-			degenerate += !face_fallback(w, method, idx + 3 * j, records + 8 * (f + j));
+			degenerate += !face_fallback(w, method, idx + 3 * j, records + 12 * (f + j));
 		}
 	}
 	return degenerate + faces_float(w, method, indices, records, f, f1);
@@ -304,28 +321,30 @@ VN_AVX2_INLINE size_t faces_float_avx2(const vn_work* w, vn_method method, const
 
 /* ---------------------------------------------------------------- double faces */
 
-/* vn_triangle_normals' arithmetic (triangles() in weights.c): [n, 0, w, 0],
- * or zeros when the face contributes nothing. */
+/* vn_triangle_normals' arithmetic (triangles() in weights.c): the corners'
+ * n * w_k, or zeros when the face contributes nothing. */
 VN_INLINE size_t faces_double(const vn_work* w, vn_method method, const uint32_t* indices, double* records, size_t f0,
                               size_t f1)
 {
 	size_t degenerate = 0;
 	for (size_t f = f0; f < f1; ++f) {
 		const uint32_t* idx = indices + 3 * f;
-		double* rec = records + 8 * f;
+		double* rec = records + 12 * f;
 		double p0[3], p1[3], p2[3], e01[3], e12[3], e20[3], n[3], wt[3];
 		vn_load(w, vn_scalar_float64, idx[0], p0);
 		vn_load(w, vn_scalar_float64, idx[1], p1);
 		vn_load(w, vn_scalar_float64, idx[2], p2);
 		const double l2 = vn_triangle_edges(p0, p1, p2, e01, e12, e20, n);
 		if (!vn_usable(l2)) {
-			memset(rec, 0, 8 * sizeof(double));
+			memset(rec, 0, 12 * sizeof(double));
 			++degenerate;
 			continue;
 		}
 		vn_triangle_weights(method, e01, e12, e20, l2, wt);
-		const double r[8] = {n[0], n[1], n[2], 0.0, wt[0], wt[1], wt[2], 0.0};
-		memcpy(rec, r, sizeof(r));
+		for (int k = 0; k < 3; ++k) {
+			const double c[4] = {n[0] * wt[k], n[1] * wt[k], n[2] * wt[k], 0.0};
+			memcpy(rec + 4 * k, c, sizeof(c));
+		}
 	}
 	return degenerate;
 }
@@ -362,19 +381,17 @@ VN_AVX2_INLINE size_t faces_double_avx2(const vn_work* w, vn_method method, cons
 		const __m256d zero = _mm256_setzero_pd();
 		for (int k = 0; k < 3; ++k)
 			n[k] = _mm256_and_pd(n[k], keep), wt[k] = _mm256_and_pd(wt[k], keep);
-		double* rec = records + 8 * f;
-		const __m256d t0 = _mm256_unpacklo_pd(n[0], n[1]), t1 = _mm256_unpackhi_pd(n[0], n[1]);
-		const __m256d t2 = _mm256_unpacklo_pd(n[2], zero), t3 = _mm256_unpackhi_pd(n[2], zero);
-		const __m256d u0 = _mm256_unpacklo_pd(wt[0], wt[1]), u1 = _mm256_unpackhi_pd(wt[0], wt[1]);
-		const __m256d u2 = _mm256_unpacklo_pd(wt[2], zero), u3 = _mm256_unpackhi_pd(wt[2], zero);
-		_mm256_store_pd(rec, _mm256_permute2f128_pd(t0, t2, 0x20));
-		_mm256_store_pd(rec + 4, _mm256_permute2f128_pd(u0, u2, 0x20));
-		_mm256_store_pd(rec + 8, _mm256_permute2f128_pd(t1, t3, 0x20));
-		_mm256_store_pd(rec + 12, _mm256_permute2f128_pd(u1, u3, 0x20));
-		_mm256_store_pd(rec + 16, _mm256_permute2f128_pd(t0, t2, 0x31));
-		_mm256_store_pd(rec + 20, _mm256_permute2f128_pd(u0, u2, 0x31));
-		_mm256_store_pd(rec + 24, _mm256_permute2f128_pd(t1, t3, 0x31));
-		_mm256_store_pd(rec + 28, _mm256_permute2f128_pd(u1, u3, 0x31));
+		double* rec = records + 12 * f;
+		for (int k = 0; k < 3; ++k) {
+			const __m256d cx = _mm256_mul_pd(n[0], wt[k]), cy = _mm256_mul_pd(n[1], wt[k]);
+			const __m256d cz = _mm256_mul_pd(n[2], wt[k]);
+			const __m256d t0 = _mm256_unpacklo_pd(cx, cy), t1 = _mm256_unpackhi_pd(cx, cy);
+			const __m256d t2 = _mm256_unpacklo_pd(cz, zero), t3 = _mm256_unpackhi_pd(cz, zero);
+			_mm256_store_pd(rec + 4 * k, _mm256_permute2f128_pd(t0, t2, 0x20));
+			_mm256_store_pd(rec + 12 + 4 * k, _mm256_permute2f128_pd(t1, t3, 0x20));
+			_mm256_store_pd(rec + 24 + 4 * k, _mm256_permute2f128_pd(t0, t2, 0x31));
+			_mm256_store_pd(rec + 36 + 4 * k, _mm256_permute2f128_pd(t1, t3, 0x31));
+		}
 	}
 	return degenerate + faces_double(w, method, indices, records, f, f1);
 }
@@ -436,24 +453,10 @@ static VN_AVX2 size_t face_range_avx2(const pass* p, size_t f0, size_t f1)
 }
 #endif
 
-static void face_pass(void* ctx, unsigned t)
-{
-	pass* p = (pass*)ctx;
-	size_t f0, f1;
-	split(p->plan->face_count, t, p->plan->workers, &f0, &f1);
-#ifdef VN_HAVE_AVX2
-	if (p->plan->simd) {
-		p->stats[t].degenerate_faces = face_range_avx2(p, f0, f1);
-		return;
-	}
-#endif
-	p->stats[t].degenerate_faces = face_range_scalar(p, f0, f1);
-}
-
 /* ---------------------------------------------------------------- vertex pass */
 
-/* The first overflow entry whose vertex is >= v. */
-static size_t first_overflow(const vn_plan* plan, uint32_t v)
+/* The overflow entry of vertex v (which has one). */
+static size_t overflow_of(const vn_plan* plan, uint32_t v)
 {
 	size_t lo = 0, hi = plan->over_count;
 	while (lo < hi) {
@@ -464,6 +467,16 @@ static size_t first_overflow(const vn_plan* plan, uint32_t v)
 			hi = mid;
 	}
 	return lo;
+}
+
+/* Vertex v's corners beyond the slots: *codes and their number. */
+VN_INLINE uint32_t overflow_codes(const vn_plan* plan, uint32_t v, const uint32_t** codes)
+{
+	if (!(plan->slots[SLOTS * (size_t)v + SLOTS - 1] & MORE))
+		return 0;
+	const size_t k = overflow_of(plan, v);
+	*codes = plan->over_code + plan->over_start[k];
+	return plan->over_start[k + 1] - plan->over_start[k];
 }
 
 /* vn_normalize in float arithmetic. */
@@ -516,37 +529,28 @@ VN_INLINE int store_double(const pass* p, uint32_t v, double a[3])
 VN_INLINE void gather_float(const float* records, const uint32_t* codes, uint32_t k, float a[3])
 {
 	for (uint32_t s = 0; s < k; ++s) {
-		const uint32_t c = codes[s];
-		const float* r = records + 2 * (size_t)(c & ~3u);
-		const float w = r[4 + (c & 3)];
-		a[0] += r[0] * w, a[1] += r[1] * w, a[2] += r[2] * w;
+		const float* r = records + CORNER(codes[s]);
+		a[0] += r[0], a[1] += r[1], a[2] += r[2];
 	}
 }
 
 VN_INLINE void gather_double(const double* records, const uint32_t* codes, uint32_t k, double a[3])
 {
 	for (uint32_t s = 0; s < k; ++s) {
-		const uint32_t c = codes[s];
-		const double* r = records + 2 * (size_t)(c & ~3u);
-		const double w = r[4 + (c & 3)];
-		a[0] += r[0] * w, a[1] += r[1] * w, a[2] += r[2] * w;
+		const double* r = records + CORNER(codes[s]);
+		a[0] += r[0], a[1] += r[1], a[2] += r[2];
 	}
 }
 
-/* Vertices [v0, v1), one at a time; *ov is the next overflow entry. Returns
- * the zero normals. */
-static size_t vertices_scalar(const pass* p, uint32_t v0, uint32_t v1, size_t* ov)
+/* The vertices list[0..n), one at a time; returns the zero normals. */
+static size_t vertices_scalar(const pass* p, const uint32_t* list, size_t n)
 {
 	const vn_plan* plan = p->plan;
 	size_t zero = 0;
-	for (uint32_t v = v0; v < v1; ++v) {
+	for (size_t i = 0; i < n; ++i) {
+		const uint32_t v = list[i];
 		const uint32_t* more = NULL;
-		uint32_t extra = 0;
-		if (*ov < plan->over_count && plan->over_vertex[*ov] == v) {
-			more = plan->over_code + plan->over_start[*ov];
-			extra = plan->over_start[*ov + 1] - plan->over_start[*ov];
-			++*ov;
-		}
+		const uint32_t extra = overflow_codes(plan, v, &more);
 		if (p->reader.type == vn_scalar_float32) {
 			float a[3] = {0.0f, 0.0f, 0.0f};
 			gather_float((const float*)plan->records, plan->slots + SLOTS * (size_t)v, SLOTS, a);
@@ -565,29 +569,26 @@ static size_t vertices_scalar(const pass* p, uint32_t v0, uint32_t v1, size_t* o
 #ifdef VN_HAVE_AVX2
 /* vertices_scalar on 8 vertices at a time: the sums interleaved over the
  * slots, then normalized together (lanes out of range one by one). */
-static VN_AVX2 size_t vertices_float_avx2(const pass* p, uint32_t v0, uint32_t v1, size_t* ov)
+static VN_AVX2 size_t vertices_float_avx2(const pass* p, const uint32_t* list, size_t n)
 {
 	const vn_plan* plan = p->plan;
 	const float* records = (const float*)plan->records;
-	size_t zero = 0;
-	uint32_t v = v0;
-	for (; v + 8 <= v1; v += 8) {
-		const uint32_t* codes = plan->slots + SLOTS * (size_t)v;
+	size_t zero = 0, i = 0;
+	for (; i + 8 <= n; i += 8) {
+		const uint32_t* vs = list + i;
 		__m128 acc[8];
 		for (int j = 0; j < 8; ++j)
 			acc[j] = _mm_setzero_ps();
 		for (int s = 0; s < SLOTS; ++s)
 			for (int j = 0; j < 8; ++j) {
-				const uint32_t c = codes[SLOTS * j + s];
-				const float* r = records + 2 * (size_t)(c & ~3u);
-				acc[j] = _mm_add_ps(acc[j], _mm_mul_ps(_mm_load_ps(r), _mm_broadcast_ss(r + 4 + (c & 3))));
+				const uint32_t c = plan->slots[SLOTS * (size_t)vs[j] + s];
+				acc[j] = _mm_add_ps(acc[j], _mm_load_ps(records + CORNER(c)));
 			}
-		for (; *ov < plan->over_count && plan->over_vertex[*ov] < v + 8; ++*ov) {
-			const int j = (int)(plan->over_vertex[*ov] - v);
-			for (uint32_t e = plan->over_start[*ov]; e < plan->over_start[*ov + 1]; ++e) {
-				const uint32_t c = plan->over_code[e];
-				const float* r = records + 2 * (size_t)(c & ~3u);
-				acc[j] = _mm_add_ps(acc[j], _mm_mul_ps(_mm_load_ps(r), _mm_broadcast_ss(r + 4 + (c & 3))));
+		for (int j = 0; j < 8; ++j) {
+			const uint32_t* more = NULL;
+			const uint32_t extra = overflow_codes(plan, vs[j], &more);
+			for (uint32_t e = 0; e < extra; ++e) {
+				acc[j] = _mm_add_ps(acc[j], _mm_load_ps(records + CORNER(more[e])));
 			}
 		}
 		__m256 x, y, z;
@@ -602,52 +603,49 @@ static VN_AVX2 size_t vertices_float_avx2(const pass* p, uint32_t v0, uint32_t v
 			x = _mm256_mul_ps(x, inv), y = _mm256_mul_ps(y, inv), z = _mm256_mul_ps(z, inv);
 		}
 		_mm256_storeu_ps(nx, x), _mm256_storeu_ps(ny, y), _mm256_storeu_ps(nz, z);
-		unsigned char* dst = (unsigned char*)p->out->data + (size_t)v * p->out->stride;
+		unsigned char* const out = (unsigned char*)p->out->data;
 		const size_t os = p->out->stride;
 		if (!all_in) {
 			for (int j = 0; j < 8; ++j) {
 				float a[3] = {nx[j], ny[j], nz[j]};
-				zero += store_float(p, v + (uint32_t)j, a);
+				zero += store_float(p, vs[j], a);
 			}
 		} else if (p->out->type == vn_scalar_float32) {
 			for (int j = 0; j < 8; ++j) {
 				const float f[3] = {nx[j], ny[j], nz[j]};
-				memcpy(dst + j * os, f, sizeof(f));
+				memcpy(out + vs[j] * os, f, sizeof(f));
 			}
 		} else {
 			for (int j = 0; j < 8; ++j) {
 				const double d[3] = {nx[j], ny[j], nz[j]};
-				memcpy(dst + j * os, d, sizeof(d));
+				memcpy(out + vs[j] * os, d, sizeof(d));
 			}
 		}
 	}
-	return zero + vertices_scalar(p, v, v1, ov);
+	return zero + vertices_scalar(p, list + i, n - i);
 }
 
 /* The double sums four vertices at a time, normalized as vn_run's finalize does. */
-static VN_AVX2 size_t vertices_double_avx2(const pass* p, uint32_t v0, uint32_t v1, size_t* ov)
+static VN_AVX2 size_t vertices_double_avx2(const pass* p, const uint32_t* list, size_t n)
 {
 	const vn_plan* plan = p->plan;
 	const double* records = (const double*)plan->records;
-	size_t zero = 0;
-	uint32_t v = v0;
-	for (; v + 4 <= v1; v += 4) {
-		const uint32_t* codes = plan->slots + SLOTS * (size_t)v;
+	size_t zero = 0, i = 0;
+	for (; i + 4 <= n; i += 4) {
+		const uint32_t* vs = list + i;
 		__m256d acc[4];
 		for (int j = 0; j < 4; ++j)
 			acc[j] = _mm256_setzero_pd();
 		for (int s = 0; s < SLOTS; ++s)
 			for (int j = 0; j < 4; ++j) {
-				const uint32_t c = codes[SLOTS * j + s];
-				const double* r = records + 2 * (size_t)(c & ~3u);
-				acc[j] = _mm256_add_pd(acc[j], _mm256_mul_pd(_mm256_load_pd(r), _mm256_broadcast_sd(r + 4 + (c & 3))));
+				const uint32_t c = plan->slots[SLOTS * (size_t)vs[j] + s];
+				acc[j] = _mm256_add_pd(acc[j], _mm256_load_pd(records + CORNER(c)));
 			}
-		for (; *ov < plan->over_count && plan->over_vertex[*ov] < v + 4; ++*ov) {
-			const int j = (int)(plan->over_vertex[*ov] - v);
-			for (uint32_t e = plan->over_start[*ov]; e < plan->over_start[*ov + 1]; ++e) {
-				const uint32_t c = plan->over_code[e];
-				const double* r = records + 2 * (size_t)(c & ~3u);
-				acc[j] = _mm256_add_pd(acc[j], _mm256_mul_pd(_mm256_load_pd(r), _mm256_broadcast_sd(r + 4 + (c & 3))));
+		for (int j = 0; j < 4; ++j) {
+			const uint32_t* more = NULL;
+			const uint32_t extra = overflow_codes(plan, vs[j], &more);
+			for (uint32_t e = 0; e < extra; ++e) {
+				acc[j] = _mm256_add_pd(acc[j], _mm256_load_pd(records + CORNER(more[e])));
 			}
 		}
 		const __m256d t0 = _mm256_unpacklo_pd(acc[0], acc[1]), t1 = _mm256_unpackhi_pd(acc[0], acc[1]);
@@ -667,32 +665,61 @@ static VN_AVX2 size_t vertices_double_avx2(const pass* p, uint32_t v0, uint32_t 
 		for (int j = 0; j < 4; ++j) {
 			double a[3] = {nx[j], ny[j], nz[j]};
 			if (all_in)
-				vn_store(p->out, v + (uint32_t)j, a);
+				vn_store(p->out, vs[j], a);
 			else
-				zero += store_double(p, v + (uint32_t)j, a);
+				zero += store_double(p, vs[j], a);
 		}
 	}
-	return zero + vertices_scalar(p, v, v1, ov);
+	return zero + vertices_scalar(p, list + i, n - i);
 }
 #endif
 
-static void vertex_pass(void* ctx, unsigned t)
+static size_t face_range(const pass* p, size_t f0, size_t f1)
+{
+#ifdef VN_HAVE_AVX2
+	if (p->plan->simd)
+		return face_range_avx2(p, f0, f1);
+#endif
+	return face_range_scalar(p, f0, f1);
+}
+
+static size_t vertex_list(const pass* p, const uint32_t* list, size_t n)
+{
+#ifdef VN_HAVE_AVX2
+	if (p->plan->simd)
+		return p->reader.type == vn_scalar_float32 ? vertices_float_avx2(p, list, n) : vertices_double_avx2(p, list, n);
+#endif
+	return vertices_scalar(p, list, n);
+}
+
+/* Worker t's faces, chunk by chunk, each followed by the vertices it completes. */
+static void chunk_pass(void* ctx, unsigned t)
 {
 	pass* p = (pass*)ctx;
 	const vn_plan* plan = p->plan;
-	size_t lo, hi;
-	split(plan->vertex_count, t, plan->workers, &lo, &hi);
-	const uint32_t v0 = (uint32_t)lo, v1 = (uint32_t)hi;
-	size_t ov = first_overflow(plan, v0), zero;
-#ifdef VN_HAVE_AVX2
-	if (plan->simd)
-		zero = p->reader.type == vn_scalar_float32 ? vertices_float_avx2(p, v0, v1, &ov)
-		                                           : vertices_double_avx2(p, v0, v1, &ov);
-	else
-#endif
-		zero = vertices_scalar(p, v0, v1, &ov);
+	size_t f0, f1, degenerate = 0, zero = 0;
+	split(plan->face_count, t, plan->workers, &f0, &f1);
+	for (uint32_t k = plan->base[t]; k < plan->base[t + 1]; ++k, f0 += CHUNK) {
+		degenerate += face_range(p, f0, f1 - f0 < CHUNK ? f1 : f0 + CHUNK);
+		zero += vertex_list(p, plan->order + plan->start[k], plan->start[k + 1] - plan->start[k]);
+	}
+	p->stats[t].degenerate_faces = degenerate;
 	p->stats[t].zero_normals = zero;
-	p->stats[t].nonfinite_vertices = p->want_stats ? vn_count_nonfinite(&p->reader, v0, v1) : 0;
+}
+
+/* The rest of the vertices, split evenly, and the non-finite count. */
+static void rest_pass(void* ctx, unsigned t)
+{
+	pass* p = (pass*)ctx;
+	const vn_plan* plan = p->plan;
+	const size_t first = plan->start[plan->base[plan->workers]], n = plan->vertex_count - first;
+	const size_t lo = first + n * t / plan->workers, hi = first + n * (t + 1) / plan->workers;
+	p->stats[t].zero_normals += vertex_list(p, plan->order + lo, hi - lo);
+	if (p->want_stats) {
+		size_t v0, v1;
+		split(plan->vertex_count, t, plan->workers, &v0, &v1);
+		p->stats[t].nonfinite_vertices = vn_count_nonfinite(&p->reader, (uint32_t)v0, (uint32_t)v1);
+	}
 }
 
 /* ---------------------------------------------------------------- entry points */
@@ -707,6 +734,47 @@ static size_t corner_work_bytes(size_t corners, size_t faces, size_t nv, unsigne
 VN_INLINE size_t round64(size_t n)
 {
 	return (n + 63) & ~(size_t)63;
+}
+
+/* The order in which the chunk pass sums the vertices: a vertex after the
+ * chunk of its last face when its first face is in the same worker's range,
+ * else in the rest (so are isolated vertices). A counting sort by bucket,
+ * ascending vertex numbers within one; first[] is overwritten. */
+static void schedule(vn_plan* plan, const uint32_t* count, uint32_t* first, const uint32_t* last)
+{
+	const unsigned nt = plan->workers;
+	const uint32_t chunks = plan->base[nt], nv = plan->vertex_count;
+	size_t from[MAX_WORKERS];
+	for (unsigned t = 0; t < nt; ++t) {
+		size_t hi;
+		split(plan->face_count, t, nt, &from[t], &hi);
+	}
+	uint32_t* start = plan->start;
+	memset(start, 0, sizeof(uint32_t) * ((size_t)chunks + 2));
+	for (uint32_t v = 0; v < nv; ++v) {
+		uint32_t b = chunks;
+		if (count[v]) {
+			unsigned lo = 0, hi = nt; /* the last worker whose range starts at or before last[v] */
+			while (hi - lo > 1) {
+				const unsigned mid = (lo + hi) / 2;
+				if (from[mid] <= last[v])
+					lo = mid;
+				else
+					hi = mid;
+			}
+			if (first[v] >= from[lo])
+				b = plan->base[lo] + (uint32_t)((last[v] - from[lo]) / CHUNK);
+		}
+		first[v] = b;
+		++start[b + 1];
+	}
+	for (uint32_t b = 0; b <= chunks; ++b)
+		start[b + 1] += start[b];
+	for (uint32_t v = 0; v < nv; ++v)
+		plan->order[start[first[v]]++] = v;
+	for (uint32_t b = chunks + 1; b > 0; --b)
+		start[b] = start[b - 1];
+	start[0] = 0;
 }
 
 vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
@@ -739,21 +807,38 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 	const vn_allocator heap = vn_heap(&o->allocator);
 	const int gather = !face_offsets && face_count <= MAX_GATHER_FACES;
 	/* Corners per vertex, then each overflow vertex's ordinal. */
+	/* Scratch: corners, overflow ordinal, first and last face of each vertex. */
 	uint32_t* count = NULL;
 	size_t over_count = 0, over_codes = 0;
 	if (gather && nv) {
-		if (!(count = (uint32_t*)heap.allocate(heap.user, 2 * sizeof(uint32_t) * nv)))
+		if (!(count = (uint32_t*)heap.allocate(heap.user, 4 * sizeof(uint32_t) * nv)))
 			return vn_result_out_of_memory;
+		uint32_t *first = count + 2 * (size_t)nv, *last = count + 3 * (size_t)nv;
 		memset(count, 0, sizeof(uint32_t) * nv);
-		for (size_t i = 0; i < ni; ++i)
-			++count[indices[i]];
+		for (size_t f = face_count; f-- > 0;)
+			for (int k = 0; k < 3; ++k)
+				first[indices[3 * f + k]] = (uint32_t)f;
+		for (size_t f = 0; f < face_count; ++f)
+			for (int k = 0; k < 3; ++k) {
+				const uint32_t v = indices[3 * f + k];
+				++count[v];
+				last[v] = (uint32_t)f;
+			}
 		for (uint32_t v = 0; v < nv; ++v)
 			if (count[v] > SLOTS)
 				count[nv + v] = (uint32_t)over_count++, over_codes += count[v] - SLOTS;
 	}
 
 	const unsigned workers = vn_worker_count(nv, o->threads);
-	const size_t record_bytes = gather ? 64 * (face_count + 1) : 0;
+	uint32_t chunks = 0, base[MAX_WORKERS + 1];
+	for (unsigned t = 0; t < workers; ++t) {
+		size_t f0, f1;
+		split(face_count, t, workers, &f0, &f1);
+		base[t] = chunks;
+		chunks += gather ? (uint32_t)((f1 - f0 + CHUNK - 1) / CHUNK) : 0;
+	}
+	base[workers] = chunks;
+	const size_t record_bytes = gather ? 96 * (face_count + 1) : 0;
 	size_t work = vn_workspace_size(nv, o);
 	const size_t corner_bytes = corner_work_bytes(ni, face_count, nv, o->threads);
 	work = work > corner_bytes ? work : corner_bytes;
@@ -763,7 +848,8 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 	const size_t off_bytes = face_offsets ? round64(sizeof(uint32_t) * (face_count + 1)) : 0;
 	const size_t slot_bytes = gather ? round64(sizeof(uint32_t) * SLOTS * (size_t)nv) : 0;
 	const size_t over_bytes = round64(sizeof(uint32_t) * (2 * over_count + 1 + over_codes));
-	const size_t total = head + idx_bytes + off_bytes + slot_bytes + over_bytes + round64(work) + 64;
+	const size_t order_bytes = gather ? round64(sizeof(uint32_t) * ((size_t)nv + chunks + 2)) : 0;
+	const size_t total = head + idx_bytes + off_bytes + slot_bytes + over_bytes + order_bytes + round64(work) + 64;
 	unsigned char* block = (unsigned char*)heap.allocate(heap.user, total);
 	if (!block) {
 		if (count)
@@ -796,6 +882,10 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 	plan->over_start = plan->over_vertex + over_count;
 	plan->over_code = plan->over_start + over_count + 1;
 	at += over_bytes;
+	plan->order = (uint32_t*)at;
+	plan->start = plan->order + nv;
+	memcpy(plan->base, base, sizeof(uint32_t) * (workers + 1));
+	at += order_bytes;
 	/* The records want 64-byte alignment (a double record is a cache line). */
 	plan->records = block + ((((uintptr_t)at + 63) & ~(uintptr_t)63) - (uintptr_t)block);
 	plan->opt.workspace = plan->records;
@@ -803,7 +893,7 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 
 	if (count) {
 		/* Slots in ascending corner order; count[] becomes the fill cursor. */
-		const uint32_t pad = (uint32_t)(4 * face_count);
+		const uint32_t pad = (uint32_t)(3 * face_count);
 		for (size_t i = 0; i < SLOTS * (size_t)nv; ++i)
 			plan->slots[i] = pad;
 		uint32_t start = 0;
@@ -815,15 +905,18 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 				start += count[v] - SLOTS;
 			}
 		plan->over_start[over_count] = start;
+		schedule(plan, count, count + 2 * (size_t)nv, count + 3 * (size_t)nv);
 		memset(count, 0, sizeof(uint32_t) * nv);
 		for (size_t i = 0; i < ni; ++i) {
 			const uint32_t v = indices[i], j = count[v]++;
-			const uint32_t code = (uint32_t)(4 * (i / 3) + i % 3);
+			const uint32_t code = (uint32_t)i;
 			if (j < SLOTS)
 				plan->slots[SLOTS * (size_t)v + j] = code;
 			else
 				plan->over_code[plan->over_start[count[nv + v]] + j - SLOTS] = code;
 		}
+		for (size_t k = 0; k < over_count; ++k)
+			plan->slots[SLOTS * (size_t)plan->over_vertex[k] + SLOTS - 1] |= MORE;
 		heap.deallocate(heap.user, count);
 	}
 	*out = plan;
@@ -873,11 +966,13 @@ vn_result vn_plan_normals(vn_plan* plan, const vn_positions* positions, vn_metho
 	p.want_stats = stats != NULL;
 	const unsigned nt = plan->workers;
 	memset(p.stats, 0, sizeof(p.stats[0]) * nt);
-	/* The zero record the padding slots name. */
-	memset(plan->records + (positions->type == vn_scalar_float32 ? 32 : 64) * plan->face_count, 0, 64);
+	/* The zero corner the padding slots name. */
+	const size_t corner_bytes = positions->type == vn_scalar_float32 ? 16 : 32;
+	memset(plan->records + corner_bytes * 3 * plan->face_count, 0, corner_bytes);
 
-	vn_parallel(nt, face_pass, &p);
-	vn_parallel(nt, vertex_pass, &p);
+	vn_parallel(nt, chunk_pass, &p);
+	if (p.want_stats || plan->start[plan->base[nt]] < plan->vertex_count)
+		vn_parallel(nt, rest_pass, &p);
 
 	if (stats) {
 		memset(stats, 0, sizeof(*stats));

@@ -2,13 +2,19 @@
  *
  *   vnbench MESH [--method M|all] [--threads N] [--repeat K] [--csv]
  *   vnbench MESH --corners [--sharp-every K] [--crease DEG] [...]
+ *   vnbench MESH --plan [--float32] [...]
  *
  * Positions are handed to the library as packed float32, as the peer
  * benchmark in shared/bench/peers does, so rows compare like for like. Each
  * method runs once to warm up, then K timed times; the median is reported.
  * --corners times vn_polygon_corner_normals and, in the same run on the same
- * mesh, vn_polygon_normals, per face, and prints their ratio. */
+ * mesh, vn_polygon_normals, per face, and prints their ratio. --plan times
+ * vn_plan_create once and vn_plan_normals per frame, and in the same run the
+ * entry point without a plan, and prints after how many frames the plan has
+ * paid for itself. */
 #include "common.h"
+
+#include <math.h>
 
 static const char* prog = "vnbench";
 
@@ -22,7 +28,8 @@ static void usage(FILE* out)
 	        "  -m, --method M|all     scheme to time (default all)\n"
 	        "  -j, --threads N        worker threads (default 1)\n"
 	        "  -r, --repeat K         timed repetitions after one warm-up (default 9)\n"
-	        "      --float64          pass positions as float64 instead of float32\n"
+	        "      --float64          pass positions as float64 (the default with --plan)\n"
+	        "      --float32          pass positions as float32 (the default without --plan)\n"
 	        "      --alloc            let every call allocate its work memory (default: one\n"
 	        "                         workspace reused by all calls, as an application would)\n"
 	        "      --csv              print CSV: method,threads,triangles,median_ns_per_tri,mtri_per_s\n"
@@ -33,6 +40,10 @@ static void usage(FILE* out)
 	        "                         triangle meshes vn_corner_normals too\n"
 	        "      --sharp-every K    with --corners: flag every K-th corner's edge sharp (default 0: none)\n"
 	        "      --crease DEG       with --corners: crease angle in degrees (default 180: none)\n"
+	        "      --plan             time a per-frame plan: vn_plan_create once, vn_plan_normals\n"
+	        "                         per frame, next to the call without a plan (CSV: method,\n"
+	        "                         threads,triangles,positions,create_ms,plan_ns_per_tri,\n"
+	        "                         today_ns_per_tri,speedup,frames_to_pay_off)\n"
 	        "      --list-methods     list the schemes\n"
 	        "  -h, --help             this text\n"
 	        "      --version          print the version\n"
@@ -59,9 +70,10 @@ typedef struct bench {
 	const uint8_t* sharp;
 	double crease;
 	int tri;
+	vn_plan* plan;
 } bench;
 
-enum { run_vertex, run_polygon, run_corner, run_triangle_corner };
+enum { run_vertex, run_polygon, run_corner, run_triangle_corner, run_plan };
 
 static vn_result run_once(const bench* b, int kind, vn_method m)
 {
@@ -74,6 +86,8 @@ static vn_result run_once(const bench* b, int kind, vn_method m)
 		/* fall through */
 	case run_polygon:
 		return vn_polygon_normals(b->out, b->pos, mesh->indices, mesh->face_offsets, nf, m, b->opt, NULL);
+	case run_plan:
+		return vn_plan_normals(b->plan, b->pos, m, b->out, NULL);
 	case run_triangle_corner:
 		return vn_corner_normals(b->corner_out, b->pos, mesh->indices, 3 * nf, m, b->crease, b->sharp, b->opt, NULL);
 	default:
@@ -102,7 +116,7 @@ int main(int argc, char** argv)
 {
 	tool_check_version(prog);
 	const char* path = NULL;
-	int all = 1, csv = 0, f64 = 0, alloc = 0, corners = 0;
+	int all = 1, csv = 0, f64 = -1, alloc = 0, corners = 0, plan = 0;
 	unsigned long sharp_every = 0;
 	double crease_deg = 180.0;
 	vn_method method = vn_method_mwe;
@@ -145,6 +159,10 @@ int main(int argc, char** argv)
 			csv = 1;
 		} else if (!strcmp(s, "--float64")) {
 			f64 = 1;
+		} else if (!strcmp(s, "--float32")) {
+			f64 = 0;
+		} else if (!strcmp(s, "--plan")) {
+			plan = 1;
 		} else if (!strcmp(s, "--alloc")) {
 			alloc = 1;
 		} else if (s[0] == '-' && s[1]) {
@@ -157,6 +175,10 @@ int main(int argc, char** argv)
 	}
 	if (!path)
 		die(2, "%s", "usage: vnbench MESH [--method M|all] [--threads N] [--repeat K] [--csv]");
+	if (plan && corners)
+		die(2, "%s", "--plan and --corners time different things: give one");
+	if (f64 < 0)
+		f64 = plan;
 
 	vn_io_mesh mesh;
 	vn_io_error err;
@@ -208,7 +230,18 @@ int main(int argc, char** argv)
 			sharp[c] = 1;
 	}
 	const vn_vectors corner_out = {corner_normals, 0, vn_scalar_float32};
-	const bench b = {&mesh, &pos, &opt, &out, &corner_out, sharp, crease_deg * (3.141592653589793 / 180.0), tri};
+	bench b = {&mesh, &pos, &opt, &out, &corner_out, sharp, crease_deg * (3.141592653589793 / 180.0), tri, NULL};
+	double create_ms = 0.0;
+	if (plan) {
+		/* The plan takes the options' threads and simd; it holds its own work memory. */
+		vn_options popt = opt;
+		popt.workspace = NULL, popt.workspace_size = 0;
+		const double t0 = tool_now();
+		const vn_result r = vn_plan_create(mesh.indices, tri ? NULL : mesh.face_offsets, nf, nv, &popt, &b.plan);
+		create_ms = 1e3 * (tool_now() - t0);
+		if (r != vn_result_success)
+			die(1, "vn_plan_create: %s", vn_result_string(r));
+	}
 
 	if (corners) {
 		if (csv)
@@ -217,6 +250,14 @@ int main(int argc, char** argv)
 			printf("%s: %zu vertices, %zu faces, %zu corners, %lu thread(s), median of %lu after 1 warm-up;\n"
 			       "corner normals with every %lu-th edge flagged (0: none), crease %g degrees\n",
 			       path, nv, nf, ni, threads, repeat, sharp_every, crease_deg);
+	} else if (plan) {
+		if (csv)
+			printf("method,threads,triangles,positions,create_ms,plan_ns_per_tri,today_ns_per_tri,speedup,"
+			       "frames_to_pay_off\n");
+		else
+			printf("%s: %zu vertices, %zu %s, %lu thread(s), float%d positions, median of %lu after 1 warm-up;\n"
+			       "vn_plan_create %.2f ms\n",
+			       path, nv, nf, tri ? "triangles" : "polygons", threads, f64 ? 64 : 32, repeat, create_ms);
 	} else if (csv)
 		printf("method,threads,triangles,median_ns_per_tri,mtri_per_s\n");
 	else
@@ -247,6 +288,21 @@ int main(int argc, char** argv)
 			fflush(stdout);
 			continue;
 		}
+		if (plan) {
+			const double tp = median_time(&b, run_plan, (vn_method)m, repeat, times);
+			const double tt = median_time(&b, run_vertex, (vn_method)m, repeat, times);
+			const double pns = 1e9 * tp / (double)triangles, tns = 1e9 * tt / (double)triangles;
+			/* frames after which create + k plan frames cost less than k frames without */
+			const double pay = tt > tp ? ceil(1e-3 * create_ms / (tt - tp)) : INFINITY;
+			if (csv)
+				printf("%s,%lu,%zu,float%d,%.3f,%.3f,%.3f,%.3f,%.0f\n", vn_method_name((vn_method)m), threads, triangles,
+				       f64 ? 64 : 32, create_ms, pns, tns, tns / pns, pay);
+			else
+				printf("%-7s plan %8.2f ns/triangle  without %8.2f ns/triangle  x%5.2f  pays off after %.0f frames\n",
+				       vn_method_name((vn_method)m), pns, tns, tns / pns, pay);
+			fflush(stdout);
+			continue;
+		}
 		const double med = median_time(&b, run_vertex, (vn_method)m, repeat, times);
 		const double ns = 1e9 * med / (double)triangles;
 		if (csv)
@@ -255,6 +311,7 @@ int main(int argc, char** argv)
 			printf("%-7s %8.2f ns/triangle %9.2f Mtriangles/s\n", vn_method_name((vn_method)m), ns, 1e3 / ns);
 		fflush(stdout);
 	}
+	vn_plan_destroy(b.plan);
 	free(sharp);
 	free(corner_normals);
 	free(opt.workspace);
