@@ -419,11 +419,12 @@ def _compute(lib, mesh, s, selected_only=False, a=None, members=None, owner=None
 # Meshes of more faces than this are computed through a vn plan (issue 20)
 # kept per mesh, so that the next run on the same faces (a live recompute,
 # the redo panel) has the indices checked and the work memory allocated
-# already. Below it the saving is not worth keeping the plan's memory
-# (about 4 bytes a corner and 110 a triangle).
+# and mapped already. Below it the saving is not worth keeping the plan's
+# memory (about 180 bytes a quad once used: what a call without a plan
+# allocates and frees each time).
 PLAN_MIN_FACES = 100_000
 # Plans kept at most, for this many meshes (the least recently used is freed).
-PLAN_CACHE_SIZE = 4
+PLAN_CACHE_SIZE = 2
 # mesh.as_pointer() -> (mesh name, library, plan, corner_vert, face_offsets),
 # least recently used first. A plan depends on the faces only: one found
 # under a pointer a freed mesh left to a new one serves it if they match.

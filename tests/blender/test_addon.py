@@ -1135,25 +1135,32 @@ compare("live, Sculpt Mode: recomputed on leaving", blender_normals(me), referen
 check(inside == 0 and recomputed() == n0 + 1, "live, Sculpt Mode: %d inside, %d on leaving"
       % (inside, recomputed() - n0 - inside))
 
+
+def animate(obj, bulged, last, arm_location, rotation):
+    """A shape key from obj's positions to bulged and an armature bending every vertex, keyed from
+    frame 1 (rest) to last. Returns (key, armature object, bone)."""
+    obj.shape_key_add(name="Basis")
+    key = obj.shape_key_add(name="Bulge")
+    key.data.foreach_set("co", bulged.ravel())
+    key.value = 0.0
+    key.keyframe_insert("value", frame=1)
+    key.value = 1.0
+    key.keyframe_insert("value", frame=last)
+    bpy.ops.object.armature_add(location=arm_location)
+    arm = bpy.context.active_object
+    obj.vertex_groups.new(name=arm.pose.bones[0].name).add(list(range(len(obj.data.vertices))), 1.0, "REPLACE")
+    obj.modifiers.new("Armature", "ARMATURE").object = arm
+    bone = arm.pose.bones[0]
+    bone.rotation_mode = "XYZ"
+    bone.keyframe_insert("rotation_euler", frame=1)
+    bone.rotation_euler = rotation
+    bone.keyframe_insert("rotation_euler", frame=last)
+    return key, arm, bone
+
+
 # Animation: frame changes (shape key and armature) neither check nor recompute; the deformation
 # is Blender's (it carries the custom normals), the mesh data is not changed
-obj.shape_key_add(name="Basis")
-key = obj.shape_key_add(name="Bulge")
-key.data.foreach_set("co", (positions(me) * np.float32([1.5, 1.0, 0.7])).ravel())
-key.value = 0.0
-key.keyframe_insert("value", frame=1)
-key.value = 1.0
-key.keyframe_insert("value", frame=20)
-bpy.ops.object.armature_add(location=(0.0, 0.0, -1.0))
-arm = bpy.context.active_object
-group = obj.vertex_groups.new(name=arm.pose.bones[0].name)
-group.add(list(range(len(me.vertices))), 1.0, "REPLACE")
-obj.modifiers.new("Armature", "ARMATURE").object = arm
-bone = arm.pose.bones[0]
-bone.rotation_mode = "XYZ"
-bone.keyframe_insert("rotation_euler", frame=1)
-bone.rotation_euler = (0.8, 0.0, 0.0)
-bone.keyframe_insert("rotation_euler", frame=20)
+key, arm, bone = animate(obj, positions(me) * np.float32([1.5, 1.0, 0.7]), 20, (0.0, 0.0, -1.0), (0.8, 0.0, 0.0))
 scene = bpy.context.scene
 scene.frame_set(1)
 settle()
@@ -1517,23 +1524,9 @@ check(r_ok(r) and addon.plan_stats["created"] == created + 1 and np.array_equal(
 source = obj.copy()
 source.data = me.copy()
 bpy.context.collection.objects.link(source)
-source.shape_key_add(name="Basis")
-bulge = source.shape_key_add(name="Bulge")
 co = positions(me)
-bulge.data.foreach_set("co", (co + np.float32([0, 0, 0.3]) * np.exp(-4 * (co ** 2).sum(axis=1))[:, None]).ravel())
-bulge.value = 0.0
-bulge.keyframe_insert("value", frame=1)
-bulge.value = 1.0
-bulge.keyframe_insert("value", frame=4)
-bpy.ops.object.armature_add(location=(-1.0, 0.0, 0.0))
-arm = bpy.context.active_object
-source.vertex_groups.new(name=arm.pose.bones[0].name).add(list(range(len(me.vertices))), 1.0, "REPLACE")
-source.modifiers.new("Armature", "ARMATURE").object = arm
-bone = arm.pose.bones[0]
-bone.rotation_mode = "XYZ"
-bone.keyframe_insert("rotation_euler", frame=1)
-bone.rotation_euler = (0.0, 0.4, 0.0)
-bone.keyframe_insert("rotation_euler", frame=4)
+_key, arm, _bone = animate(source, co + np.float32([0, 0, 0.3]) * np.exp(-4 * (co ** 2).sum(axis=1))[:, None], 4,
+                           (-1.0, 0.0, 0.0), (0.0, 0.4, 0.0))
 bpy.ops.object.select_all(action="DESELECT")
 obj.select_set(True)
 bpy.context.view_layer.objects.active = obj
@@ -1592,19 +1585,33 @@ for label, change in (("a face deleted", lambda bm: bmesh.ops.delete(bm, geom=[b
           and np.array_equal(written[0], fresh(me, "MWSELR")), "plans: %s: the next edit reuses it" % label)
 compare("plans: live after new faces, as stored", blender_normals(me), reference(me, "MWSELR"))
 check(list(addon._plans) == [key], "plans: one kept, for the one mesh (%d)" % len(addon._plans))
+addon.PLAN_MIN_FACES = 100  # small meshes, to see PLAN_CACHE_SIZE's limit
+small = [new_scene_object(ico_sphere) for _ in range(addon.PLAN_CACHE_SIZE)]
+evicted = addon._plans[key][2]
+for o in small:
+    bpy.ops.object.select_all(action="DESELECT")
+    o.select_set(True)
+    bpy.ops.mesh.vn_recompute_normals(method="MWE")
+addon.PLAN_MIN_FACES = min_faces
+check(list(addon._plans) == [o.data.as_pointer() for o in small] and evicted.closed,
+      "plans: %d kept at most, the least recently used freed" % addon.PLAN_CACHE_SIZE)
 
-# Freed with the mesh, and on disabling the add-on
-plan = addon._plans[key][2]
-arm_data, actions = arm.data, [source.data.shape_keys.animation_data.action, arm.animation_data.action]
+# Freed with their meshes
+plans = [addon._plans[o.data.as_pointer()][2] for o in small]
+for o in small:
+    small_me = o.data
+    bpy.data.objects.remove(o)
+    bpy.data.meshes.remove(small_me)
+settle()
+check(not addon._plans and all(p.closed for p in plans), "plans: the meshes removed, their plans freed")
+actions = [source.data.shape_keys.animation_data.action, arm.animation_data.action]
 for o in (obj, source, arm):
     me_o = o.data
     bpy.data.objects.remove(o)
     (bpy.data.armatures if o is arm else bpy.data.meshes).remove(me_o)
 for a in actions:
     bpy.data.actions.remove(a)
-settle()
-check(not addon._plans and plan.closed, "plans: the mesh removed, its plan freed")
-obj = new_scene_object(big_grid)
+obj = new_scene_object(big_grid)  # Edit Mode, then disabling with a plan kept
 written.clear()
 created = addon.plan_stats["created"]
 bpy.ops.mesh.vn_recompute_normals(method="MWE")
