@@ -389,11 +389,10 @@ class Plan:
         self.vertex_count = int(vertex_count)
         # vn_plan_corner_normals reads the strengths at each call: the plan
         # owns this array, and a caller may change its values in place.
-        self.face_strength = _strength(face_strength, self.face_count)
-        if self.face_strength is not None and self.face_strength is face_strength:
-            self.face_strength = self.face_strength.copy()
+        strength = _strength(face_strength, self.face_count)
+        self._strength = None if strength is None else strength.copy()
         opt = lib._options(threads)
-        opt.face_strength = None if self.face_strength is None else self.face_strength.ctypes.data
+        opt.face_strength = None if strength is None else self._strength.ctypes.data
         handle = ctypes.c_void_p()
         r = lib._lib.vn_plan_create(idx.ctypes.data, None if off is None else off.ctypes.data, self.face_count,
                                     self.vertex_count, ctypes.byref(opt), ctypes.byref(handle))
@@ -424,6 +423,12 @@ class Plan:
     @property
     def closed(self):
         return self._handle is None
+
+    @property
+    def face_strength(self):
+        """The int32 strengths the plan reads at each corner_normals call
+        (None: no Face Influence); change them in place, not the array."""
+        return self._strength
 
     def _call(self, name, co, out, dtype_out, rows, stats, *args):
         """Runs vn_plan_<name> on positions co: (out, stats dict or None).

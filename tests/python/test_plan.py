@@ -235,7 +235,10 @@ def test_binding_plan_face_strength_is_read_at_each_call():
     lib = vn.library()
     strength = np.zeros(len(f), dtype=np.int32)
     strength[::3] = 16384
-    plan = lib.plan(f, None, len(p), face_strength=np.zeros(len(f), dtype=np.int32))
+    given = np.zeros(len(f), dtype=np.int32)
+    plan = lib.plan(f, None, len(p), face_strength=given)
+    given[:] = 16384  # the plan's own copy: not this array
+    assert not plan.face_strength.any()
     plan.face_strength[:] = strength
     got = plan.corner_normals(p, "mwa", dtype=np.float32)[0]
     ref = lib.corner_normals(p, f, None, "mwa", dtype=np.float32, face_strength=strength)[0]
