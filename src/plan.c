@@ -52,17 +52,17 @@ struct vn_plan {
 	size_t face_count, index_count;
 	uint32_t* indices;
 	uint32_t* offsets; /* NULL for triangles */
-	int gather;        /* triangles with the slot table below */
+	int gather;        /* triangles with the corner table below */
 	int simd;
 	unsigned workers;
-	uint32_t* slots; /* SLOTS codes a vertex */
+	uint32_t* slots; /* SLOTS corners a vertex, as byte offsets into its buffer */
 	size_t over_count;
-	uint32_t* over_vertex; /* vertices with more than SLOTS corners, ascending */
+	uint32_t* over_vertex; /* vertices with more than SLOTS corners (all far), ascending */
 	uint32_t* over_start;  /* over_count + 1 offsets into over_code */
 	uint32_t* over_code;
 	/* Vertices in the order they are summed: worker t's chunk k's vertices
 	 * are order[start[base[t] + k] .. start[base[t] + k + 1]), then the
-	 * rest (shared and isolated vertices) from start[chunks] to the end. */
+	 * far vertices from start[chunks] to the end. */
 	uint32_t* order;
 	uint32_t* start;
 	uint32_t base[MAX_WORKERS + 1];
@@ -91,7 +91,6 @@ typedef struct pass {
 	vn_method method;
 	const vn_vectors* out;
 	int want_stats;
-
 	vn_range_stats stats[MAX_WORKERS];
 } pass;
 

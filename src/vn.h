@@ -417,10 +417,11 @@ typedef struct vn_plan vn_plan;
  * from the allocator (and 24 bytes a vertex of scratch while it builds):
  * the indices (4 bytes a corner); for triangles a corner table of 36 bytes
  * a vertex (+ 4 a corner beyond 8 at a vertex, + 24 a corner of a vertex
- * whose faces lie more than 16384 faces apart or in two threads' ranges);
- * and a work area of the largest of vn_workspace_size(),
+ * with more than 8 corners, or faces more than 16384 faces apart or in two
+ * threads' ranges); and a work area of the largest of vn_workspace_size(),
  * vn_polygon_corner_normals' workspace bound (about 108 bytes a triangle)
- * and the gather's 48 bytes a face of up to 16384 faces per thread. */
+ * and the gather's 48 bytes a face of up to 16384 faces per thread. Takes
+ * about as long as 4 to 6 vn_triangle_normals calls (docs/PERFORMANCE.md). */
 VN_API vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
                                 size_t vertex_count, const vn_options* options, vn_plan** out);
 
