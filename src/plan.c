@@ -1,31 +1,29 @@
 /* Per-frame plans: the topology work of a normal computation done once.
  *
  * vn_plan_create checks the indices once, copies them and lists the corners
- * of every vertex in 8 fixed slots (corner 3 f + k, ascending, so in face
- * order; unused slots name a zero corner; vertices with more corners
- * continue in an overflow list). vn_plan_normals then gathers, for the
- * weighted family on triangles, in two passes:
- *  - faces: corner 3 f + k of the corner buffer gets its contribution
- *    n * w_k (n the unnormalized normal, w_k vn_triangle_weights' weight,
- *    the scatter's product) as x, y, z, 0; zeros when the face contributes
- *    nothing;
- *  - vertices: each vertex adds its slots' 16 (float) or 32 (double) bytes
- *    in order, normalizes and stores.
- * The passes are interleaved in chunks of CHUNK faces: after each chunk, a
- * worker sums the vertices whose last face it was (a schedule built at
- * create), while the chunk's records are still in cache; vertices whose
- * faces fall in two workers' ranges, and isolated ones, are summed after
- * all faces. A vertex's sum is formed by one worker in a fixed order
- * whatever the split, so results are bit-identical for any thread count; and the double
- * path adds the scatter's products (n * w, vn_add_scaled) in the scatter's
- * order, plus exact zeros, so it equals vn_triangle_normals bit for bit.
- * Float32 positions are computed in float arithmetic: eight triangles per
- * AVX2 step instead of four. The scalar and AVX2 kernels of each path do
- * the same IEEE operations (simd.h), so they agree bit for bit too.
+ * of every vertex in 8 fixed slots (ascending, so in face order; unused
+ * slots name a zero corner; vertices with more corners continue in an
+ * overflow list). vn_plan_normals on float32 positions then gathers, for
+ * the weighted family on triangles, in float arithmetic:
+ *  - faces, eight per AVX2 step: each corner's contribution n * w_k (n the
+ *    unnormalized normal, w_k the corner's weight as vn_triangle_weights
+ *    defines it) as x, y, z, 0; zeros when the face contributes nothing;
+ *  - vertices: each adds its slots' corners in order, normalizes, stores.
+ * The passes are interleaved in chunks of CHUNK faces, so the corners are
+ * read back from cache: each worker writes its faces' corners to a ring,
+ * and after each chunk sums the vertices whose last face it held (a
+ * schedule built at create). A vertex whose faces span more than the ring,
+ * or two workers, or none, is far: its corners are also copied to a far
+ * buffer and it is summed after all faces. Each vertex's sum is formed in
+ * one fixed order whatever the split, so results are bit-identical for any
+ * thread count; the scalar and AVX2 kernels do the same IEEE operations
+ * (simd.h), so they agree bit for bit too.
  *
- * Everything else (polygons, the other schemes, per-corner normals) runs
- * the existing entry points on the plan's copy of the indices, with the
- * plan's memory as their workspace. */
+ * float64 positions take vn_triangle_normals' scatter kernels, whose
+ * results the double gather would have to reproduce bit for bit anyway, and
+ * which were faster here (docs/PERFORMANCE.md); everything else (polygons,
+ * the other schemes, per-corner normals) runs the existing entry points on
+ * the plan's copy of the indices, with the plan's memory as workspace. */
 #include <stdlib.h>
 
 #include "internal.h"
@@ -34,14 +32,16 @@
 
 #define SLOTS 8
 #define MAX_WORKERS 256 /* vn_parallel's limit */
-/* Faces per chunk: 64 KB of float32 records, 128 KB of double. */
+/* Faces per chunk (48 KB of corners), and the largest ring: the faces whose
+ * corners a worker keeps (768 KB, within a core's L2; vertices whose faces
+ * span more are far). */
 #define CHUNK 2048
-/* Corners 3 f + k take 31 bits; the top bit of a vertex's last slot says
- * that it continues in the overflow list. */
-#define MAX_GATHER_FACES (1u << 29)
-#define MORE 0x80000000u
-/* Corner c's x, y, z, 0 in the corner buffer, in scalars. */
-#define CORNER(c) (4 * (size_t)((c) & ~MORE))
+#define WINDOW 16384
+/* Slots hold byte offsets of corners (16 bytes each), so far corners must
+ * be fewer than 2^28. */
+#define MAX_FAR (1u << 28)
+/* Corner c's x, y, z, 0 in a corner buffer, in floats. */
+#define CORNER(c) (4 * (size_t)(c))
 /* Float sums normalized directly; outside, rescaled first (vn_normalize). */
 #define LEN2F_MIN 0x1p-100f
 #define LEN2F_MAX 0x1p100f
@@ -52,22 +52,37 @@ struct vn_plan {
 	size_t face_count, index_count;
 	uint32_t* indices;
 	uint32_t* offsets; /* NULL for triangles */
-	int gather;        /* triangles with the slot table below */
+	int gather;        /* triangles with the corner table below */
 	int simd;
 	unsigned workers;
-	uint32_t* slots; /* SLOTS codes a vertex */
+	uint32_t* slots; /* SLOTS corners a vertex, as byte offsets into its buffer */
 	size_t over_count;
-	uint32_t* over_vertex; /* vertices with more than SLOTS corners, ascending */
+	uint32_t* over_vertex; /* vertices with more than SLOTS corners (all far), ascending */
 	uint32_t* over_start;  /* over_count + 1 offsets into over_code */
 	uint32_t* over_code;
 	/* Vertices in the order they are summed: worker t's chunk k's vertices
 	 * are order[start[base[t] + k] .. start[base[t] + k + 1]), then the
-	 * rest (shared and isolated vertices) from start[chunks] to the end. */
+	 * far vertices from start[chunks] to the end. */
 	uint32_t* order;
 	uint32_t* start;
 	uint32_t base[MAX_WORKERS + 1];
-	unsigned char* records; /* the corner buffer: 96 bytes a face and a zero corner, 64-byte aligned; also the workspace */
+	/* Each worker writes its faces' corners to a ring of ring_faces faces
+	 * (3 ring_faces corners and a zero one), face f at (f - first face)
+	 * mod ring_faces. A vertex summed after a chunk names ring corners
+	 * (its faces are all still there); any other (far) vertex names
+	 * corners of the far buffer (far_count and a zero one), in which its
+	 * corners are consecutive: chunk k copies ring corner far_from[e] to
+	 * far_to[e] for e in far_start[k] .. far_start[k + 1]. */
+	uint32_t ring_faces;
+	size_t far_count;
+	uint32_t* far_start;
+	uint32_t* far_from;
+	uint32_t* far_to;
+	float* corners; /* the rings, then the far buffer, 4 floats a corner, 64-byte aligned; also the workspace */
 };
+
+/* The floats of a worker's ring and its zero corner. */
+#define RING(plan) CORNER(3 * (size_t)(plan)->ring_faces + 1)
 
 /* One vn_plan_normals call on the gather path, shared by its workers. */
 typedef struct pass {
@@ -176,14 +191,14 @@ VN_INLINE int face_float(const vn_work* w, vn_method method, const uint32_t* idx
 	return ok;
 }
 
-/* Faces [f0, f1) in float arithmetic, one at a time; returns the degenerate count. */
-VN_INLINE size_t faces_float(const vn_work* w, vn_method method, const uint32_t* indices, float* records, size_t f0,
-                             size_t f1)
+/* The n faces idx[0..3n) into rec[0..12n) in float arithmetic, one at a
+ * time; returns the degenerate count. */
+VN_INLINE size_t faces_float(const vn_work* w, vn_method method, const uint32_t* idx, size_t n, float* rec)
 {
 	size_t degenerate = 0;
-	for (size_t f = f0; f < f1; ++f)
-		if (!face_float(w, method, indices + 3 * f, records + 12 * f))
-			degenerate += !face_fallback(w, method, indices + 3 * f, records + 12 * f);
+	for (size_t f = 0; f < n; ++f)
+		if (!face_float(w, method, idx + 3 * f, rec + 12 * f))
+			degenerate += !face_fallback(w, method, idx + 3 * f, rec + 12 * f);
 	return degenerate;
 }
 
@@ -295,105 +310,27 @@ VN_AVX2_INLINE int faces_float8(const vn_work* w, vn_method method, const uint32
 	return ~_mm256_movemask_ps(ok) & 0xff;
 }
 
-VN_AVX2_INLINE size_t faces_float_avx2(const vn_work* w, vn_method method, const uint32_t* indices, float* records,
-                                       size_t f0, size_t f1)
+VN_AVX2_INLINE size_t faces_float_avx2(const vn_work* w, vn_method method, const uint32_t* idx, size_t n, float* rec)
 {
 	const uint32_t last = w->vertex_count - 1;
 	const vn_range all = {0, 0, 1};
-	size_t degenerate = 0, f = f0;
-	for (; f + 8 <= f1; f += 8) {
-		const uint32_t* idx = indices + 3 * f;
+	size_t degenerate = 0, f = 0;
+	for (; f + 8 <= n; f += 8) {
+		const uint32_t* i = idx + 3 * f;
+		float* r = rec + 12 * f;
 		/* 16-byte loads read past the last vertex's z: the scalar kernel there. */
-		if (vn_group_kind(idx, last, all) != VN_GROUP_SIMD || vn_group_kind(idx + 12, last, all) != VN_GROUP_SIMD) {
-			degenerate += faces_float(w, method, indices, records, f, f + 8);
+		if (vn_group_kind(i, last, all) != VN_GROUP_SIMD || vn_group_kind(i + 12, last, all) != VN_GROUP_SIMD) {
+			degenerate += faces_float(w, method, i, 8, r);
 			continue;
 		}
-		int redo = faces_float8(w, method, idx, records + 12 * f);
+		int redo = faces_float8(w, method, i, r);
 		while (redo) {
 			const int j = __builtin_ctz((unsigned)redo);
 			redo &= redo - 1;
-			degenerate += !face_fallback(w, method, idx + 3 * j, records + 12 * (f + j));
+			degenerate += !face_fallback(w, method, i + 3 * j, r + 12 * j);
 		}
 	}
-	return degenerate + faces_float(w, method, indices, records, f, f1);
-}
-#endif
-
-/* ---------------------------------------------------------------- double faces */
-
-/* vn_triangle_normals' arithmetic (triangles() in weights.c): the corners'
- * n * w_k, or zeros when the face contributes nothing. */
-VN_INLINE size_t faces_double(const vn_work* w, vn_method method, const uint32_t* indices, double* records, size_t f0,
-                              size_t f1)
-{
-	size_t degenerate = 0;
-	for (size_t f = f0; f < f1; ++f) {
-		const uint32_t* idx = indices + 3 * f;
-		double* rec = records + 12 * f;
-		double p0[3], p1[3], p2[3], e01[3], e12[3], e20[3], n[3], wt[3];
-		vn_load(w, vn_scalar_float64, idx[0], p0);
-		vn_load(w, vn_scalar_float64, idx[1], p1);
-		vn_load(w, vn_scalar_float64, idx[2], p2);
-		const double l2 = vn_triangle_edges(p0, p1, p2, e01, e12, e20, n);
-		if (!vn_usable(l2)) {
-			memset(rec, 0, 12 * sizeof(double));
-			++degenerate;
-			continue;
-		}
-		vn_triangle_weights(method, e01, e12, e20, l2, wt);
-		for (int k = 0; k < 3; ++k) {
-			const double c[4] = {n[0] * wt[k], n[1] * wt[k], n[2] * wt[k], 0.0};
-			memcpy(rec + 4 * k, c, sizeof(c));
-		}
-	}
-	return degenerate;
-}
-
-#ifdef VN_HAVE_AVX2
-VN_AVX2_INLINE size_t faces_double_avx2(const vn_work* w, vn_method method, const uint32_t* indices, double* records,
-                                        size_t f0, size_t f1)
-{
-	const uint32_t last = w->vertex_count - 1;
-	const vn_range all = {0, 0, 1};
-	size_t degenerate = 0, f = f0;
-	for (; f + 4 <= f1; f += 4) {
-		const uint32_t* idx = indices + 3 * f;
-		if (vn_group_kind(idx, last, all) != VN_GROUP_SIMD) {
-			degenerate += faces_double(w, method, indices, records, f, f + 4);
-			continue;
-		}
-		vn_group p;
-		vn_load_group(w, vn_scalar_float64, idx, &p);
-		__m256d e[3][3], n[3], wt[3];
-		for (int k = 0; k < 3; ++k) {
-			const int j = k == 2 ? 0 : k + 1;
-			e[k][0] = _mm256_sub_pd(p.x[j], p.x[k]);
-			e[k][1] = _mm256_sub_pd(p.y[j], p.y[k]);
-			e[k][2] = _mm256_sub_pd(p.z[j], p.z[k]);
-		}
-		vn_cross4(e[2][0], e[2][1], e[2][2], e[0][0], e[0][1], e[0][2], &n[0], &n[1], &n[2]);
-		const __m256d l2 = vn_dot4(n[0], n[1], n[2], n[0], n[1], n[2]);
-		const int usable = vn_usable4(l2);
-		degenerate += (size_t)(4 - __builtin_popcount((unsigned)usable));
-		vn_triangle_weights4(method, (const __m256d(*)[3])e, l2, wt);
-		const __m256d keep = _mm256_and_pd(_mm256_cmp_pd(l2, _mm256_set1_pd(DBL_MIN), _CMP_GE_OQ),
-		                                   _mm256_cmp_pd(l2, _mm256_set1_pd(DBL_MAX), _CMP_LE_OQ));
-		const __m256d zero = _mm256_setzero_pd();
-		for (int k = 0; k < 3; ++k)
-			n[k] = _mm256_and_pd(n[k], keep), wt[k] = _mm256_and_pd(wt[k], keep);
-		double* rec = records + 12 * f;
-		for (int k = 0; k < 3; ++k) {
-			const __m256d cx = _mm256_mul_pd(n[0], wt[k]), cy = _mm256_mul_pd(n[1], wt[k]);
-			const __m256d cz = _mm256_mul_pd(n[2], wt[k]);
-			const __m256d t0 = _mm256_unpacklo_pd(cx, cy), t1 = _mm256_unpackhi_pd(cx, cy);
-			const __m256d t2 = _mm256_unpacklo_pd(cz, zero), t3 = _mm256_unpackhi_pd(cz, zero);
-			_mm256_store_pd(rec + 4 * k, _mm256_permute2f128_pd(t0, t2, 0x20));
-			_mm256_store_pd(rec + 12 + 4 * k, _mm256_permute2f128_pd(t1, t3, 0x20));
-			_mm256_store_pd(rec + 24 + 4 * k, _mm256_permute2f128_pd(t0, t2, 0x31));
-			_mm256_store_pd(rec + 36 + 4 * k, _mm256_permute2f128_pd(t1, t3, 0x31));
-		}
-	}
-	return degenerate + faces_double(w, method, indices, records, f, f1);
+	return degenerate + faces_float(w, method, idx + 3 * f, n - f, rec + 12 * f);
 }
 #endif
 
@@ -429,26 +366,19 @@ VN_AVX2_INLINE size_t faces_double_avx2(const vn_work* w, vn_method method, cons
 	} break;                                               \
 	}
 
-static size_t face_range_scalar(const pass* p, size_t f0, size_t f1)
+/* The n faces idx[0..3n) into the corners at dst. */
+static size_t face_range_scalar(const pass* p, const uint32_t* idx, size_t n, float* dst)
 {
-	const vn_plan* plan = p->plan;
 	size_t d = 0;
-	if (p->reader.type == vn_scalar_float32)
-		WITH_METHOD(p->method, d = faces_float(&p->reader, m, plan->indices, (float*)plan->records, f0, f1))
-	else
-		WITH_METHOD(p->method, d = faces_double(&p->reader, m, plan->indices, (double*)plan->records, f0, f1))
+	WITH_METHOD(p->method, d = faces_float(&p->reader, m, idx, n, dst))
 	return d;
 }
 
 #ifdef VN_HAVE_AVX2
-static VN_AVX2 size_t face_range_avx2(const pass* p, size_t f0, size_t f1)
+static VN_AVX2 size_t face_range_avx2(const pass* p, const uint32_t* idx, size_t n, float* dst)
 {
-	const vn_plan* plan = p->plan;
 	size_t d = 0;
-	if (p->reader.type == vn_scalar_float32)
-		WITH_METHOD(p->method, d = faces_float_avx2(&p->reader, m, plan->indices, (float*)plan->records, f0, f1))
-	else
-		WITH_METHOD(p->method, d = faces_double_avx2(&p->reader, m, plan->indices, (double*)plan->records, f0, f1))
+	WITH_METHOD(p->method, d = faces_float_avx2(&p->reader, m, idx, n, dst))
 	return d;
 }
 #endif
@@ -469,12 +399,15 @@ static size_t overflow_of(const vn_plan* plan, uint32_t v)
 	return lo;
 }
 
-/* Vertex v's corners beyond the slots: *codes and their number. */
-VN_INLINE uint32_t overflow_codes(const vn_plan* plan, uint32_t v, const uint32_t** codes)
+/* Vertex v's corners beyond the slots, when it is far: *codes and their
+ * number (only far vertices have any). */
+VN_INLINE uint32_t overflow_codes(const vn_plan* plan, int far, uint32_t v, const uint32_t** codes)
 {
-	if (!(plan->slots[SLOTS * (size_t)v + SLOTS - 1] & MORE))
+	if (!far || !plan->over_count)
 		return 0;
 	const size_t k = overflow_of(plan, v);
+	if (k == plan->over_count || plan->over_vertex[k] != v)
+		return 0;
 	*codes = plan->over_code + plan->over_start[k];
 	return plan->over_start[k + 1] - plan->over_start[k];
 }
@@ -517,51 +450,29 @@ VN_INLINE int store_float(const pass* p, uint32_t v, float a[3])
 	return zero;
 }
 
-VN_INLINE int store_double(const pass* p, uint32_t v, double a[3])
-{
-	const int zero = vn_normalize(a);
-	if (!(zero && p->plan->opt.keep_existing))
-		vn_store(p->out, v, a);
-	return zero;
-}
-
 /* Adds the corners codes[0..k) of float records to a, in order. */
 VN_INLINE void gather_float(const float* records, const uint32_t* codes, uint32_t k, float a[3])
 {
 	for (uint32_t s = 0; s < k; ++s) {
-		const float* r = records + CORNER(codes[s]);
+		const float* r = (const float*)((const char*)records + codes[s]);
 		a[0] += r[0], a[1] += r[1], a[2] += r[2];
 	}
 }
 
-VN_INLINE void gather_double(const double* records, const uint32_t* codes, uint32_t k, double a[3])
-{
-	for (uint32_t s = 0; s < k; ++s) {
-		const double* r = records + CORNER(codes[s]);
-		a[0] += r[0], a[1] += r[1], a[2] += r[2];
-	}
-}
-
-/* The vertices list[0..n), one at a time; returns the zero normals. */
-static size_t vertices_scalar(const pass* p, const uint32_t* list, size_t n)
+/* The vertices list[0..n), one at a time, their slots naming corners at
+ * base (far: the far buffer); returns the zero normals. */
+static size_t vertices_scalar(const pass* p, const float* base, int far, const uint32_t* list, size_t n)
 {
 	const vn_plan* plan = p->plan;
 	size_t zero = 0;
 	for (size_t i = 0; i < n; ++i) {
 		const uint32_t v = list[i];
 		const uint32_t* more = NULL;
-		const uint32_t extra = overflow_codes(plan, v, &more);
-		if (p->reader.type == vn_scalar_float32) {
-			float a[3] = {0.0f, 0.0f, 0.0f};
-			gather_float((const float*)plan->records, plan->slots + SLOTS * (size_t)v, SLOTS, a);
-			gather_float((const float*)plan->records, more, extra, a);
-			zero += store_float(p, v, a);
-		} else {
-			double a[3] = {0.0, 0.0, 0.0};
-			gather_double((const double*)plan->records, plan->slots + SLOTS * (size_t)v, SLOTS, a);
-			gather_double((const double*)plan->records, more, extra, a);
-			zero += store_double(p, v, a);
-		}
+		const uint32_t extra = overflow_codes(plan, far, v, &more);
+		float a[3] = {0.0f, 0.0f, 0.0f};
+		gather_float(base, plan->slots + SLOTS * (size_t)v, SLOTS, a);
+		gather_float(base, more, extra, a);
+		zero += store_float(p, v, a);
 	}
 	return zero;
 }
@@ -569,10 +480,10 @@ static size_t vertices_scalar(const pass* p, const uint32_t* list, size_t n)
 #ifdef VN_HAVE_AVX2
 /* vertices_scalar on 8 vertices at a time: the sums interleaved over the
  * slots, then normalized together (lanes out of range one by one). */
-static VN_AVX2 size_t vertices_float_avx2(const pass* p, const uint32_t* list, size_t n)
+static VN_AVX2 size_t vertices_float_avx2(const pass* p, const float* records, int far, const uint32_t* list,
+                                          size_t n)
 {
 	const vn_plan* plan = p->plan;
-	const float* records = (const float*)plan->records;
 	size_t zero = 0, i = 0;
 	for (; i + 8 <= n; i += 8) {
 		const uint32_t* vs = list + i;
@@ -582,14 +493,13 @@ static VN_AVX2 size_t vertices_float_avx2(const pass* p, const uint32_t* list, s
 		for (int s = 0; s < SLOTS; ++s)
 			for (int j = 0; j < 8; ++j) {
 				const uint32_t c = plan->slots[SLOTS * (size_t)vs[j] + s];
-				acc[j] = _mm_add_ps(acc[j], _mm_load_ps(records + CORNER(c)));
+				acc[j] = _mm_add_ps(acc[j], _mm_load_ps((const float*)((const char*)records + c)));
 			}
-		for (int j = 0; j < 8; ++j) {
+		for (int j = 0; far && j < 8; ++j) {
 			const uint32_t* more = NULL;
-			const uint32_t extra = overflow_codes(plan, vs[j], &more);
-			for (uint32_t e = 0; e < extra; ++e) {
-				acc[j] = _mm_add_ps(acc[j], _mm_load_ps(records + CORNER(more[e])));
-			}
+			const uint32_t extra = overflow_codes(plan, far, vs[j], &more);
+			for (uint32_t e = 0; e < extra; ++e)
+				acc[j] = _mm_add_ps(acc[j], _mm_load_ps((const float*)((const char*)records + more[e])));
 		}
 		__m256 x, y, z;
 		transpose8(acc, &x, &y, &z);
@@ -622,99 +532,61 @@ static VN_AVX2 size_t vertices_float_avx2(const pass* p, const uint32_t* list, s
 			}
 		}
 	}
-	return zero + vertices_scalar(p, list + i, n - i);
+	return zero + vertices_scalar(p, records, far, list + i, n - i);
 }
 
-/* The double sums four vertices at a time, normalized as vn_run's finalize does. */
-static VN_AVX2 size_t vertices_double_avx2(const pass* p, const uint32_t* list, size_t n)
-{
-	const vn_plan* plan = p->plan;
-	const double* records = (const double*)plan->records;
-	size_t zero = 0, i = 0;
-	for (; i + 4 <= n; i += 4) {
-		const uint32_t* vs = list + i;
-		__m256d acc[4];
-		for (int j = 0; j < 4; ++j)
-			acc[j] = _mm256_setzero_pd();
-		for (int s = 0; s < SLOTS; ++s)
-			for (int j = 0; j < 4; ++j) {
-				const uint32_t c = plan->slots[SLOTS * (size_t)vs[j] + s];
-				acc[j] = _mm256_add_pd(acc[j], _mm256_load_pd(records + CORNER(c)));
-			}
-		for (int j = 0; j < 4; ++j) {
-			const uint32_t* more = NULL;
-			const uint32_t extra = overflow_codes(plan, vs[j], &more);
-			for (uint32_t e = 0; e < extra; ++e) {
-				acc[j] = _mm256_add_pd(acc[j], _mm256_load_pd(records + CORNER(more[e])));
-			}
-		}
-		const __m256d t0 = _mm256_unpacklo_pd(acc[0], acc[1]), t1 = _mm256_unpackhi_pd(acc[0], acc[1]);
-		const __m256d t2 = _mm256_unpacklo_pd(acc[2], acc[3]), t3 = _mm256_unpackhi_pd(acc[2], acc[3]);
-		__m256d x = _mm256_permute2f128_pd(t0, t2, 0x20), y = _mm256_permute2f128_pd(t1, t3, 0x20);
-		__m256d z = _mm256_permute2f128_pd(t0, t2, 0x31);
-		const __m256d len2 = vn_dot4(x, y, z, x, y, z);
-		const __m256d in = _mm256_and_pd(_mm256_cmp_pd(len2, _mm256_set1_pd(VN_LEN2_MIN), _CMP_GE_OQ),
-		                                 _mm256_cmp_pd(len2, _mm256_set1_pd(VN_LEN2_MAX), _CMP_LE_OQ));
-		const int all_in = _mm256_movemask_pd(in) == 15;
-		if (all_in) {
-			const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(len2));
-			x = _mm256_mul_pd(x, inv), y = _mm256_mul_pd(y, inv), z = _mm256_mul_pd(z, inv);
-		}
-		double nx[4], ny[4], nz[4];
-		_mm256_storeu_pd(nx, x), _mm256_storeu_pd(ny, y), _mm256_storeu_pd(nz, z);
-		for (int j = 0; j < 4; ++j) {
-			double a[3] = {nx[j], ny[j], nz[j]};
-			if (all_in)
-				vn_store(p->out, vs[j], a);
-			else
-				zero += store_double(p, vs[j], a);
-		}
-	}
-	return zero + vertices_scalar(p, list + i, n - i);
-}
 #endif
 
-static size_t face_range(const pass* p, size_t f0, size_t f1)
+static size_t face_range(const pass* p, const uint32_t* idx, size_t n, float* dst)
 {
 #ifdef VN_HAVE_AVX2
 	if (p->plan->simd)
-		return face_range_avx2(p, f0, f1);
+		return face_range_avx2(p, idx, n, dst);
 #endif
-	return face_range_scalar(p, f0, f1);
+	return face_range_scalar(p, idx, n, dst);
 }
 
-static size_t vertex_list(const pass* p, const uint32_t* list, size_t n)
+static size_t vertex_list(const pass* p, const float* base, int far, const uint32_t* list, size_t n)
 {
 #ifdef VN_HAVE_AVX2
 	if (p->plan->simd)
-		return p->reader.type == vn_scalar_float32 ? vertices_float_avx2(p, list, n) : vertices_double_avx2(p, list, n);
+		return vertices_float_avx2(p, base, far, list, n);
 #endif
-	return vertices_scalar(p, list, n);
+	return vertices_scalar(p, base, far, list, n);
 }
 
-/* Worker t's faces, chunk by chunk, each followed by the vertices it completes. */
+/* Worker t's faces, chunk by chunk into its ring: the chunk's corners of
+ * far vertices copied to the far buffer, then the vertices the chunk
+ * completes summed from the ring. */
 static void chunk_pass(void* ctx, unsigned t)
 {
 	pass* p = (pass*)ctx;
 	const vn_plan* plan = p->plan;
+	float* ring = plan->corners + (size_t)t * RING(plan);
+	float* far = plan->corners + (size_t)plan->workers * RING(plan);
 	size_t f0, f1, degenerate = 0, zero = 0;
 	split(plan->face_count, t, plan->workers, &f0, &f1);
-	for (uint32_t k = plan->base[t]; k < plan->base[t + 1]; ++k, f0 += CHUNK) {
-		degenerate += face_range(p, f0, f1 - f0 < CHUNK ? f1 : f0 + CHUNK);
-		zero += vertex_list(p, plan->order + plan->start[k], plan->start[k + 1] - plan->start[k]);
+	for (uint32_t k = plan->base[t], at = 0; k < plan->base[t + 1]; ++k, f0 += CHUNK, at += CHUNK) {
+		const size_t n = f1 - f0 < CHUNK ? f1 - f0 : CHUNK;
+		at = at == plan->ring_faces ? 0 : at;
+		degenerate += face_range(p, plan->indices + 3 * f0, n, ring + 12 * (size_t)at);
+		for (uint32_t e = plan->far_start[k]; e < plan->far_start[k + 1]; ++e)
+			memcpy(far + CORNER(plan->far_to[e]), ring + CORNER(plan->far_from[e]), 4 * sizeof(float));
+		zero += vertex_list(p, ring, 0, plan->order + plan->start[k], plan->start[k + 1] - plan->start[k]);
 	}
 	p->stats[t].degenerate_faces = degenerate;
 	p->stats[t].zero_normals = zero;
 }
 
-/* The rest of the vertices, split evenly, and the non-finite count. */
-static void rest_pass(void* ctx, unsigned t)
+/* The far vertices, split evenly, and the non-finite count. */
+static void far_pass(void* ctx, unsigned t)
 {
 	pass* p = (pass*)ctx;
 	const vn_plan* plan = p->plan;
+	const float* far = plan->corners + (size_t)plan->workers * RING(plan);
 	const size_t first = plan->start[plan->base[plan->workers]], n = plan->vertex_count - first;
 	const size_t lo = first + n * t / plan->workers, hi = first + n * (t + 1) / plan->workers;
-	p->stats[t].zero_normals += vertex_list(p, plan->order + lo, hi - lo);
+	p->stats[t].zero_normals += vertex_list(p, far, 1, plan->order + lo, hi - lo);
 	if (p->want_stats) {
 		size_t v0, v1;
 		split(plan->vertex_count, t, plan->workers, &v0, &v1);
@@ -736,45 +608,112 @@ VN_INLINE size_t round64(size_t n)
 	return (n + 63) & ~(size_t)63;
 }
 
-/* The order in which the chunk pass sums the vertices: a vertex after the
- * chunk of its last face when its first face is in the same worker's range,
- * else in the rest (so are isolated vertices). A counting sort by bucket,
- * ascending vertex numbers within one; first[] is overwritten. */
-static void schedule(vn_plan* plan, const uint32_t* count, uint32_t* first, const uint32_t* last)
+/* Scratch of vn_plan_create for the gather table, 6 arrays of nv. */
+typedef struct build {
+	uint32_t *count, *ordinal, *first, *last, *bucket, *far;
+	size_t from[MAX_WORKERS + 1]; /* worker t's faces are [from[t], from[t + 1]) */
+} build;
+
+/* The bucket of every vertex: the chunk after which it is summed, when its
+ * faces are all in one worker's range and still in its ring then, else
+ * `chunks` (a far vertex; so are isolated ones and those with more corners
+ * than slots); far[] the first far corner of the far ones. Returns the
+ * number of far corners. */
+static size_t buckets(const vn_plan* plan, build* b)
 {
 	const unsigned nt = plan->workers;
-	const uint32_t chunks = plan->base[nt], nv = plan->vertex_count;
-	size_t from[MAX_WORKERS];
-	for (unsigned t = 0; t < nt; ++t) {
-		size_t hi;
-		split(plan->face_count, t, nt, &from[t], &hi);
-	}
-	uint32_t* start = plan->start;
-	memset(start, 0, sizeof(uint32_t) * ((size_t)chunks + 2));
-	for (uint32_t v = 0; v < nv; ++v) {
-		uint32_t b = chunks;
-		if (count[v]) {
-			unsigned lo = 0, hi = nt; /* the last worker whose range starts at or before last[v] */
+	const uint32_t chunks = plan->base[nt];
+	size_t far = 0;
+	for (uint32_t v = 0; v < plan->vertex_count; ++v) {
+		uint32_t bucket = chunks;
+		if (b->count[v] && b->count[v] <= SLOTS) {
+			unsigned lo = 0, hi = nt; /* the worker of the last face: the last range starting at or before it */
 			while (hi - lo > 1) {
 				const unsigned mid = (lo + hi) / 2;
-				if (from[mid] <= last[v])
+				if (b->from[mid] <= b->last[v])
 					lo = mid;
 				else
 					hi = mid;
 			}
-			if (first[v] >= from[lo])
-				b = plan->base[lo] + (uint32_t)((last[v] - from[lo]) / CHUNK);
+			const size_t chunk = (b->last[v] - b->from[lo]) / CHUNK;
+			size_t end = b->from[lo] + (chunk + 1) * CHUNK;
+			end = end < b->from[lo + 1] ? end : b->from[lo + 1];
+			if (b->first[v] >= b->from[lo] && b->first[v] + (size_t)plan->ring_faces >= end)
+				bucket = plan->base[lo] + (uint32_t)chunk;
 		}
-		first[v] = b;
-		++start[b + 1];
+		b->bucket[v] = bucket;
+		if (bucket == chunks) {
+			b->far[v] = (uint32_t)far;
+			far += b->count[v];
+		}
 	}
-	for (uint32_t b = 0; b <= chunks; ++b)
-		start[b + 1] += start[b];
+	return far;
+}
+
+/* The order in which the vertices are summed: a counting sort by bucket,
+ * ascending vertex numbers within one. */
+static void schedule(vn_plan* plan, const build* b)
+{
+	const uint32_t chunks = plan->base[plan->workers], nv = plan->vertex_count;
+	uint32_t* start = plan->start;
+	memset(start, 0, sizeof(uint32_t) * ((size_t)chunks + 2));
 	for (uint32_t v = 0; v < nv; ++v)
-		plan->order[start[first[v]]++] = v;
-	for (uint32_t b = chunks + 1; b > 0; --b)
-		start[b] = start[b - 1];
+		++start[b->bucket[v] + 1];
+	for (uint32_t k = 0; k <= chunks; ++k)
+		start[k + 1] += start[k];
+	for (uint32_t v = 0; v < nv; ++v)
+		plan->order[start[b->bucket[v]]++] = v;
+	for (uint32_t k = chunks + 1; k > 0; --k)
+		start[k] = start[k - 1];
 	start[0] = 0;
+}
+
+/* The slots and overflow codes (ring corners, or far corners for far
+ * vertices) and the far copies of each chunk, faces in order. */
+static void corner_table(vn_plan* plan, build* b)
+{
+	const uint32_t nv = plan->vertex_count, chunks = plan->base[plan->workers];
+	const uint32_t ring_pad = (uint32_t)(sizeof(float) * CORNER(3 * plan->ring_faces));
+	const uint32_t far_pad = (uint32_t)(sizeof(float) * CORNER(plan->far_count));
+	for (uint32_t v = 0; v < nv; ++v)
+		for (int j = 0; j < SLOTS; ++j)
+			plan->slots[SLOTS * (size_t)v + j] = b->bucket[v] == chunks ? far_pad : ring_pad;
+	uint32_t start = 0;
+	for (uint32_t v = 0; v < nv; ++v)
+		if (b->count[v] > SLOTS) {
+			const uint32_t k = b->ordinal[v];
+			plan->over_vertex[k] = v;
+			plan->over_start[k] = start;
+			start += b->count[v] - SLOTS;
+		}
+	plan->over_start[plan->over_count] = start;
+	memset(b->count, 0, sizeof(uint32_t) * nv);
+	unsigned t = 0;
+	uint32_t e = 0, next = 0;
+	for (size_t f = 0; f < plan->face_count; ++f) {
+		while (f >= b->from[t + 1])
+			++t;
+		const size_t local = f - b->from[t];
+		const uint32_t chunk = plan->base[t] + (uint32_t)(local / CHUNK);
+		while (next <= chunk)
+			plan->far_start[next++] = e;
+		for (uint32_t k = 0; k < 3; ++k) {
+			const uint32_t v = plan->indices[3 * f + k], j = b->count[v]++;
+			const uint32_t ring = (uint32_t)(3 * (local % plan->ring_faces) + k);
+			uint32_t code = (uint32_t)(sizeof(float) * CORNER(ring));
+			if (b->bucket[v] == chunks) {
+				plan->far_from[e] = ring;
+				plan->far_to[e] = b->far[v] + j;
+				code = (uint32_t)(sizeof(float) * CORNER(plan->far_to[e++]));
+			}
+			if (j < SLOTS)
+				plan->slots[SLOTS * (size_t)v + j] = code;
+			else
+				plan->over_code[plan->over_start[b->ordinal[v]] + j - SLOTS] = code;
+		}
+	}
+	while (next <= chunks)
+		plan->far_start[next++] = e;
 }
 
 vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
@@ -805,40 +744,60 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 		return r;
 
 	const vn_allocator heap = vn_heap(&o->allocator);
-	const int gather = !face_offsets && face_count <= MAX_GATHER_FACES;
-	/* Corners per vertex, then each overflow vertex's ordinal. */
-	/* Scratch: corners, overflow ordinal, first and last face of each vertex. */
-	uint32_t* count = NULL;
-	size_t over_count = 0, over_codes = 0;
-	if (gather && nv) {
-		if (!(count = (uint32_t*)heap.allocate(heap.user, 4 * sizeof(uint32_t) * nv)))
+	int gather = !face_offsets && nv;
+	const unsigned workers = vn_worker_count(nv, o->threads);
+	/* The chunks of each worker, and the ring: a window of faces, fewer when
+	 * every worker has fewer. */
+	build b;
+	memset(&b, 0, sizeof(b));
+	uint32_t chunks = 0, base[MAX_WORKERS + 1], ring_faces = CHUNK;
+	for (unsigned t = 0; t < workers; ++t) {
+		size_t hi;
+		split(face_count, t, workers, &b.from[t], &hi);
+		b.from[t + 1] = hi;
+		base[t] = chunks;
+		const size_t k = (hi - b.from[t] + CHUNK - 1) / CHUNK;
+		chunks += gather ? (uint32_t)k : 0;
+		ring_faces = k * CHUNK > ring_faces ? (uint32_t)(k * CHUNK < WINDOW ? k * CHUNK : WINDOW) : ring_faces;
+	}
+	base[workers] = chunks;
+
+	/* Scratch: corners, overflow ordinal, first and last face, bucket, far corner of each vertex. */
+	size_t over_count = 0, over_codes = 0, far = 0;
+	vn_plan shape; /* what buckets() reads */
+	memset(&shape, 0, sizeof(shape));
+	if (gather) {
+		if (!(b.count = (uint32_t*)heap.allocate(heap.user, 6 * sizeof(uint32_t) * nv)))
 			return vn_result_out_of_memory;
-		uint32_t *first = count + 2 * (size_t)nv, *last = count + 3 * (size_t)nv;
-		memset(count, 0, sizeof(uint32_t) * nv);
+		b.ordinal = b.count + nv, b.first = b.ordinal + nv, b.last = b.first + nv;
+		b.bucket = b.last + nv, b.far = b.bucket + nv;
+		memset(b.count, 0, sizeof(uint32_t) * nv);
 		for (size_t f = face_count; f-- > 0;)
 			for (int k = 0; k < 3; ++k)
-				first[indices[3 * f + k]] = (uint32_t)f;
+				b.first[indices[3 * f + k]] = (uint32_t)f;
 		for (size_t f = 0; f < face_count; ++f)
 			for (int k = 0; k < 3; ++k) {
 				const uint32_t v = indices[3 * f + k];
-				++count[v];
-				last[v] = (uint32_t)f;
+				++b.count[v];
+				b.last[v] = (uint32_t)f;
 			}
 		for (uint32_t v = 0; v < nv; ++v)
-			if (count[v] > SLOTS)
-				count[nv + v] = (uint32_t)over_count++, over_codes += count[v] - SLOTS;
+			if (b.count[v] > SLOTS)
+				b.ordinal[v] = (uint32_t)over_count++, over_codes += b.count[v] - SLOTS;
+		shape.vertex_count = nv;
+		shape.workers = workers;
+		shape.ring_faces = ring_faces;
+		memcpy(shape.base, base, sizeof(uint32_t) * (workers + 1));
+		far = buckets(&shape, &b);
+		if (far >= MAX_FAR) { /* no locality at all: the existing entry points */
+			heap.deallocate(heap.user, b.count);
+			memset(&b, 0, sizeof(b));
+			gather = 0, far = 0, over_count = over_codes = 0, chunks = 0;
+			memset(base, 0, sizeof(base));
+		}
 	}
 
-	const unsigned workers = vn_worker_count(nv, o->threads);
-	uint32_t chunks = 0, base[MAX_WORKERS + 1];
-	for (unsigned t = 0; t < workers; ++t) {
-		size_t f0, f1;
-		split(face_count, t, workers, &f0, &f1);
-		base[t] = chunks;
-		chunks += gather ? (uint32_t)((f1 - f0 + CHUNK - 1) / CHUNK) : 0;
-	}
-	base[workers] = chunks;
-	const size_t record_bytes = gather ? 96 * (face_count + 1) : 0;
+	const size_t record_bytes = gather ? 16 * ((3 * (size_t)ring_faces + 1) * workers + far + 1) : 0;
 	size_t work = vn_workspace_size(nv, o);
 	const size_t corner_bytes = corner_work_bytes(ni, face_count, nv, o->threads);
 	work = work > corner_bytes ? work : corner_bytes;
@@ -849,11 +808,13 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 	const size_t slot_bytes = gather ? round64(sizeof(uint32_t) * SLOTS * (size_t)nv) : 0;
 	const size_t over_bytes = round64(sizeof(uint32_t) * (2 * over_count + 1 + over_codes));
 	const size_t order_bytes = gather ? round64(sizeof(uint32_t) * ((size_t)nv + chunks + 2)) : 0;
-	const size_t total = head + idx_bytes + off_bytes + slot_bytes + over_bytes + order_bytes + round64(work) + 64;
+	const size_t far_bytes = gather ? round64(sizeof(uint32_t) * (chunks + 1 + 2 * far)) : 0;
+	const size_t total =
+	    head + idx_bytes + off_bytes + slot_bytes + over_bytes + order_bytes + far_bytes + round64(work) + 64;
 	unsigned char* block = (unsigned char*)heap.allocate(heap.user, total);
 	if (!block) {
-		if (count)
-			heap.deallocate(heap.user, count);
+		if (b.count)
+			heap.deallocate(heap.user, b.count);
 		return vn_result_out_of_memory;
 	}
 	vn_plan* plan = (vn_plan*)block;
@@ -886,38 +847,21 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 	plan->start = plan->order + nv;
 	memcpy(plan->base, base, sizeof(uint32_t) * (workers + 1));
 	at += order_bytes;
-	/* The records want 64-byte alignment (a double record is a cache line). */
-	plan->records = block + ((((uintptr_t)at + 63) & ~(uintptr_t)63) - (uintptr_t)block);
-	plan->opt.workspace = plan->records;
+	plan->ring_faces = ring_faces;
+	plan->far_count = far;
+	plan->far_start = (uint32_t*)at;
+	plan->far_from = plan->far_start + chunks + 1;
+	plan->far_to = plan->far_from + far;
+	at += far_bytes;
+	/* 64-byte alignment: 8 faces' corners are 6 cache lines. */
+	plan->corners = (float*)(block + ((((uintptr_t)at + 63) & ~(uintptr_t)63) - (uintptr_t)block));
+	plan->opt.workspace = plan->corners;
 	plan->opt.workspace_size = work;
 
-	if (count) {
-		/* Slots in ascending corner order; count[] becomes the fill cursor. */
-		const uint32_t pad = (uint32_t)(3 * face_count);
-		for (size_t i = 0; i < SLOTS * (size_t)nv; ++i)
-			plan->slots[i] = pad;
-		uint32_t start = 0;
-		for (uint32_t v = 0; v < nv; ++v)
-			if (count[v] > SLOTS) {
-				const uint32_t k = count[nv + v];
-				plan->over_vertex[k] = v;
-				plan->over_start[k] = start;
-				start += count[v] - SLOTS;
-			}
-		plan->over_start[over_count] = start;
-		schedule(plan, count, count + 2 * (size_t)nv, count + 3 * (size_t)nv);
-		memset(count, 0, sizeof(uint32_t) * nv);
-		for (size_t i = 0; i < ni; ++i) {
-			const uint32_t v = indices[i], j = count[v]++;
-			const uint32_t code = (uint32_t)i;
-			if (j < SLOTS)
-				plan->slots[SLOTS * (size_t)v + j] = code;
-			else
-				plan->over_code[plan->over_start[count[nv + v]] + j - SLOTS] = code;
-		}
-		for (size_t k = 0; k < over_count; ++k)
-			plan->slots[SLOTS * (size_t)plan->over_vertex[k] + SLOTS - 1] |= MORE;
-		heap.deallocate(heap.user, count);
+	if (gather) {
+		schedule(plan, &b);
+		corner_table(plan, &b);
+		heap.deallocate(heap.user, b.count);
 	}
 	*out = plan;
 	return vn_result_success;
@@ -949,7 +893,7 @@ vn_result vn_plan_normals(vn_plan* plan, const vn_positions* positions, vn_metho
 		return vn_result_invalid_argument;
 	if ((unsigned)method >= vn_method_count)
 		return vn_result_unknown_method;
-	if (!plan->gather || method > vn_method_mwrelr || !plan->vertex_count) {
+	if (!plan->gather || method > vn_method_mwrelr || positions->type != vn_scalar_float32) {
 		if (plan->offsets)
 			return vn_polygon_normals(normals, positions, plan->indices, plan->offsets, plan->face_count, method,
 			                          &plan->opt, stats);
@@ -966,13 +910,14 @@ vn_result vn_plan_normals(vn_plan* plan, const vn_positions* positions, vn_metho
 	p.want_stats = stats != NULL;
 	const unsigned nt = plan->workers;
 	memset(p.stats, 0, sizeof(p.stats[0]) * nt);
-	/* The zero corner the padding slots name. */
-	const size_t corner_bytes = positions->type == vn_scalar_float32 ? 16 : 32;
-	memset(plan->records + corner_bytes * 3 * plan->face_count, 0, corner_bytes);
+	/* The zero corners the padding slots name: after each ring, after the far corners. */
+	for (unsigned t = 0; t <= nt; ++t)
+		memset(plan->corners + t * RING(plan) + (t < nt ? CORNER(3 * plan->ring_faces) : CORNER(plan->far_count)), 0,
+		       4 * sizeof(float));
 
 	vn_parallel(nt, chunk_pass, &p);
 	if (p.want_stats || plan->start[plan->base[nt]] < plan->vertex_count)
-		vn_parallel(nt, rest_pass, &p);
+		vn_parallel(nt, far_pass, &p);
 
 	if (stats) {
 		memset(stats, 0, sizeof(*stats));

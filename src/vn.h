@@ -414,11 +414,14 @@ typedef struct vn_plan vn_plan;
  * out, NULL indices with corners, decreasing offsets, more than UINT32_MAX
  * indices or vertices, or a half-set allocator; out_of_memory when the
  * allocator fails. *out is written on success only. Memory, in one block
- * from the allocator: the indices (4 bytes a corner), for triangles 32
- * bytes a vertex of corner table (+ 4 a corner beyond 8 at a vertex), and
- * a work area of the largest of 64 bytes a triangle, vn_workspace_size()
- * and vn_polygon_corner_normals' workspace bound (about 108 bytes a
- * triangle). Takes about the time of two vn_triangle_normals calls. */
+ * from the allocator (and 24 bytes a vertex of scratch while it builds):
+ * the indices (4 bytes a corner); for triangles a corner table of 36 bytes
+ * a vertex (+ 4 a corner beyond 8 at a vertex, + 24 a corner of a vertex
+ * with more than 8 corners, or faces more than 16384 faces apart or in two
+ * threads' ranges); and a work area of the largest of vn_workspace_size(),
+ * vn_polygon_corner_normals' workspace bound (about 108 bytes a triangle)
+ * and the gather's 48 bytes a face of up to 16384 faces per thread. Takes
+ * about as long as 4 to 6 vn_triangle_normals calls (docs/PERFORMANCE.md). */
 VN_API vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
                                 size_t vertex_count, const vn_options* options, vn_plan** out);
 
@@ -429,26 +432,28 @@ VN_API void vn_plan_destroy(vn_plan* plan);
  * plan's vertex_count, else invalid_argument), as vn_triangle_normals or
  * vn_polygon_normals compute them: normals receives vertex_count vectors;
  * degenerate faces, NaN positions, isolated vertices, keep_existing and
- * stats (may be NULL) behave as there. Indices are never checked again.
+ * stats (may be NULL) behave as there.
  *
- * The fast path: MWE, MWA, MWSELR, MWAAT, MWELR and MWRELR on triangles.
- * Each face's normal and corner weights go to a face buffer, then each
- * vertex sums its corners in face order; both passes run on the plan's
- * threads, results are bit-identical whatever their number, and the call
- * allocates nothing.
- *  - float64 positions: double arithmetic, equal to vn_triangle_normals bit
- *    for bit.
- *  - float32 positions: float arithmetic, within 1e-4 degrees of
- *    vn_triangle_normals on the same positions (MWA's corner angles from a
- *    polynomial atan2 within 3e-7 rad). A triangle whose float arithmetic
- *    leaves the float range (zero or non-finite area, or weights beyond
- *    about 1e38, e.g. MWSELR's on edges below about 1e-9 units) is computed
- *    in double, its weights clamped to the float range.
- * Everything else (polygons, MEWCSA, SMEWCSA, QUADRIC, JET, ADAPTIVE) runs
- * vn_polygon_normals or vn_triangle_normals on the plan's indices with the
- * plan's memory as workspace: the same results, speed and threads as those
- * calls; MEWCSA and the polygon walk allocate nothing, the fits allocate as
- * vn.h says for them. */
+ * The fast path: MWE, MWA, MWSELR, MWAAT, MWELR and MWRELR on triangles
+ * with float32 positions, in float arithmetic: each face's corner
+ * contributions go to a buffer that stays in cache, then each vertex sums
+ * its corners in face order; indices are not checked again. Both passes
+ * run on the plan's threads, the results are bit-identical whatever their
+ * number (and with or without AVX2), and the call allocates nothing. They
+ * are within 1e-4 degrees of vn_triangle_normals on the same positions
+ * (MWA's corner angles from a polynomial atan2 within 3e-7 rad). A
+ * triangle whose float arithmetic leaves the float range (zero or
+ * non-finite area, or weights beyond about 1e38, e.g. MWSELR's on edges
+ * below about 1e-9 units) is computed in double, its contributions rounded
+ * to float and clamped to its range.
+ * float64 positions run vn_triangle_normals' kernels (double arithmetic,
+ * its results bit for bit, its threads; they check indices as they scan
+ * them) with the plan's memory as workspace, allocating nothing.
+ * Everything else (polygons, MEWCSA, SMEWCSA, QUADRIC, JET, ADAPTIVE)
+ * likewise runs vn_polygon_normals or vn_triangle_normals on the plan's
+ * indices and memory: the same results, speed and threads as those calls;
+ * MEWCSA and the polygon walk allocate nothing, the fits allocate as vn.h
+ * says for them. */
 VN_API vn_result vn_plan_normals(vn_plan* plan, const vn_positions* positions, vn_method method,
                                  const vn_vectors* normals, vn_stats* stats);
 

@@ -41,6 +41,39 @@ static vn_options threads_options(unsigned threads, vn_simd simd)
 	return o;
 }
 
+/* test_grid's n x n mesh, a float32 copy of its positions times scale, and
+ * two work arrays of 3 doubles a vertex. */
+typedef struct grid {
+	size_t nv, ni;
+	double* pos;
+	float* pos32;
+	uint32_t* idx;
+	double *a, *b;
+} grid;
+
+static grid make_grid(size_t n, double scale)
+{
+	grid g;
+	g.nv = n * n;
+	g.pos = (double*)malloc(sizeof(double) * 3 * g.nv);
+	g.pos32 = (float*)malloc(sizeof(float) * 3 * g.nv);
+	g.a = (double*)malloc(sizeof(double) * 3 * g.nv);
+	g.b = (double*)malloc(sizeof(double) * 3 * g.nv);
+	g.idx = test_grid(n, g.pos, &g.ni);
+	for (size_t i = 0; i < 3 * g.nv; ++i)
+		g.pos32[i] = (float)(g.pos[i] * scale);
+	return g;
+}
+
+static void free_grid(grid* g)
+{
+	free(g->idx);
+	free(g->b);
+	free(g->a);
+	free(g->pos32);
+	free(g->pos);
+}
+
 /* The largest angle in degrees between unit vectors a[i] and b[i]; zero
  * vectors must match exactly. */
 static double worst_degrees(const double* a, const double* b, size_t n)
@@ -102,13 +135,11 @@ static void fan_literal_values(void** state)
 static void double_equals_triangle_normals(void** state)
 {
 	(void)state;
-	const size_t n = 101, nv = n * n;
-	double* pos = (double*)malloc(sizeof(double) * 3 * nv);
-	double* a = (double*)malloc(sizeof(double) * 3 * nv);
-	double* b = (double*)malloc(sizeof(double) * 3 * nv);
-	size_t ni;
-	uint32_t* idx = test_grid(n, pos, &ni);
-	const vn_positions p = {pos, nv, 0, vn_scalar_float64};
+	grid g = make_grid(101, 1.0);
+	const size_t nv = g.nv, ni = g.ni;
+	double *a = g.a, *b = g.b;
+	const uint32_t* idx = g.idx;
+	const vn_positions p = {g.pos, nv, 0, vn_scalar_float64};
 	const vn_vectors oa = {a, 0, vn_scalar_float64}, ob = {b, 0, vn_scalar_float64};
 	for (int simd = 0; simd < 2; ++simd) {
 		const vn_options o = threads_options(1, simd ? vn_simd_off : vn_simd_auto);
@@ -123,10 +154,7 @@ static void double_equals_triangle_normals(void** state)
 			assert_int_equal(sb.faces, 20002);
 		}
 	}
-	free(idx);
-	free(b);
-	free(a);
-	free(pos);
+	free_grid(&g);
 }
 
 /* float32 positions: float arithmetic within 1e-4 degrees of the double
@@ -134,17 +162,11 @@ static void double_equals_triangle_normals(void** state)
 static void float_within_bound(void** state)
 {
 	(void)state;
-	const size_t n = 101, nv = n * n;
-	double* pos = (double*)malloc(sizeof(double) * 3 * nv);
-	float* pos32 = (float*)malloc(sizeof(float) * 3 * nv);
-	double* ref = (double*)malloc(sizeof(double) * 3 * nv);
-	double* a = (double*)malloc(sizeof(double) * 3 * nv);
-	double* b = (double*)malloc(sizeof(double) * 3 * nv);
-	size_t ni;
-	uint32_t* idx = test_grid(n, pos, &ni);
-	for (size_t i = 0; i < 3 * nv; ++i)
-		pos32[i] = (float)(pos[i] * 100.0); /* in centimetres: no exact binary fractions */
-	const vn_positions p = {pos32, nv, 0, vn_scalar_float32};
+	grid g = make_grid(101, 100.0); /* in centimetres: no exact binary fractions */
+	const size_t nv = g.nv, ni = g.ni;
+	double *ref = g.pos, *a = g.a, *b = g.b; /* the double positions are not needed */
+	const uint32_t* idx = g.idx;
+	const vn_positions p = {g.pos32, nv, 0, vn_scalar_float32};
 	const vn_vectors oref = {ref, 0, vn_scalar_float64}, oa = {a, 0, vn_scalar_float64},
 	                 ob = {b, 0, vn_scalar_float64};
 	const vn_options on = threads_options(1, vn_simd_auto), off = threads_options(1, vn_simd_off);
@@ -160,12 +182,7 @@ static void float_within_bound(void** state)
 			fail_msg("%s: %.3g degrees from the double computation", vn_method_name((vn_method)m), worst);
 		assert_true(worst > 0.0); /* float arithmetic indeed */
 	}
-	free(idx);
-	free(b);
-	free(a);
-	free(ref);
-	free(pos32);
-	free(pos);
+	free_grid(&g);
 }
 
 /* The float32 corner angle of MWA: within 3e-7 rad of atan2 over [0, pi],
@@ -194,18 +211,13 @@ static void float_atan2_bound(void** state)
 static void threads_bit_identical(void** state)
 {
 	(void)state;
-	const size_t n = 340, nv = n * n;
-	double* pos = (double*)malloc(sizeof(double) * 3 * nv);
-	float* pos32 = (float*)malloc(sizeof(float) * 3 * nv);
-	float* a = (float*)malloc(sizeof(float) * 3 * nv);
-	float* b = (float*)malloc(sizeof(float) * 3 * nv);
-	size_t ni;
-	uint32_t* idx = test_grid(n, pos, &ni);
-	for (size_t i = 0; i < 3 * nv; ++i)
-		pos32[i] = (float)pos[i];
+	grid g = make_grid(340, 1.0);
+	const size_t nv = g.nv, ni = g.ni;
+	float *a = (float*)g.a, *b = (float*)g.b;
+	const uint32_t* idx = g.idx;
 	static const unsigned counts[] = {2, 3, 7};
 	for (int type = 0; type < 2; ++type) {
-		const vn_positions p = {type ? (const void*)pos : (const void*)pos32, nv, 0, (vn_scalar)type};
+		const vn_positions p = {type ? (const void*)g.pos : (const void*)g.pos32, nv, 0, (vn_scalar)type};
 		const vn_vectors oa = {a, 0, vn_scalar_float32}, ob = {b, 0, vn_scalar_float32};
 		for (unsigned m = 0; m < 6; ++m) {
 			vn_stats sa, sb;
@@ -220,11 +232,7 @@ static void threads_bit_identical(void** state)
 			}
 		}
 	}
-	free(idx);
-	free(b);
-	free(a);
-	free(pos32);
-	free(pos);
+	free_grid(&g);
 }
 
 /* A vertex with 20 triangles (12 beyond the 8 slots), one with 9, in both
@@ -275,17 +283,15 @@ static void overflow_beyond_eight_corners(void** state)
 static void strides_and_types(void** state)
 {
 	(void)state;
-	const size_t n = 30, nv = n * n;
-	double* pos = (double*)malloc(sizeof(double) * 3 * nv);
-	float* packed = (float*)malloc(sizeof(float) * 3 * nv);
+	grid g = make_grid(30, 1.0);
+	const size_t nv = g.nv, ni = g.ni;
+	const uint32_t* idx = g.idx;
+	const double* pos = g.pos;
+	const float* packed = g.pos32;
+	float* a = (float*)g.a;
+	double* d = g.b;
 	unsigned char* inter = (unsigned char*)malloc(36 * nv);
-	float* a = (float*)malloc(sizeof(float) * 3 * nv);
 	unsigned char* b = (unsigned char*)malloc(28 * nv);
-	double* d = (double*)malloc(sizeof(double) * 3 * nv);
-	size_t ni;
-	uint32_t* idx = test_grid(n, pos, &ni);
-	for (size_t i = 0; i < 3 * nv; ++i)
-		packed[i] = (float)pos[i];
 	memset(inter, 0x7f, 36 * nv);
 	for (size_t v = 0; v < nv; ++v)
 		memcpy(inter + 36 * v, packed + 3 * v, 12);
@@ -310,13 +316,9 @@ static void strides_and_types(void** state)
 		for (size_t v = 0; v < nv; ++v)
 			assert_memory_equal(b + 28 * v, a + 3 * v, 12);
 	}
-	free(idx);
-	free(d);
 	free(b);
-	free(a);
 	free(inter);
-	free(packed);
-	free(pos);
+	free_grid(&g);
 }
 
 /* A quad and a pentagon plus a non-planar quad: vn_polygon_normals' bits
@@ -351,10 +353,9 @@ static void polygons_equal_polygon_normals(void** state)
 static void corners_equal_corner_normals(void** state)
 {
 	(void)state;
-	const size_t n = 12, nv = n * n;
-	double* pos = (double*)malloc(sizeof(double) * 3 * nv);
-	size_t ni;
-	uint32_t* idx = test_grid(n, pos, &ni);
+	grid g = make_grid(12, 1.0);
+	const size_t nv = g.nv, ni = g.ni;
+	const uint32_t* idx = g.idx;
 	uint8_t* sharp = (uint8_t*)calloc(ni, 1);
 	for (size_t c = 0; c < ni; c += 7)
 		sharp[c] = 1;
@@ -363,7 +364,7 @@ static void corners_equal_corner_normals(void** state)
 	uint32_t* off = (uint32_t*)malloc(sizeof(uint32_t) * (ni / 3 + 1));
 	for (size_t f = 0; f <= ni / 3; ++f)
 		off[f] = (uint32_t)(3 * f);
-	const vn_positions p = {pos, nv, 0, vn_scalar_float64};
+	const vn_positions p = {g.pos, nv, 0, vn_scalar_float64};
 	const vn_vectors oa = {a, 0, vn_scalar_float64}, ob = {b, 0, vn_scalar_float64};
 	vn_plan *tri = NULL, *poly = NULL;
 	assert_int_equal(vn_plan_create(idx, NULL, ni / 3, nv, NULL, &tri), vn_result_success);
@@ -385,8 +386,7 @@ static void corners_equal_corner_normals(void** state)
 	free(b);
 	free(a);
 	free(sharp);
-	free(idx);
-	free(pos);
+	free_grid(&g);
 }
 
 /* ---------------------------------------------------------------- degenerate input */
@@ -499,14 +499,10 @@ static void errors_at_normals(void** state)
 static void no_allocation_per_frame(void** state)
 {
 	(void)state;
-	const size_t n = 200, nv = n * n; /* 2 workers */
-	double* pos = (double*)malloc(sizeof(double) * 3 * nv);
-	float* pos32 = (float*)malloc(sizeof(float) * 3 * nv);
-	float* out = (float*)malloc(sizeof(float) * 3 * nv);
-	size_t ni;
-	uint32_t* idx = test_grid(n, pos, &ni);
-	for (size_t i = 0; i < 3 * nv; ++i)
-		pos32[i] = (float)pos[i];
+	grid g = make_grid(200, 1.0); /* 2 workers */
+	const size_t nv = g.nv, ni = g.ni;
+	const uint32_t* idx = g.idx;
+	float* out = (float*)g.a;
 	uint32_t* off = (uint32_t*)malloc(sizeof(uint32_t) * (ni / 3 + 1));
 	for (size_t f = 0; f <= ni / 3; ++f)
 		off[f] = (uint32_t)(3 * f);
@@ -523,7 +519,7 @@ static void no_allocation_per_frame(void** state)
 		assert_int_equal(c.allocations, 3);
 		const vn_vectors vo = {out, 0, vn_scalar_float32}, co = {corners, 0, vn_scalar_float32};
 		for (int type = 0; type < 2; ++type) {
-			const vn_positions p = {type ? (const void*)pos : (const void*)pos32, nv, 0, (vn_scalar)type};
+			const vn_positions p = {type ? (const void*)g.pos : (const void*)g.pos32, nv, 0, (vn_scalar)type};
 			for (unsigned m = 0; m <= vn_method_mewcsa; ++m) {
 				assert_int_equal(vn_plan_normals(plan, &p, (vn_method)m, &vo, NULL), vn_result_success);
 				assert_int_equal(vn_plan_normals(poly, &p, (vn_method)m, &vo, NULL), vn_result_success);
@@ -538,10 +534,7 @@ static void no_allocation_per_frame(void** state)
 	}
 	free(corners);
 	free(off);
-	free(idx);
-	free(out);
-	free(pos32);
-	free(pos);
+	free_grid(&g);
 }
 
 int main(void)
