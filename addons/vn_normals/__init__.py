@@ -418,10 +418,10 @@ def _compute(lib, mesh, s, selected_only=False, a=None, members=None, owner=None
 # ------------------------------------------------------------------ plans
 # Meshes of more faces than this are computed through a vn plan (issue 20)
 # kept per mesh, so that the next run on the same faces (a live recompute,
-# the redo panel) has the indices checked and the work memory allocated
-# and mapped already. Below it the saving is not worth keeping the plan's
-# memory (about 180 bytes a quad once used: what a call without a plan
-# allocates and frees each time).
+# the redo panel) finds the library's work memory allocated and mapped
+# already. Below it the saving is not worth keeping the plan's memory
+# (about 180 bytes a quad once used: what a call without a plan allocates
+# and frees each time).
 PLAN_MIN_FACES = 100_000
 # Plans kept at most, for this many meshes (the least recently used is freed).
 PLAN_CACHE_SIZE = 2

@@ -264,10 +264,11 @@ class Plan:
     Animation, simulation and interactive editing move the vertices of a
     mesh whose faces stay the same. A plan checks and lays out the faces
     once (``vn_plan_create``); each call then only reads positions and
-    writes normals: no index check, no copy of the positions, no
-    allocation in the library. On triangles the schemes MWE, MWA, MWSELR,
-    MWAAT, MWELR and MWRELR take a faster path; the others, and polygons,
-    compute what `vertex_normals` does on the plan's memory.
+    writes normals: no copy of the positions, no allocation in the library.
+    float32 positions on triangles take a faster path for MWE, MWA, MWSELR,
+    MWAAT, MWELR and MWRELR (float arithmetic, the indices not checked
+    again); float64 positions, the other schemes and polygons compute what
+    `vertex_normals` does, on the plan's memory.
 
     Parameters
     ----------
