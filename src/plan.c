@@ -119,6 +119,18 @@ VN_INLINE void loadf(const vn_work* w, uint32_t i, float p[3])
 	memcpy(&p[0], src, 4), memcpy(&p[1], src + 4, 4), memcpy(&p[2], src + 8, 4);
 }
 
+/* Float triangles take their cross product in double: the edges are exact
+ * float differences, so each product is exact in double and each component
+ * is rounded once, to float. In float arithmetic the normal of a thin
+ * triangle is off by about FLT_EPSILON / the sine of its smallest angle: on
+ * the 1M torus two such faces (sines 0.06 and 0.13) put vertices 1.3e-4
+ * degrees off, over the bound vn.h gives (tests/test_plan.c,
+ * float_thin_triangles). */
+VN_INLINE float cross_component(float a, float b, float c, float d)
+{
+	return (float)((double)a * b - (double)c * d);
+}
+
 /* A face that float arithmetic cannot represent (zero or non-finite area,
  * or weights beyond float range) in double, its contributions rounded to
  * float and clamped to its range. Returns 0, and zeros, when it
@@ -147,11 +159,12 @@ VN_INLINE int face_float(const vn_work* w, vn_method method, const uint32_t* idx
 	float p0[3], p1[3], p2[3], e01[3], e12[3], e20[3], n[3];
 	loadf(w, idx[0], p0), loadf(w, idx[1], p1), loadf(w, idx[2], p2);
 	subf(p1, p0, e01), subf(p2, p1, e12), subf(p0, p2, e20);
-	n[0] = e20[1] * e01[2] - e20[2] * e01[1];
-	n[1] = e20[2] * e01[0] - e20[0] * e01[2];
-	n[2] = e20[0] * e01[1] - e20[1] * e01[0];
+	n[0] = cross_component(e20[1], e01[2], e20[2], e01[1]);
+	n[1] = cross_component(e20[2], e01[0], e20[0], e01[2]);
+	n[2] = cross_component(e20[0], e01[1], e20[1], e01[0]);
 	const float l2 = dotf(n, n);
 	float wt[3], den = 1.0f;
+	const float la = dotf(e01, e01), lb = dotf(e12, e12), lc = dotf(e20, e20);
 	switch (method) {
 	case vn_method_mwe:
 		wt[0] = wt[1] = wt[2] = 1.0f / sqrtf(l2);
@@ -163,7 +176,7 @@ VN_INLINE int face_float(const vn_work* w, vn_method method, const uint32_t* idx
 		break;
 	}
 	case vn_method_mwselr: {
-		const float sa = dotf(e01, e01), sb = dotf(e12, e12), sc = dotf(e20, e20);
+		const float sa = la, sb = lb, sc = lc;
 		den = sa * sb * sc;
 		const float inv = 1.0f / den;
 		wt[0] = sb * inv, wt[1] = sc * inv, wt[2] = sa * inv;
@@ -173,7 +186,7 @@ VN_INLINE int face_float(const vn_work* w, vn_method method, const uint32_t* idx
 		wt[0] = wt[1] = wt[2] = 1.0f;
 		break;
 	default: { /* MWELR, MWRELR */
-		float a = sqrtf(dotf(e01, e01)), b = sqrtf(dotf(e12, e12)), c = sqrtf(dotf(e20, e20));
+		float a = sqrtf(la), b = sqrtf(lb), c = sqrtf(lc);
 		if (method == vn_method_mwrelr)
 			a = sqrtf(a), b = sqrtf(b), c = sqrtf(c);
 		den = a * b * c * sqrtf(l2);
@@ -203,6 +216,20 @@ VN_INLINE size_t faces_float(const vn_work* w, vn_method method, const uint32_t*
 }
 
 #ifdef VN_HAVE_AVX2
+/* cross_component on 8 lanes, in two halves of 4 doubles. */
+VN_AVX2_INLINE __m256 cross_component8(__m256 a, __m256 b, __m256 c, __m256 d)
+{
+	__m128 half[2];
+	for (int h = 0; h < 2; ++h) {
+		const __m256d A = _mm256_cvtps_pd(h ? _mm256_extractf128_ps(a, 1) : _mm256_castps256_ps128(a));
+		const __m256d B = _mm256_cvtps_pd(h ? _mm256_extractf128_ps(b, 1) : _mm256_castps256_ps128(b));
+		const __m256d C = _mm256_cvtps_pd(h ? _mm256_extractf128_ps(c, 1) : _mm256_castps256_ps128(c));
+		const __m256d D = _mm256_cvtps_pd(h ? _mm256_extractf128_ps(d, 1) : _mm256_castps256_ps128(d));
+		half[h] = _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_mul_pd(A, B), _mm256_mul_pd(C, D)));
+	}
+	return _mm256_insertf128_ps(_mm256_castps128_ps256(half[0]), half[1], 1);
+}
+
 /* Eight (x, y, z, junk) rows -> x, y, z lanes (lane j = row j). */
 VN_AVX2_INLINE void transpose8(const __m128 v[8], __m256* x, __m256* y, __m256* z)
 {
@@ -242,12 +269,15 @@ VN_AVX2_INLINE int faces_float8(const vn_work* w, vn_method method, const uint32
 		e[k][2] = _mm256_sub_ps(pz[j], pz[k]);
 	}
 	const __m256 *e01 = e[0], *e12 = e[1], *e20 = e[2];
-	const __m256 nx = _mm256_sub_ps(_mm256_mul_ps(e20[1], e01[2]), _mm256_mul_ps(e20[2], e01[1]));
-	const __m256 ny = _mm256_sub_ps(_mm256_mul_ps(e20[2], e01[0]), _mm256_mul_ps(e20[0], e01[2]));
-	const __m256 nz = _mm256_sub_ps(_mm256_mul_ps(e20[0], e01[1]), _mm256_mul_ps(e20[1], e01[0]));
+	const __m256 nx = cross_component8(e20[1], e01[2], e20[2], e01[1]);
+	const __m256 ny = cross_component8(e20[2], e01[0], e20[0], e01[2]);
+	const __m256 nz = cross_component8(e20[0], e01[1], e20[1], e01[0]);
 	const __m256 l2 = dot8(nx, ny, nz, nx, ny, nz);
 	const __m256 one = _mm256_set1_ps(1.0f);
 	__m256 wt[3], den = one;
+	const __m256 la = dot8(e01[0], e01[1], e01[2], e01[0], e01[1], e01[2]);
+	const __m256 lb = dot8(e12[0], e12[1], e12[2], e12[0], e12[1], e12[2]);
+	const __m256 lc = dot8(e20[0], e20[1], e20[2], e20[0], e20[1], e20[2]);
 	switch (method) {
 	case vn_method_mwe:
 		wt[0] = wt[1] = wt[2] = _mm256_div_ps(one, _mm256_sqrt_ps(l2));
@@ -264,9 +294,7 @@ VN_AVX2_INLINE int faces_float8(const vn_work* w, vn_method method, const uint32
 		break;
 	}
 	case vn_method_mwselr: {
-		const __m256 sa = dot8(e01[0], e01[1], e01[2], e01[0], e01[1], e01[2]);
-		const __m256 sb = dot8(e12[0], e12[1], e12[2], e12[0], e12[1], e12[2]);
-		const __m256 sc = dot8(e20[0], e20[1], e20[2], e20[0], e20[1], e20[2]);
+		const __m256 sa = la, sb = lb, sc = lc;
 		den = _mm256_mul_ps(_mm256_mul_ps(sa, sb), sc);
 		const __m256 inv = _mm256_div_ps(one, den);
 		wt[0] = _mm256_mul_ps(sb, inv), wt[1] = _mm256_mul_ps(sc, inv), wt[2] = _mm256_mul_ps(sa, inv);
@@ -276,9 +304,7 @@ VN_AVX2_INLINE int faces_float8(const vn_work* w, vn_method method, const uint32
 		wt[0] = wt[1] = wt[2] = one;
 		break;
 	default: {
-		__m256 a = _mm256_sqrt_ps(dot8(e01[0], e01[1], e01[2], e01[0], e01[1], e01[2]));
-		__m256 b = _mm256_sqrt_ps(dot8(e12[0], e12[1], e12[2], e12[0], e12[1], e12[2]));
-		__m256 c = _mm256_sqrt_ps(dot8(e20[0], e20[1], e20[2], e20[0], e20[1], e20[2]));
+		__m256 a = _mm256_sqrt_ps(la), b = _mm256_sqrt_ps(lb), c = _mm256_sqrt_ps(lc);
 		if (method == vn_method_mwrelr)
 			a = _mm256_sqrt_ps(a), b = _mm256_sqrt_ps(b), c = _mm256_sqrt_ps(c);
 		den = _mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(a, b), c), _mm256_sqrt_ps(l2));
