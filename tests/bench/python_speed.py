@@ -310,6 +310,8 @@ def main():
         m.compute_vertex_normals()
         return np.asarray(m.vertex_normals)
 
+    plan = vn.Plan(faces["uint32"], len(p), threads=1)  # issue 20: a per-frame plan, made once
+    p32 = p.astype(np.float32)
     cases = [
         ("vn.vertex_normals(p, faces, 'mwaat', threads=1), uint32 faces", 1,
          lambda: vn.vertex_normals(p, faces["uint32"], "mwaat", threads=1), None),
@@ -319,6 +321,9 @@ def main():
          lambda: vn.vertex_normals(p, f64, "mwaat", threads=1), None),
         ("vn.vertex_normals(p, faces, 'mwaat'), %d threads, uint32 faces" % cores, cores,
          lambda: vn.vertex_normals(p, faces["uint32"], "mwaat"), None),
+        ("vn.Plan(faces, threads=1).normals(p32, 'mwaat'), float32 positions", 1,
+         lambda: plan.normals(p32, "mwaat"), None),
+        ("vn.Plan(faces, threads=1).normals(p, 'mwaat'), float64 positions", 1, lambda: plan.normals(p, "mwaat"), None),
         ("Open3D compute_vertex_normals() + np.asarray, mesh built outside the timing", 1, open3d_normals, clear),
         ("Open3D, mesh built inside the timing from float64 + int32 arrays", 1,
          lambda: open3d_built(faces["int32"]), None),
