@@ -40,8 +40,11 @@
  * scratch.
  *
  * ADAPTIVE (vn.h) adds the 4-ring, gathered past the 2-ring up to the ring
- * capacity, and chooses among its fits by GCV score; its fallback, MWAAT,
- * is a second pass of the weighted kernels (24 more bytes a vertex). */
+ * capacity, and fits a quadric and a cubic there; each vertex keeps two
+ * outcomes (the jet or the quadric, the jet or the cubic, by GCV score) and
+ * the statistic of its cubic terms, and a last pass takes one outcome by
+ * that statistic over the vertex's 1-ring (56 more bytes a vertex); its
+ * fallback, MWAAT, is a second pass of the weighted kernels (24 more). */
 #include "internal.h"
 #include "simd.h"
 
@@ -56,17 +59,21 @@
 #define RCOND_MIN 1e-10
 /* The fitted normal must stay within 60 degrees of the seed. */
 #define SEED_COS_MIN 0.5
-/* ADAPTIVE (chosen with vneval on the paper's ensemble and two surfaces
- * beyond it, docs/ACCURACY.md): the 2-ring jet alone where its weighted RMS
+/* ADAPTIVE (docs/ACCURACY.md): the 2-ring jet alone where its weighted RMS
  * residual over h is at most ADAPTIVE_JET_EXACT (exact to its model: no
- * wider fit can do better); the 4-ring cubic only where its GCV score is
- * below ADAPTIVE_CUBIC times the best other one (its four extra unknowns
- * otherwise follow the noise of marching-tetrahedra vertices); the rough
- * fallback where the chosen fit's residual over h exceeds ADAPTIVE_FIT_MAX
- * (no polynomial describes the neighbourhood: fractal or turbulent). */
+ * wider fit can do better); the rough fallback where the chosen fit's
+ * residual over h exceeds ADAPTIVE_FIT_MAX (no polynomial describes the
+ * neighbourhood: fractal or turbulent), both chosen with vneval. The 4-ring
+ * cubic rather than the quadric where the mean log T over the 1-ring
+ * exceeds log ADAPTIVE_T, T = |slope difference|^2 / its variance: 2 is
+ * where the quadric's estimated squared slope bias |d|^2 - var(d) passes
+ * the variance the cubic adds, var(d) (nested least squares), so the
+ * constant is the mean squared error's break-even, not a fitted one. */
 #define ADAPTIVE_JET_EXACT 1e-4
-#define ADAPTIVE_CUBIC 0.7
 #define ADAPTIVE_FIT_MAX 0.06
+#define ADAPTIVE_T 2.0
+/* log T is kept within +-T_LOG_MAX (T infinite where the cubic's residual is 0). */
+#define T_LOG_MAX 50.0
 /* ADAPTIVE's rough fallback: MWAAT, the best of the seven on the paper's
  * fractal height fields (and within 10% of the best on turbulence). */
 #define ADAPTIVE_ROUGH vn_method_mwaat
@@ -117,12 +124,13 @@ static const unsigned char MOMENT[10][10] = {
 	{8, 12, 13, 17, 18, 19, 23, 24, 25, 26},   {9, 13, 14, 18, 19, 20, 24, 25, 26, 27},
 };
 
-/* LANES fits: frames (t1, t2, a), coefficients c, unit normals n, and
- * whether each succeeded. */
+/* LANES fits: frames (t1, t2, a), coefficients c, unit normals n, the
+ * slopes' variance factor vs = (M^-1)_11 + (M^-1)_22, and whether each
+ * succeeded. */
 typedef double lanes __attribute__((vector_size(LANES * sizeof(double))));
 typedef long long masks __attribute__((vector_size(LANES * sizeof(long long))));
 typedef struct fits {
-	lanes t1[3], t2[3], a[3], c[10], n[3];
+	lanes t1[3], t2[3], a[3], c[10], n[3], vs;
 	int ok[LANES];
 } fits;
 
@@ -212,8 +220,10 @@ VN_INLINE void solve(const lanes s[S_MAX], lanes t[T_MAX], int k, fits* f)
 	}
 	/* The condition: trace(M~^-1) = sum_j M_jj (M^-1)_jj, M~ = M scaled to
 	 * unit diagonal; M^-1 = L^-T D^-1 L^-1, so (M^-1)_jj = sum_i>=j
-	 * (L^-1)_ij^2 / D_i, column j of L^-1 by forward substitution. */
+	 * (L^-1)_ij^2 / D_i, column j of L^-1 by forward substitution. The
+	 * slopes' (j = 1, 2) are kept for ADAPTIVE's test. */
 	lanes trace = one - one;
+	f->vs = trace;
 	UNROLL for (int j = 0; j < k; ++j) {
 		lanes x[10], sum = inv[j];
 		x[j] = one;
@@ -224,6 +234,8 @@ VN_INLINE void solve(const lanes s[S_MAX], lanes t[T_MAX], int k, fits* f)
 			sum += x[i] * x[i] * inv[i];
 		}
 		trace += s[MOMENT[j][j]] * sum;
+		if (j == 1 || j == 2)
+			f->vs += sum;
 	}
 	/* 1 / (k trace) below RCOND_MIN: fail. */
 	const masks conditioned = trace * (double)k <= 1.0 / RCOND_MIN;
@@ -429,6 +441,7 @@ typedef struct fit_job {
 	vn_work w;
 	const double* seed;    /* 3 per vertex */
 	const double* rough;   /* ADAPTIVE: 3 per vertex, ADAPTIVE_ROUGH's normals */
+	double* pick;          /* ADAPTIVE: 7 per vertex: the outcomes (adaptive_lanes), log T */
 	unsigned char* usable; /* per face */
 	uint32_t* face_of;     /* polygons: per corner */
 	uint32_t* start;       /* nv + 1: counts, then where each vertex's corners end */
@@ -648,9 +661,9 @@ static int gather_vertex(const fit_job* j, scratch* s, uint32_t v, vn_fit_points
 
 /* ADAPTIVE's wide fits: the points' weights become exp(-|p|^2 / (2 r^2)),
  * r^2 the mean |p|^2 of the members (a Gaussian as wide as the 4-ring).
- * Returns the effective number of points, (sum w)^2 / sum w^2, the vertex
- * (weight 1) included. */
-static double gaussian_weights(const vn_fit_points* p)
+ * Returns the effective number of points, (sum w)^2 / sum w^2, and sets
+ * *sum to sum w, the vertex (weight 1) included in both. */
+static double gaussian_weights(const vn_fit_points* p, double* sum)
 {
 	double r2 = 0.0, sw = 1.0, sww = 1.0;
 	for (uint32_t i = 0; i < p->m; ++i)
@@ -660,6 +673,7 @@ static double gaussian_weights(const vn_fit_points* p)
 		const double w = exp(k * (p->x[i] * p->x[i] + p->y[i] * p->y[i] + p->z[i] * p->z[i]));
 		p->w[i] = w, sw += w, sww += w * w;
 	}
+	*sum = sw;
 	return sw * sw / sww;
 }
 
@@ -682,48 +696,99 @@ static double effective_points(const vn_fit_points* p)
 	return sw * sw / sww;
 }
 
-/* ADAPTIVE's choice for the active lanes, after the 2-ring jet f (ok,
- * residual res): of the jet and the quadric and cubic on the 4-ring with
- * Gaussian weights, the one of lowest GCV score, if its residual is small
- * enough; else the rough fallback. */
+/* ADAPTIVE at the active lanes, after the 2-ring jet f (ok, residual res):
+ * the jet where it is exact; else the quadric and the cubic on the 4-ring
+ * with Gaussian weights, in the jet's frame (S's where the jet failed).
+ * pick[v] receives two outcomes, the jet or the quadric (the cubic where
+ * the quadric failed) by the lower GCV score, and the jet or the cubic
+ * (the quadric where the cubic failed) likewise, each the rough fallback
+ * where its residual exceeds ADAPTIVE_FIT_MAX, then log T where both wide
+ * fits succeeded (NaN elsewhere): phase_choose takes one. Vertices from
+ * v1 on are another worker's. */
 static void adaptive_lanes(const fit_job* j, vn_fit_points p[LANES], const int act[LANES], const uint32_t m[LANES][4],
                            const double* const seed[LANES], const double f[LANES][3], const int ok[LANES],
-                           const double res[LANES], const uint32_t v0, double n[LANES][3])
+                           const double res[LANES], const uint32_t v0, const uint32_t v1)
 {
 	int wide[LANES], any = 0;
-	double neff[LANES], best[LANES];
+	double neff[LANES], sw[LANES], best[LANES];
 	lanes axis[3];
 	for (unsigned l = 0; l < LANES; ++l) {
-		best[l] = DBL_MAX;
-		if (!act[l] && v0 + l < j->w.vertex_count) /* no ring: the fallback */
-			memcpy(n[l], j->rough + 3 * (size_t)(v0 + l), sizeof(n[l]));
-		if (act[l] && ok[l]) {
-			memcpy(n[l], f[l], sizeof(f[l]));
-			best[l] = res[l] <= ADAPTIVE_JET_EXACT ? 0.0 : gcv(res[l], effective_points(p + l), 10);
-		}
+		wide[l] = 0;
+		for (int d = 0; d < 3; ++d)
+			axis[d][l] = d == 2;
+		if (v0 + l >= v1) /* another worker's vertex */
+			continue;
+		double* out = j->pick + 7 * (size_t)(v0 + l);
+		const int jet = act[l] && ok[l];
+		/* Without a ring, or where no fit is taken: the fallback. */
+		memcpy(out, jet && res[l] <= ADAPTIVE_FIT_MAX ? f[l] : j->rough + 3 * (size_t)(v0 + l), 3 * sizeof(double));
+		memcpy(out + 3, out, 3 * sizeof(double));
+		out[6] = NAN;
+		best[l] = !jet ? DBL_MAX : res[l] <= ADAPTIVE_JET_EXACT ? 0.0 : gcv(res[l], effective_points(p + l), 10);
 		wide[l] = act[l] && best[l] > 0.0 && m[l][3] > m[l][0];
 		if (wide[l]) {
 			p[l].m = m[l][3];
-			neff[l] = gaussian_weights(p + l);
+			neff[l] = gaussian_weights(p + l, sw + l);
 			any = 1;
+			for (int d = 0; d < 3; ++d) /* the wide fits' frame */
+				axis[d][l] = ok[l] ? f[l][d] : seed[l][d];
 		}
-		for (int d = 0; d < 3; ++d) /* the wide fits' frame: the jet's, else S's */
-			axis[d][l] = !wide[l] ? (d == 2) : ok[l] ? f[l][d] : seed[l][d];
 	}
+	if (!any)
+		return;
 	fits w[2];
-	if (any)
-		fit_kernel(2, j->w.simd)(p, wide, axis, w);
+	fit_kernel(2, j->w.simd)(p, wide, axis, w);
 	for (unsigned l = 0; l < LANES; ++l) {
-		if (!act[l])
+		if (!wide[l])
 			continue;
-		double r = ok[l] ? res[l] : DBL_MAX, q[3], rq, c[3], rc;
-		if (wide[l] && take(p + l, w, w[0].ok[l], l, seed[l], q, &rq) && gcv(rq, neff[l], 6) < best[l])
-			best[l] = gcv(rq, neff[l], 6), r = rq, memcpy(n[l], q, sizeof(q));
-		if (wide[l] && take(p + l, w + 1, w[1].ok[l], l, seed[l], c, &rc) &&
-		    gcv(rc, neff[l], 10) < ADAPTIVE_CUBIC * best[l])
-			r = rc, memcpy(n[l], c, sizeof(c));
-		if (!(r <= ADAPTIVE_FIT_MAX))
-			memcpy(n[l], j->rough + 3 * (size_t)(v0 + l), sizeof(n[l]));
+		double* out = j->pick + 7 * (size_t)(v0 + l);
+		double q[3], rq = 0.0, c[3], rc = 0.0;
+		const int okq = take(p + l, w, w[0].ok[l], l, seed[l], q, &rq);
+		const int okc = take(p + l, w + 1, w[1].ok[l], l, seed[l], c, &rc);
+		if (!okq && !okc)
+			continue;
+		for (int k = 0; k < 2; ++k) { /* k 0: the quadric's outcome, 1: the cubic's */
+			const int cubic = k ? okc : !okq;
+			double* o = out + 3 * k;
+			const double r = cubic ? rc : rq;
+			if (gcv(r, neff[l], cubic ? 10 : 6) < best[l])
+				memcpy(o, r <= ADAPTIVE_FIT_MAX ? (cubic ? c : q) : j->rough + 3 * (size_t)(v0 + l), 3 * sizeof(double));
+		}
+		if (okq && okc) {
+			/* d, the quadric's slopes minus the cubic's (one frame); var(d)
+			 * = sigma^2 (vs_cubic - vs_quadric) for nested least squares,
+			 * sigma^2 from the cubic's residual over its degrees of freedom. */
+			const double d1 = w[0].c[1][l] - w[1].c[1][l], d2 = w[0].c[2][l] - w[1].c[2][l];
+			const double var = rc * rc * sw[l] / ((double)p[l].m + 1.0 - 10.0) * (w[1].vs[l] - w[0].vs[l]);
+			const double t = (d1 * d1 + d2 * d2) / var;
+			out[6] = !(var > 0.0) ? T_LOG_MAX : t > 0.0 ? fmin(fmax(log(t), -T_LOG_MAX), T_LOG_MAX) : -T_LOG_MAX;
+		}
+	}
+}
+
+/* ADAPTIVE's choice at each vertex: the cubic's outcome where the mean of
+ * log T over the vertex and its 1-ring (those that have one) exceeds log
+ * ADAPTIVE_T, else the quadric's. The cubic terms are smooth over the
+ * surface and T's noise is not, so the mean decides better than one T. */
+static void phase_choose(void* ctx, unsigned t)
+{
+	const fit_job* j = (const fit_job*)ctx;
+	const double limit = log(ADAPTIVE_T);
+	for (uint32_t v = range_lo(j->w.vertex_count, t, j->nt), v1 = range_lo(j->w.vertex_count, t + 1, j->nt); v < v1;
+	     ++v) {
+		const double* pick = j->pick + 7 * (size_t)v;
+		double sum = 0.0;
+		uint32_t count = 0;
+		if (!isnan(pick[6]))
+			sum += pick[6], ++count;
+		for (uint32_t i = j->nstart[v]; i < j->nstart[v + 1]; ++i) {
+			const double x = j->pick[7 * (size_t)j->nbr[i] + 6];
+			if (!isnan(x))
+				sum += x, ++count;
+		}
+		const double* r = pick + (count && sum > limit * count ? 3 : 0);
+		if (!(j->w.keep_existing && r[0] == 0.0 && r[1] == 0.0 && r[2] == 0.0))
+			vn_store(j->w.out, v, r);
 	}
 }
 
@@ -745,10 +810,11 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 	}
 	if (j->w.method == vn_method_quadric)
 		fit_twice(p, act, seed, 0, j->w.simd, n, ok, NULL);
-	else if (j->w.method == vn_method_adaptive) {
+	else if (j->w.method == vn_method_adaptive) { /* stored by phase_choose */
 		double f[LANES][3];
 		fit_twice(p, act, seed, 1, j->w.simd, f, ok, res);
-		adaptive_lanes(j, p, act, (const uint32_t(*)[4])m, seed, (const double(*)[3])f, ok, res, v0, n);
+		adaptive_lanes(j, p, act, (const uint32_t(*)[4])m, seed, (const double(*)[3])f, ok, res, v0, v1);
+		return;
 	} else {
 		double f[LANES][3];
 		fit_twice(p, act, seed, 1, j->w.simd, f, ok, NULL);
@@ -820,7 +886,7 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 	/* The seeds (and ADAPTIVE's rough fallback), by the weighted family's
 	 * kernels (which check the indices). */
 	const int adaptive = work->method == vn_method_adaptive;
-	double* seed = (double*)heap.allocate(heap.user, (adaptive ? 6 : 3) * sizeof(double) * (size_t)nv);
+	double* seed = (double*)heap.allocate(heap.user, (adaptive ? 13 : 3) * sizeof(double) * (size_t)nv);
 	if (!seed)
 		return vn_result_out_of_memory;
 	const vn_accumulate_fn weighted =
@@ -841,6 +907,7 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 		j.w.want_stats = 0;
 		r = vn_run(&j.w, weighted, o, &unused);
 		j.rough = seed + 3 * (size_t)nv;
+		j.pick = seed + 6 * (size_t)nv;
 	}
 	j.w = *work;
 	j.seed = seed;
@@ -894,6 +961,8 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 		}
 		if (r == vn_result_success)
 			vn_parallel(nt, phase_fit, &j);
+		if (r == vn_result_success && adaptive) /* after every vertex's log T */
+			vn_parallel(nt, phase_choose, &j);
 		if (j.nbr)
 			heap.deallocate(heap.user, j.nbr);
 		while (t-- > 0)

@@ -124,23 +124,35 @@ typedef enum vn_method {
 	                      4-ring members (wide enough to average out the
 	                      position noise of e.g. marching-tetrahedra
 	                      vertices), both fitted once, in the jet's frame
-	                      (S's where the jet failed). Each fit's score is its
-	                      generalized cross-validation (Craven & Wahba 1979)
-	                      e^2 / (1 - k / n)^2: e its weighted RMS residual
-	                      over h, k its unknowns (6 or 10), n its effective
-	                      number of points (sum w)^2 / sum w^2. The jet is
-	                      taken outright where e <= 1e-4 (exact to its
-	                      model); else the lowest score, the cubic's counted
-	                      only when below 0.7 times the best other. Where the
-	                      chosen fit's e exceeds 0.06 (no polynomial
-	                      describes the neighbourhood: fractal or turbulent),
-	                      or no fit succeeds, MWAAT's normal (the best of the
-	                      seven on rough height fields). The 4-ring stops at
-	                      the ring capacity of JET's 2-rings (the largest
-	                      vertex's candidate count c: c (c + 1) members,
-	                      nearest rings first). The constants were chosen
-	                      with vneval (docs/ACCURACY.md): the scheme to use
-	                      when unsure. */
+	                      (S's where the jet failed). The jet is taken
+	                      outright where its e <= 1e-4 (exact to its
+	                      model; e a fit's weighted RMS residual over h).
+	                      Else the quadric or the cubic, by T = |d|^2 /
+	                      var(d), d the quadric's slopes minus the
+	                      cubic's, var(d) = s^2 (V_c - V_q), V the sum of
+	                      the slopes' diagonal entries of the inverse
+	                      normal matrix, s^2 the cubic's weighted squared
+	                      residuals over (its points - 10): the cubic where
+	                      the mean of log T over the vertex and its 1-ring
+	                      (those whose two wide fits succeeded) exceeds
+	                      log 2, the break-even of the quadric's estimated
+	                      squared bias |d|^2 - var(d) against the variance
+	                      the cubic adds; T's noise averages out over the
+	                      ring, the cubic terms do not. The one taken (the
+	                      other where it failed) is then compared with the
+	                      jet by generalized cross-validation (Craven &
+	                      Wahba 1979) e^2 / (1 - k / n)^2, k its unknowns (6
+	                      or 10), n its effective number of points (sum
+	                      w)^2 / sum w^2: the lower wins. Where the chosen
+	                      fit's e exceeds 0.06 (no polynomial describes the
+	                      neighbourhood: fractal or turbulent), or no fit
+	                      succeeds, MWAAT's normal (the best of the seven on
+	                      rough height fields). The 4-ring stops at the ring
+	                      capacity of JET's 2-rings (the largest vertex's
+	                      candidate count c: c (c + 1) members, nearest
+	                      rings first). The thresholds 1e-4 and 0.06 were
+	                      chosen with vneval (docs/ACCURACY.md): the scheme
+	                      to use when unsure. */
 	/* The fits (QUADRIC, JET, ADAPTIVE): rings are the vertices sharing a
 	 * non-degenerate face (a polygon's corners when it has at most 8, else
 	 * its two edge neighbours); degenerate faces add nothing, so NaN never
@@ -158,7 +170,7 @@ typedef enum vn_method {
 	 * ones the union of their sheets. A vertex whose S is zero gets zero
 	 * (ADAPTIVE: MWAAT's, zero as well unless the sums cancel); every
 	 * other fitted normal is unit with a positive dot product with S.
-	 * Memory: about 9 bytes a corner + 1 a face + 32 a vertex (ADAPTIVE 56)
+	 * Memory: about 9 bytes a corner + 1 a face + 32 a vertex (ADAPTIVE 112)
 	 * + 4 a 1-ring member (JET, ADAPTIVE) + 4 a vertex per thread from the
 	 * allocator (the workspace serves the seed pass only), + 128 bytes a
 	 * 2-ring member per thread. Cost on one thread: QUADRIC about 20x

@@ -230,12 +230,14 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
 #define PIVOT_MIN 1e-8L       /* smallest squared diagonal of R (the Cholesky pivot) */
 #define RCOND_MIN 1e-10L      /* smallest 1 / (|R|_F |R^-1|_F)^2 */
 #define SEED_COS_MIN 0.5L     /* 60 degrees from the seed */
-/* ADAPTIVE: the jet alone at or below this weighted RMS residual over h; the
- * 4-ring cubic where its GCV score is below this factor times the best
- * other; the rough fallback (MWAAT) above this residual of the chosen fit. */
+/* ADAPTIVE: the jet alone at or below this weighted RMS residual over h;
+ * the rough fallback (MWAAT) above this residual of the chosen fit. */
 #define ADAPTIVE_JET_EXACT 1e-4L
-#define ADAPTIVE_CUBIC 0.7L
 #define ADAPTIVE_FIT_MAX 0.06L
+/* ADAPTIVE: the cubic's outcome where the mean log T over the vertex and its
+ * 1-ring is above log ADAPTIVE_T (vn.h); log T is kept within +-T_LOG_MAX. */
+#define ADAPTIVE_T 2.0L
+#define T_LOG_MAX 50.0L
 #define SMEWCSA_FLAT 0x1p-12L /* SMEWCSA: MEWCSA's condition at or below it is flat */
 /* How close to a threshold a decision is borderline: far above the two
  * implementations' measured differences, far below any real margin. */
@@ -249,6 +251,13 @@ static int is_zero(const double* n)
 static vec load(const double* n)
 {
 	return vec_make(n[0], n[1], n[2]);
+}
+
+static void o_set(double* o, vec n)
+{
+	o[0] = (double)n.x;
+	o[1] = (double)n.y;
+	o[2] = (double)n.z;
 }
 
 static long double dot_d(const double* a, const double* b)
@@ -321,6 +330,10 @@ typedef struct fit_result {
 	long double residual;  /* weighted RMS of z - f, over h */
 	long double rcond;     /* of the unit-diagonal normal matrix R^T R */
 	int borderline;        /* a pivot within rounding of PIVOT_MIN */
+	long double slope[2];  /* f_x, f_y at the origin */
+	long double vs;        /* (M^-1)_11 + (M^-1)_22, M the weighted normal matrix */
+	long double swe;       /* sum of w (z - f)^2 */
+	size_t rows;           /* the points fitted, the origin included */
 } fit_result;
 
 /* The monomials 1, x, y, x^2, xy, y^2 (degree 2) and x^3, x^2 y, x y^2, y^3. */
@@ -352,6 +365,25 @@ static long double upper_rcond(long double r[10][10], int n)
 		}
 	}
 	return 1 / (nr * ni);
+}
+
+/* (M^-1)_11 + (M^-1)_22 for M = D R^T R D, D = diag(scale): row j of R^-1
+ * by back substitution, over scale_j^2. */
+static long double slope_variance(long double r[10][10], const long double* scale, int k)
+{
+	long double sum = 0;
+	for (int j = 1; j <= 2; j++) {
+		long double row[10] = {0}, s = 0; /* e_j^T R^-1 */
+		for (int l = j; l < k; l++) {
+			long double x = l == j ? 1 : 0;
+			for (int i = j; i < l; i++)
+				x -= row[i] * r[i][l];
+			row[l] = x / r[l][l];
+			s += row[l] * row[l];
+		}
+		sum += s / (scale[j] * scale[j]);
+	}
+	return sum;
 }
 
 /* How far the library's double-precision result may be from the exact one:
@@ -486,6 +518,9 @@ static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long doubl
 		if (ok) {
 			out->normal = vec_scale(n, 1 / len);
 			out->residual = sqrtl(swe / sw);
+			out->slope[0] = c[1], out->slope[1] = c[2];
+			out->vs = slope_variance(r, scale, k);
+			out->swe = swe, out->rows = rows;
 			out->rcond = upper_rcond(r, k);
 			/* The library's estimate, from its normal equations, is exact to
 			 * about eps / rcond relative; its frame may be `slack` away. */
@@ -504,7 +539,7 @@ static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long doubl
 static int fit_twice(const vec* q, size_t m, vec seed, int degree, long double h, long double gauss, fit_result* out,
                      int* borderline)
 {
-	fit_result first, second = {{0, 0, 0}, 0, 0, 0};
+	fit_result first, second = {.rows = 0};
 	int ok = fit_in_frame(q, m, seed, degree, h, gauss, 0, &first);
 	*borderline |= first.borderline;
 	if (!ok)
@@ -565,51 +600,93 @@ static int fit_once(const vec* q, size_t m, vec axis, vec s, int degree, long do
 	return d >= SEED_COS_MIN;
 }
 
+/* ADAPTIVE's outcomes at a vertex (adaptive_vertex), before the choice
+ * between them over the 1-ring. */
+typedef struct adaptive_result {
+	vec normal[2];      /* the quadric's outcome, the cubic's */
+	int path[2];        /* their ref_path_* (ref_path_seed: MWAAT) */
+	long double rcond[2];
+	long double log_t;  /* NAN unless both wide fits were taken */
+	int borderline;     /* some decision within rounding of its threshold */
+	int t_borderline;   /* whether log_t's presence or value is within rounding */
+} adaptive_result;
+
+/* The last step of an outcome: the fit f on path `path` unless its
+ * residual is above ADAPTIVE_FIT_MAX, then the fallback (normal left
+ * unset: fit_normals writes MWAAT's). */
+static void outcome(const fit_result* f, int path, long double slack, adaptive_result* a, int k)
+{
+	a->borderline |= path != ref_path_seed && near(f->residual, ADAPTIVE_FIT_MAX, slack + fit_slack(f->rcond));
+	a->path[k] = path != ref_path_seed && f->residual <= ADAPTIVE_FIT_MAX ? path : ref_path_seed;
+	a->normal[k] = f->normal;
+	a->rcond[k] = f->rcond;
+}
+
 /* ADAPTIVE at a vertex with the 1-, 2- and 4-ring ends m1 <= m2 <= m4 of
  * q: the jet on the 2-ring; unless its residual is at most
  * ADAPTIVE_JET_EXACT, the quadric and the cubic on the 4-ring with Gaussian
  * weights as wide as the ring (gauss = the mean |q|^2 / h^2), each fitted
- * once in the jet's frame (S's where the jet failed); of those, the lowest
- * GCV score (the cubic's must be below ADAPTIVE_CUBIC times the others');
- * the fallback where the chosen residual is above ADAPTIVE_FIT_MAX.
- * Returns the path and sets *f to the chosen fit. */
-static int adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m4, vec s, long double h, fit_result* f,
-                           int* borderline)
+ * once in the jet's frame (S's where the jet failed). Two outcomes: the jet
+ * or the quadric (the cubic if the quadric failed), whichever has the lower
+ * GCV score, and the jet or the cubic (the quadric if the cubic failed)
+ * likewise; each the fallback where its residual is above
+ * ADAPTIVE_FIT_MAX. log T, T = |d|^2 / var(d): d the quadric's slopes
+ * minus the cubic's, var(d) = sigma^2 (vs_cubic - vs_quadric), sigma^2 =
+ * the cubic's sum w e^2 over (points - 10). */
+static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m4, vec s, long double h, adaptive_result* a)
 {
 	fit_result jet, wq, wc;
-	int path = ref_path_seed, jet_ok = 0;
-	long double best = INFINITY, residual = INFINITY, slack = 0;
-	if (fit_twice(q, m2, s, 3, h, 0, &jet, borderline)) {
+	int jet_ok = 0, q_ok = 0, c_ok = 0;
+	long double best = INFINITY, slack = 0;
+	a->log_t = NAN;
+	a->borderline = a->t_borderline = 0;
+	if (fit_twice(q, m2, s, 3, h, 0, &jet, &a->borderline)) {
 		slack = fit_slack(jet.rcond);
 		jet_ok = 1;
-		*f = jet, path = ref_path_jet, residual = jet.residual;
-		*borderline |= fabsl(jet.residual - ADAPTIVE_JET_EXACT) < BORDER + slack;
+		a->borderline |= fabsl(jet.residual - ADAPTIVE_JET_EXACT) < BORDER + slack;
 		best = jet.residual <= ADAPTIVE_JET_EXACT ? 0 : gcv(jet.residual, effective_points(q, m2, h, 0), 10);
 	}
-	if (best > 0 && m4 > m1) {
-		vec axis = jet_ok ? jet.normal : s;
-		long double gauss = 0;
-		for (size_t i = 0; i < m4; i++)
-			gauss += vec_dot(q[i], q[i]) / (h * h);
-		gauss /= (long double)m4;
-		long double n = effective_points(q, m4, h, gauss);
-		if (fit_once(q, m4, axis, s, 2, h, gauss, slack, &wq, borderline)) {
-			long double g = gcv(wq.residual, n, 6);
-			*borderline |= near(g, best, slack + fit_slack(wq.rcond));
-			if (g < best)
-				best = g, *f = wq, path = ref_path_wide, residual = wq.residual;
-		}
-		if (fit_once(q, m4, axis, s, 3, h, gauss, slack, &wc, borderline)) {
-			long double g = gcv(wc.residual, n, 10);
-			*borderline |= near(g, ADAPTIVE_CUBIC * best, slack + fit_slack(wc.rcond) + fit_slack(f->rcond));
-			if (g < ADAPTIVE_CUBIC * best)
-				*f = wc, path = ref_path_wide, residual = wc.residual;
-		}
+	for (int k = 0; k < 2; k++) {
+		if (jet_ok)
+			outcome(&jet, ref_path_jet, 0, a, k);
+		else
+			a->path[k] = ref_path_seed;
 	}
-	if (path != ref_path_seed)
-		*borderline |= near(residual, ADAPTIVE_FIT_MAX, slack + fit_slack(f->rcond));
-	return residual <= ADAPTIVE_FIT_MAX ? path : ref_path_seed;
+	if (!(best > 0 && m4 > m1))
+		return;
+	vec axis = jet_ok ? jet.normal : s;
+	long double gauss = 0;
+	for (size_t i = 0; i < m4; i++)
+		gauss += vec_dot(q[i], q[i]) / (h * h);
+	gauss /= (long double)m4;
+	long double n = effective_points(q, m4, h, gauss);
+	int fit_border = 0;
+	q_ok = fit_once(q, m4, axis, s, 2, h, gauss, slack, &wq, &fit_border);
+	c_ok = fit_once(q, m4, axis, s, 3, h, gauss, slack, &wc, &fit_border);
+	a->borderline |= fit_border;
+	a->t_borderline |= fit_border;
+	for (int k = 0; k < 2 && (q_ok || c_ok); k++) {
+		int cubic = k ? c_ok : !q_ok;
+		const fit_result* w = cubic ? &wc : &wq;
+		long double g = gcv(w->residual, n, cubic ? 10 : 6);
+		a->borderline |= near(g, best, slack + fit_slack(w->rcond) + (jet_ok ? fit_slack(jet.rcond) : 0));
+		if (g < best)
+			outcome(w, ref_path_wide, slack, a, k);
+	}
+	if (q_ok && c_ok) {
+		long double d0 = wq.slope[0] - wc.slope[0], d1 = wq.slope[1] - wc.slope[1];
+		long double var = wc.swe / (long double)(wc.rows - 10) * (wc.vs - wq.vs);
+		long double t = (d0 * d0 + d1 * d1) / var;
+		a->log_t = !(var > 0) ? T_LOG_MAX : t > 0 ? fminl(fmaxl(logl(t), -T_LOG_MAX), T_LOG_MAX) : -T_LOG_MAX;
+		/* d and var are differences of the library's fits, each exact to
+		 * about fit_slack relative: T's error grows as d shrinks. */
+		a->t_borderline |= !(var > 0) || t == 0;
+	}
 }
+
+/* The slack in ADAPTIVE's mean log T: the fits' own relative error, over
+ * |d|^2 / (|d|^2 + var) as d shrinks, far above the measured differences. */
+#define T_SLACK 1e-6L
 
 /* QUADRIC, JET and ADAPTIVE: the MWA normal S as seed, and as fallback but
  * for ADAPTIVE, whose fallback is MWAAT. */
@@ -625,9 +702,12 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 	char* mark = checked_calloc(n, 1);
 	uint32_t* ring = checked_calloc(n, sizeof *ring);
 	vec* q = checked_calloc(n, sizeof *q);
+	adaptive_result* ad = method == ref_adaptive ? checked_calloc(n, sizeof *ad) : NULL;
 	for (size_t v = 0; v < n; v++) {
 		double* o = out + 3 * v;
 		vec s = load(o);
+		if (ad)
+			ad[v].log_t = NAN;
 		if (rough) { /* ADAPTIVE: MWAAT wherever no fit is taken */
 			memcpy(o, rough + 3 * v, 3 * sizeof *o);
 			cond[v] = rough[3 * n + v];
@@ -659,19 +739,17 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		}
 		for (size_t i = m1; i < m4; i++)
 			q[i] = vec_sub(position(t->positions, ring[i]), p);
-		fit_result f = {{0, 0, 0}, 0, 0, 0};
+		fit_result f = {.rows = 0};
 		int borderline = 0;
 		if (m1 && method == ref_adaptive)
-			path[v] = (unsigned char)adaptive_vertex(q, m1, m2, m4, s, h, &f, &borderline);
+			adaptive_vertex(q, m1, m2, m4, s, h, ad + v); /* chosen below */
 		else if (m1 && method == ref_jet && fit_twice(q, m2, s, 3, h, 0, &f, &borderline)) {
 			path[v] = ref_path_jet;
 		} else if (m1 && method != ref_adaptive && fit_twice(q, m1, s, 2, h, 0, &f, &borderline)) {
 			path[v] = ref_path_quadric;
 		}
 		if (path[v] != ref_path_seed) {
-			o[0] = (double)f.normal.x;
-			o[1] = (double)f.normal.y;
-			o[2] = (double)f.normal.z;
+			o_set(o, f.normal);
 			cond[v] = (double)f.rcond;
 		}
 		if (borderline)
@@ -680,6 +758,37 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 			mark[ring[i]] = 0;
 		mark[v] = 0;
 	}
+	/* ADAPTIVE: the cubic's outcome where the mean log T over the vertex and
+	 * its 1-ring (those that have one) is above log ADAPTIVE_T. */
+	for (size_t v = 0; ad && v < n; v++) {
+		if (path[v] == ref_path_zero || !ad[v].path[0])
+			continue; /* no fit was tried: the fallback, set above */
+		mark[v] = 1;
+		size_t m1 = add_ring(t, (uint32_t)v, mark, ring, 0), count = 0;
+		long double sum = 0;
+		int border = ad[v].t_borderline;
+		for (size_t i = 0; i <= m1; i++) {
+			const adaptive_result* a = ad + (i < m1 ? ring[i] : v);
+			border |= a->t_borderline;
+			if (!isnan(a->log_t))
+				sum += a->log_t, count++;
+			if (i < m1)
+				mark[ring[i]] = 0;
+		}
+		mark[v] = 0;
+		const adaptive_result* a = ad + v;
+		int k = count && sum > logl(ADAPTIVE_T) * (long double)count;
+		int differ = a->path[0] != a->path[1] || vec_dot(a->normal[0], a->normal[1]) != vec_dot(a->normal[0], a->normal[0]);
+		border |= count && fabsl(sum / (long double)count - logl(ADAPTIVE_T)) < T_SLACK;
+		path[v] = (unsigned char)a->path[k];
+		if (path[v] != ref_path_seed) {
+			o_set(out + 3 * v, a->normal[k]);
+			cond[v] = (double)a->rcond[k];
+		}
+		if (a->borderline || (differ && border))
+			path[v] |= ref_path_borderline;
+	}
+	free(ad);
 	free(rough);
 	free(q);
 	free(ring);
