@@ -110,8 +110,10 @@ void vn_fit_prepare(const vn_fit_points* p, double h)
 /* The normal equations are sums over the points of products of monomials,
  * so they are built from the weighted moments: s[d (d + 1) / 2 + j] =
  * sum w x^(d - j) y^j for degrees d <= 2 * degree (15 or 28 numbers instead
- * of 21 or 55 matrix entries) and t, the same with w z, for d <= degree. */
-enum { S_MAX = 28, T_MAX = 10, MOMENTS = S_MAX + T_MAX };
+ * of 21 or 55 matrix entries) and t, the same with w z, for d <= degree;
+ * with sum w z^2 (ZZ), they also give the residual without another pass:
+ * sum w e^2 = sum w z^2 - c . t at the solution (M c = t). */
+enum { S_MAX = 28, T_MAX = 10, ZZ = S_MAX + T_MAX, MOMENTS = ZZ + 1 };
 
 /* The moment of each entry of the normal matrix: the product of monomials
  * i and l (1, x, y, x^2, xy, y^2, x^3, x^2 y, x y^2, y^3; monomial i is
@@ -125,12 +127,13 @@ static const unsigned char MOMENT[10][10] = {
 };
 
 /* LANES fits: frames (t1, t2, a), coefficients c, unit normals n, the
- * slopes' variance factor vs = (M^-1)_11 + (M^-1)_22, and whether each
+ * slopes' variance factor vs = (M^-1)_11 + (M^-1)_22, the weighted RMS
+ * residual res over h (the vertex included), and whether each
  * succeeded. */
 typedef double lanes __attribute__((vector_size(LANES * sizeof(double))));
 typedef long long masks __attribute__((vector_size(LANES * sizeof(long long))));
 typedef struct fits {
-	lanes t1[3], t2[3], a[3], c[10], n[3], vs;
+	lanes t1[3], t2[3], a[3], c[10], n[3], vs, res;
 	int ok[LANES];
 } fits;
 
@@ -147,6 +150,7 @@ VN_INLINE void moments_block(const double* X, const double* Y, const double* Z, 
 	const lanes wx = w * x, wy = w * y, xx = x * x, xy = x * y, yy = y * y;
 	const lanes wxx = wx * x, wxy = wx * y, wyy = wy * y, wz = w * z;
 	acc[0] += w, acc[1] += wx, acc[2] += wy, acc[3] += wxx, acc[4] += wxy, acc[5] += wyy;
+	acc[ZZ] += wz * z;
 	acc[S_MAX] += wz, acc[S_MAX + 1] += wz * x, acc[S_MAX + 2] += wz * y;
 	acc[S_MAX + 3] += wz * xx, acc[S_MAX + 4] += wz * xy, acc[S_MAX + 5] += wz * yy;
 	if (!cubic) {
@@ -166,8 +170,10 @@ VN_INLINE void moments_block(const double* X, const double* Y, const double* Z, 
 }
 
 /* The moments of lane `to`'s points in its frame, into s[.][to] (the
- * vertex itself, the origin with weight 1, included) and t[.][to]. */
-VN_INLINE void moments(const vn_fit_points* p, const fits* f, unsigned to, int cubic, lanes s[S_MAX], lanes t[T_MAX])
+ * vertex itself, the origin with weight 1, included), t[.][to] and
+ * zz[to]. */
+VN_INLINE void moments(const vn_fit_points* p, const fits* f, unsigned to, int cubic, lanes s[S_MAX], lanes t[T_MAX],
+                       lanes* zz)
 {
 	const int ns = cubic ? S_MAX : 15, nt = cubic ? T_MAX : 6;
 	const lanes zero = {0.0, 0.0, 0.0, 0.0};
@@ -176,6 +182,7 @@ VN_INLINE void moments(const vn_fit_points* p, const fits* f, unsigned to, int c
 		acc[q] = zero;
 	UNROLL for (int q = 0; q < nt; ++q)
 		acc[S_MAX + q] = zero;
+	acc[ZZ] = zero;
 	uint32_t i = 0;
 	for (; i + LANES <= p->m; i += LANES)
 		moments_block(p->x + i, p->y + i, p->z + i, p->w + i, f, to, cubic, acc);
@@ -190,6 +197,7 @@ VN_INLINE void moments(const vn_fit_points* p, const fits* f, unsigned to, int c
 		s[q][to] = (acc[q][0] + acc[q][1]) + (acc[q][2] + acc[q][3]);
 	UNROLL for (int q = 0; q < nt; ++q)
 		t[q][to] = (acc[S_MAX + q][0] + acc[S_MAX + q][1]) + (acc[S_MAX + q][2] + acc[S_MAX + q][3]);
+	(*zz)[to] = (acc[ZZ][0] + acc[ZZ][1]) + (acc[ZZ][2] + acc[ZZ][3]);
 	s[0][to] += 1.0;
 }
 
@@ -197,11 +205,12 @@ VN_INLINE void moments(const vn_fit_points* p, const fits* f, unsigned to, int c
  * by LDL^T with reciprocal pivots; a lane fails when a pivot of its M scaled
  * to unit diagonal (D_j / M_jj) is below PIVOT_MIN (some monomial is, to
  * 1e-4 in the weighted norm, a combination of the others) or its
- * reciprocal condition is below RCOND_MIN. Inlined with k a constant, so
- * the loops unroll. */
-VN_INLINE void solve(const lanes s[S_MAX], lanes t[T_MAX], int k, fits* f)
+ * reciprocal condition is below RCOND_MIN. zz is sum w z^2, for the
+ * residual. Inlined with k a constant, so the loops unroll. */
+VN_INLINE void solve(const lanes s[S_MAX], const lanes t_in[T_MAX], lanes zz, int k, fits* f)
 {
-	lanes L[10][10], U[10][10], inv[10];
+	lanes L[10][10], U[10][10], inv[10], t[10];
+	memcpy(t, t_in, sizeof(lanes) * (size_t)k);
 	const lanes one = {1.0, 1.0, 1.0, 1.0};
 	UNROLL for (int j = 0; j < k; ++j) {
 		lanes d = s[MOMENT[j][j]];
@@ -249,8 +258,15 @@ VN_INLINE void solve(const lanes s[S_MAX], lanes t[T_MAX], int k, fits* f)
 		UNROLL for (int p = i + 1; p < k; ++p)
 			f->c[i] -= L[p][i] * f->c[p];
 	}
-	UNROLL for (int i = k; i < 10; ++i) /* fit_residual's cubic terms */
+	UNROLL for (int i = k; i < 10; ++i) /* a quadric's cubic terms */
 		f->c[i] = one - one;
+	/* sum w e^2 = sum w z^2 - c . t: its rounding error is about eps sum w
+	 * z^2, far below any residual ADAPTIVE compares (clamped at 0). */
+	lanes e2 = zz;
+	UNROLL for (int i = 0; i < k; ++i)
+		e2 -= f->c[i] * t_in[i];
+	UNROLL for (int l = 0; l < LANES; ++l) /* s[0] = sum w >= 1 where the lane is active */
+		f->res[l] = e2[l] > 0.0 && s[0][l] > 0.0 ? sqrt(e2[l] / s[0][l]) : 0.0;
 }
 
 /* The unit normal of each lane's fit, or ok cleared. */
@@ -283,27 +299,26 @@ VN_INLINE void fit_lanes(const vn_fit_points p[LANES], const int act[LANES], lan
 		f->a[0][l] = x, f->a[1][l] = y, f->a[2][l] = z;
 		f->ok[l] = act[l] && p[l].m + 1 >= (uint32_t)k;
 	}
-	lanes s[S_MAX], t[T_MAX];
+	lanes s[S_MAX], t[T_MAX], zz;
 	for (unsigned l = 0; l < LANES; ++l) {
 		if (f->ok[l])
-			moments(p + l, f, l, kind != 0, s, t);
+			moments(p + l, f, l, kind != 0, s, t, &zz);
 		else { /* zero: fails the first pivot */
 			UNROLL for (int q = 0; q < S_MAX; ++q)
 				s[q][l] = 0.0;
 			UNROLL for (int q = 0; q < T_MAX; ++q)
 				t[q][l] = 0.0;
+			zz[l] = 0.0;
 		}
 	}
 	if (kind == 2) {
-		lanes t3[T_MAX];
-		memcpy(t3, t, sizeof(t3));
 		memcpy(f[1].t1, f->t1, sizeof(f->t1)), memcpy(f[1].t2, f->t2, sizeof(f->t2)), memcpy(f[1].a, f->a, sizeof(f->a));
 		UNROLL for (int l = 0; l < LANES; ++l)
 			f[1].ok[l] = f->ok[l] && p[l].m + 1 >= 10;
-		solve(s, t3, 10, f + 1);
+		solve(s, t, zz, 10, f + 1);
 		fit_normals(f + 1);
 	}
-	solve(s, t, k, f);
+	solve(s, t, zz, k, f);
 	fit_normals(f);
 }
 
@@ -356,37 +371,16 @@ static fit_fn fit_kernel(int kind, int simd)
 }
 #endif
 
-/* The weighted RMS residual, over h, of lane l's fit over p and the vertex. */
-static double fit_residual(const vn_fit_points* p, const fits* f, unsigned l)
-{
-	double c[10];
-	for (int i = 0; i < 10; ++i)
-		c[i] = f->c[i][l];
-	double sw = 1.0, swr = c[0] * c[0];
-	for (uint32_t i = 0; i < p->m; ++i) {
-		const double X = p->x[i], Y = p->y[i], Z = p->z[i];
-		const double x = X * f->t1[0][l] + Y * f->t1[1][l] + Z * f->t1[2][l];
-		const double y = X * f->t2[0][l] + Y * f->t2[1][l] + Z * f->t2[2][l];
-		const double z = X * f->a[0][l] + Y * f->a[1][l] + Z * f->a[2][l];
-		const double xx = x * x, xy = x * y, yy = y * y;
-		const double e = z - (c[0] + c[1] * x + c[2] * y + c[3] * xx + c[4] * xy + c[5] * yy +
-		                      (c[6] * xx * x + c[7] * xx * y + c[8] * x * yy + c[9] * yy * y));
-		sw += p->w[i], swr += p->w[i] * e * e;
-	}
-	return sqrt(swr / sw);
-}
-
 /* Lane l of fit r, if it succeeded within 60 degrees of the seed: its
  * normal into n and, when res is not NULL, its residual; returns whether. */
-static int take(const vn_fit_points* p, const fits* r, int first_ok, unsigned l, const double* seed, double n[3],
-                double* res)
+static int take(const fits* r, int first_ok, unsigned l, const double* seed, double n[3], double* res)
 {
 	if (!(first_ok && r->n[0][l] * seed[0] + r->n[1][l] * seed[1] + r->n[2][l] * seed[2] >= SEED_COS_MIN))
 		return 0;
 	for (int d = 0; d < 3; ++d)
 		n[d] = r->n[d][l];
 	if (res)
-		*res = fit_residual(p, r, l);
+		*res = r->res[l];
 	return 1;
 }
 
@@ -406,7 +400,7 @@ static void fit_twice(const vn_fit_points p[LANES], const int act[LANES], const 
 	fit(p, act, a, f);
 	fit(p, f[0].ok, f[0].n, f + 1);
 	for (unsigned l = 0; l < LANES; ++l)
-		ok[l] = take(p + l, f[1].ok[l] ? f + 1 : f, f[0].ok[l], l, seed[l], n[l], res ? res + l : NULL);
+		ok[l] = take(f[1].ok[l] ? f + 1 : f, f[0].ok[l], l, seed[l], n[l], res ? res + l : NULL);
 }
 
 int vn_fit_frame(const vn_fit_points* p, const double a[3], int degree, double n[3], double* residual)
@@ -423,7 +417,7 @@ int vn_fit_frame(const vn_fit_points* p, const double a[3], int degree, double n
 	for (int d = 0; d < 3; ++d)
 		n[d] = f.n[d][0];
 	if (residual)
-		*residual = fit_residual(p, &f, 0);
+		*residual = f.res[0];
 	return 1;
 }
 
@@ -743,8 +737,8 @@ static void adaptive_lanes(const fit_job* j, vn_fit_points p[LANES], const int a
 			continue;
 		double* out = j->pick + 7 * (size_t)(v0 + l);
 		double q[3], rq = 0.0, c[3], rc = 0.0;
-		const int okq = take(p + l, w, w[0].ok[l], l, seed[l], q, &rq);
-		const int okc = take(p + l, w + 1, w[1].ok[l], l, seed[l], c, &rc);
+		const int okq = take(w, w[0].ok[l], l, seed[l], q, &rq);
+		const int okc = take(w + 1, w[1].ok[l], l, seed[l], c, &rc);
 		if (!okq && !okc)
 			continue;
 		for (int k = 0; k < 2; ++k) { /* k 0: the quadric's outcome, 1: the cubic's */

@@ -244,7 +244,9 @@ static void check_exact(double (*f)(double, double), int degree, int ring, uint3
 			/* central differences are exact to rounding on these polynomials up to e^2 f''' */
 			const double len = sqrt(fx * fx + fy * fy + 1);
 			assert_vec(n, -fx / len, -fy / len, 1 / len, 1e-9);
-			assert_true(res < 1e-12);
+			/* The residual comes from the moments (sum w z^2 - c . t), so
+			 * an exact fit's is rounding: about sqrt(eps) of the RMS z. */
+			assert_true(res < 1e-7);
 			++checked;
 		}
 	assert_int_equal(checked, (GRID - 4) * (GRID - 4));
