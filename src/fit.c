@@ -207,7 +207,7 @@ VN_INLINE void moments(const vn_fit_points* p, const fits* f, unsigned to, int c
  * 1e-4 in the weighted norm, a combination of the others) or its
  * reciprocal condition is below RCOND_MIN. zz is sum w z^2, for the
  * residual. Inlined with k a constant, so the loops unroll. */
-VN_INLINE void solve(const lanes s[S_MAX], const lanes t_in[T_MAX], lanes zz, int k, fits* f)
+VN_INLINE void solve(const lanes s[S_MAX], const lanes t_in[T_MAX], const lanes* zz, int k, fits* f)
 {
 	lanes L[10][10], U[10][10], inv[10], t[10];
 	memcpy(t, t_in, sizeof(lanes) * (size_t)k);
@@ -262,7 +262,7 @@ VN_INLINE void solve(const lanes s[S_MAX], const lanes t_in[T_MAX], lanes zz, in
 		f->c[i] = one - one;
 	/* sum w e^2 = sum w z^2 - c . t: its rounding error is about eps sum w
 	 * z^2, far below any residual ADAPTIVE compares (clamped at 0). */
-	lanes e2 = zz;
+	lanes e2 = *zz;
 	UNROLL for (int i = 0; i < k; ++i)
 		e2 -= f->c[i] * t_in[i];
 	UNROLL for (int l = 0; l < LANES; ++l) /* s[0] = sum w >= 1 where the lane is active */
@@ -315,10 +315,10 @@ VN_INLINE void fit_lanes(const vn_fit_points p[LANES], const int act[LANES], lan
 		memcpy(f[1].t1, f->t1, sizeof(f->t1)), memcpy(f[1].t2, f->t2, sizeof(f->t2)), memcpy(f[1].a, f->a, sizeof(f->a));
 		UNROLL for (int l = 0; l < LANES; ++l)
 			f[1].ok[l] = f->ok[l] && p[l].m + 1 >= 10;
-		solve(s, t, zz, 10, f + 1);
+		solve(s, t, &zz, 10, f + 1);
 		fit_normals(f + 1);
 	}
-	solve(s, t, zz, k, f);
+	solve(s, t, &zz, k, f);
 	fit_normals(f);
 }
 
