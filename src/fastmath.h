@@ -57,8 +57,10 @@ VN_INLINE double vn_atan2_nonneg(double y, double x)
 
 /* The float32 corner angle of the per-frame plans (plan.c): Cephes' atanf
  * (reduction to |t| <= tan(pi/8) by (t - 1) / (t + 1), a degree-9 odd
- * polynomial), within 3e-7 rad (about two float ulps at pi) of atan2 over
- * [0, pi] (tests/test_plan.c checks the bound); float arithmetic throughout. */
+ * polynomial evaluated with fused multiply-adds), within 3e-7 rad (about
+ * two float ulps at pi) of atan2 over [0, pi] (tests/test_plan.c checks the
+ * bound); float arithmetic throughout. fmaf and the AVX2 kernel's fused
+ * operations round once each, so both give the same bits. */
 #define VN_ATANF_P0 8.05374449538e-2f
 #define VN_ATANF_P1 -1.38776856032e-1f
 #define VN_ATANF_P2 1.99777106478e-1f
@@ -73,8 +75,8 @@ VN_INLINE float vn_atan2f_nonneg(float y, float x)
 	const int big = num > 0.41421356f * den;
 	const float t = big ? (num - den) / (num + den) : num / den;
 	const float z = t * t;
-	const float p = ((VN_ATANF_P0 * z + VN_ATANF_P1) * z + VN_ATANF_P2) * z + VN_ATANF_P3;
-	float a = p * z * t + t;
+	const float p = fmaf(fmaf(fmaf(VN_ATANF_P0, z, VN_ATANF_P1), z, VN_ATANF_P2), z, VN_ATANF_P3);
+	float a = fmaf(p * z, t, t);
 	a = big ? (float)VN_PI_4 + a : a;
 	a = den > 0.0f ? a : 0.0f;
 	a = steep ? (float)VN_PI_2 - a : a;
@@ -83,7 +85,7 @@ VN_INLINE float vn_atan2f_nonneg(float y, float x)
 
 #ifdef VN_HAVE_AVX2
 /* vn_atan2f_nonneg on eight lanes, with the same operations. */
-VN_AVX2_INLINE __m256 vn_atan2f_nonneg8(__m256 y, __m256 x)
+VN_AVX2_FMA_INLINE __m256 vn_atan2f_nonneg8(__m256 y, __m256 x)
 {
 #define C(v) _mm256_set1_ps(v)
 	const __m256 zero = _mm256_setzero_ps();
@@ -94,10 +96,10 @@ VN_AVX2_INLINE __m256 vn_atan2f_nonneg8(__m256 y, __m256 x)
 	const __m256 t = _mm256_div_ps(_mm256_blendv_ps(num, _mm256_sub_ps(num, den), big),
 	                               _mm256_blendv_ps(den, _mm256_add_ps(num, den), big));
 	const __m256 z = _mm256_mul_ps(t, t);
-	__m256 p = _mm256_add_ps(_mm256_mul_ps(C(VN_ATANF_P0), z), C(VN_ATANF_P1));
-	p = _mm256_add_ps(_mm256_mul_ps(p, z), C(VN_ATANF_P2));
-	p = _mm256_add_ps(_mm256_mul_ps(p, z), C(VN_ATANF_P3));
-	__m256 a = _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(p, z), t), t);
+	__m256 p = _mm256_fmadd_ps(C(VN_ATANF_P0), z, C(VN_ATANF_P1));
+	p = _mm256_fmadd_ps(p, z, C(VN_ATANF_P2));
+	p = _mm256_fmadd_ps(p, z, C(VN_ATANF_P3));
+	__m256 a = _mm256_fmadd_ps(_mm256_mul_ps(p, z), t, t);
 	a = _mm256_blendv_ps(a, _mm256_add_ps(C((float)VN_PI_4), a), big);
 	a = _mm256_blendv_ps(zero, a, _mm256_cmp_ps(den, zero, _CMP_GT_OQ));
 	a = _mm256_blendv_ps(a, _mm256_sub_ps(C((float)VN_PI_2), a), steep);
