@@ -52,6 +52,12 @@ struct vn_plan {
 	size_t face_count, index_count;
 	uint32_t* indices;
 	uint32_t* offsets; /* NULL for triangles */
+	/* For the gather's position loads (one instruction fewer than index
+	 * times stride): indices[i] * words_stride / 4, the position's offset
+	 * in 4-byte words for that stride (0: none yet); made for packed
+	 * float32 at create, again for another stride when a call brings one. */
+	uint32_t* words;
+	size_t words_stride;
 	int gather;        /* triangles with the corner table below */
 	int simd;
 	unsigned workers;
@@ -90,7 +96,8 @@ struct vn_plan {
 /* One vn_plan_normals call on the gather path, shared by its workers. */
 typedef struct pass {
 	const vn_plan* plan;
-	vn_work reader; /* positions */
+	vn_work reader;        /* positions */
+	const uint32_t* words; /* plan->words for the positions' stride, or NULL */
 	vn_method method;
 	const vn_vectors* out;
 	int want_stats;
@@ -270,18 +277,23 @@ VN_INLINE int lanes_to_rows(int lanes)
 	return r;
 }
 
-/* face_float on the eight faces idx[0..24), corners at dst (32-byte
- * aligned) as there; returns the mask of the faces that must take the
- * fallback. */
-VN_AVX2_FMA_INLINE int faces_float8(const vn_work* w, vn_method method, const uint32_t* idx, float* dst, size_t plane)
+/* face_float on the eight faces idx[0..24) (positions at words[0..24) when
+ * not NULL), corners at dst (32-byte aligned) as there; returns the mask of
+ * the faces that must take the fallback. */
+VN_AVX2_FMA_INLINE int faces_float8(const vn_work* w, vn_method method, const uint32_t* idx, const uint32_t* words,
+                                    float* dst, size_t plane)
 {
 	const unsigned char* base = w->positions;
 	const size_t s = w->stride;
 	__m256 px[3], py[3], pz[3];
 	for (int c = 0; c < 3; ++c) {
 		__m128 v[8];
-		for (int j = 0; j < 8; ++j)
-			v[j] = _mm_loadu_ps((const float*)(base + idx[3 * j + c] * s));
+		if (words)
+			for (int j = 0; j < 8; ++j)
+				v[j] = _mm_loadu_ps((const float*)(base + 4 * (size_t)words[3 * j + c]));
+		else
+			for (int j = 0; j < 8; ++j)
+				v[j] = _mm_loadu_ps((const float*)(base + idx[3 * j + c] * s));
 		transpose8(v, &px[c], &py[c], &pz[c]);
 	}
 	__m256 e[3][3]; /* e[k] runs from corner k to the next */
@@ -337,11 +349,16 @@ VN_AVX2_FMA_INLINE int faces_float8(const vn_work* w, vn_method method, const ui
 		break;
 	}
 	}
+	/* face_float's test. Without a denominator (MWE, MWA, MWAAT) its other
+	 * terms hold whenever l2's do: the weights are then at most pi times
+	 * 1 / sqrt(FLT_MIN). */
 	const __m256 lo = _mm256_set1_ps(FLT_MIN), hi = _mm256_set1_ps(FLT_MAX);
 	__m256 ok = _mm256_and_ps(_mm256_cmp_ps(l2, lo, _CMP_GE_OQ), _mm256_cmp_ps(l2, hi, _CMP_LE_OQ));
-	ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(den, lo, _CMP_GE_OQ), _mm256_cmp_ps(den, hi, _CMP_LE_OQ)));
-	for (int k = 0; k < 3; ++k)
-		ok = _mm256_and_ps(ok, _mm256_cmp_ps(wt[k], hi, _CMP_LE_OQ));
+	if (method == vn_method_mwselr || method == vn_method_mwelr || method == vn_method_mwrelr) {
+		ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(den, lo, _CMP_GE_OQ), _mm256_cmp_ps(den, hi, _CMP_LE_OQ)));
+		for (int k = 0; k < 3; ++k)
+			ok = _mm256_and_ps(ok, _mm256_cmp_ps(wt[k], hi, _CMP_LE_OQ));
+	}
 
 	const __m256 zero = _mm256_setzero_ps();
 	for (int k = 0; k < 3; ++k) {
@@ -350,13 +367,15 @@ VN_AVX2_FMA_INLINE int faces_float8(const vn_work* w, vn_method method, const ui
 		for (int p = 0; p < 4; ++p)
 			_mm256_store_ps(dst + k * plane + 8 * p, r[p]);
 	}
-	return lanes_to_rows(~_mm256_movemask_ps(ok) & 0xff);
+	const int bad = ~_mm256_movemask_ps(ok) & 0xff;
+	return bad ? lanes_to_rows(bad) : 0;
 }
 
-/* faces_float on AVX2, eight faces a step. Unless checked is 0, a step
- * with the last vertex takes faces_float: the 16-byte loads read past its z. */
-VN_AVX2_FMA_INLINE size_t faces_float_avx2(const vn_work* w, vn_method method, const uint32_t* idx, size_t n,
-                                           float* dst, size_t plane, int checked)
+/* faces_float on AVX2, eight faces a step (positions at words when not
+ * NULL). Unless checked is 0, a step with the last vertex takes
+ * faces_float: the 16-byte loads read past its z. */
+VN_AVX2_FMA_INLINE size_t faces_float_avx2(const vn_work* w, vn_method method, const uint32_t* idx,
+                                           const uint32_t* words, size_t n, float* dst, size_t plane, int checked)
 {
 	const uint32_t last = w->vertex_count - 1;
 	const vn_range all = {0, 0, 1};
@@ -368,7 +387,7 @@ VN_AVX2_FMA_INLINE size_t faces_float_avx2(const vn_work* w, vn_method method, c
 			degenerate += faces_float(w, method, i, 8, d, plane);
 			continue;
 		}
-		int redo = faces_float8(w, method, i, d, plane);
+		int redo = faces_float8(w, method, i, words ? words + 3 * f : NULL, d, plane);
 		while (redo) {
 			const int j = __builtin_ctz((unsigned)redo);
 			redo &= redo - 1;
@@ -420,11 +439,11 @@ static size_t face_range_scalar(const pass* p, const uint32_t* idx, size_t n, fl
 }
 
 #ifdef VN_HAVE_AVX2
-static VN_AVX2_FMA size_t face_range_avx2(const pass* p, const uint32_t* idx, size_t n, float* dst, size_t plane,
-                                          int checked)
+static VN_AVX2_FMA size_t face_range_avx2(const pass* p, const uint32_t* idx, const uint32_t* words, size_t n,
+                                          float* dst, size_t plane, int checked)
 {
 	size_t d = 0;
-	WITH_METHOD(p->method, d = faces_float_avx2(&p->reader, m, idx, n, dst, plane, checked))
+	WITH_METHOD(p->method, d = faces_float_avx2(&p->reader, m, idx, words, n, dst, plane, checked))
 	return d;
 }
 #endif
@@ -537,7 +556,7 @@ static VN_AVX2_FMA size_t vertices_float_avx2(const pass* p, const float* record
 	const vn_plan* plan = p->plan;
 	unsigned char* const out = (unsigned char*)p->out->data;
 	const size_t os = p->out->stride;
-	const int f32 = p->out->type == vn_scalar_float32;
+	const int f32 = p->out->type == vn_scalar_float32, packed = f32 && os == 3 * sizeof(float);
 	size_t zero = 0, i = 0;
 	for (; i + 8 <= n; i += 8) {
 		const uint32_t* vs = list + i;
@@ -570,6 +589,20 @@ static VN_AVX2_FMA size_t vertices_float_avx2(const pass* p, const float* record
 		const __m256 inv = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_sqrt_ps(len2));
 		__m256 r[4];
 		rows(_mm256_mul_ps(x, inv), _mm256_mul_ps(y, inv), _mm256_mul_ps(z, inv), z, r);
+		if (packed && vs[7] - vs[0] == 7) {
+			/* Eight consecutive vertices (lists ascend): 16-byte stores in
+			 * order, each fourth float overwritten by the next vertex's x,
+			 * the last one exact. */
+			unsigned char* dst = out + (size_t)vs[0] * 12;
+			for (int j = 0; j < 7; ++j)
+				_mm_storeu_ps((float*)(dst + 12 * j),
+				              j & 1 ? _mm256_extractf128_ps(r[j / 2], 1) : _mm256_castps256_ps128(r[j / 2]));
+			const __m128 row = _mm256_extractf128_ps(r[3], 1);
+			const int zbits = _mm_extract_ps(row, 2);
+			_mm_storel_pi((__m64*)(dst + 84), row);
+			memcpy(dst + 92, &zbits, 4);
+			continue;
+		}
 		for (int j = 0; j < 8; ++j) {
 			const __m128 row = j & 1 ? _mm256_extractf128_ps(r[j / 2], 1) : _mm256_castps256_ps128(r[j / 2]);
 			unsigned char* dst = out + (size_t)vs[j] * os;
@@ -588,11 +621,13 @@ static VN_AVX2_FMA size_t vertices_float_avx2(const pass* p, const float* record
 }
 #endif
 
-static size_t face_range(const pass* p, const uint32_t* idx, size_t n, float* dst, size_t plane, int checked)
+/* Faces first .. first + n into the planes at dst. */
+static size_t face_range(const pass* p, size_t first, size_t n, float* dst, size_t plane, int checked)
 {
+	const uint32_t* idx = p->plan->indices + 3 * first;
 #ifdef VN_HAVE_AVX2
 	if (p->plan->simd)
-		return face_range_avx2(p, idx, n, dst, plane, checked);
+		return face_range_avx2(p, idx, p->words ? p->words + 3 * first : NULL, n, dst, plane, checked);
 #endif
 	(void)checked;
 	return face_range_scalar(p, idx, n, dst, plane);
@@ -627,8 +662,7 @@ static void chunk_pass(void* ctx, unsigned t)
 	for (uint32_t k = plan->base[t], at = 0; k < plan->base[t + 1]; ++k, f0 += CHUNK, at += CHUNK) {
 		const size_t n = f1 - f0 < CHUNK ? f1 - f0 : CHUNK;
 		at = at == plan->ring_faces ? 0 : at;
-		degenerate += face_range(p, plan->indices + 3 * f0, n, ring + CORNER(at), plane,
-		                         short_stride && plan->last_in_chunk[k]);
+		degenerate += face_range(p, f0, n, ring + CORNER(at), plane, short_stride && plan->last_in_chunk[k]);
 		for (uint32_t e = plan->far_start[k]; e < plan->far_start[k + 1]; ++e)
 			memcpy(far + CORNER(plan->far_to[e]), ring + CORNER(plan->far_from[e]), 4 * sizeof(float));
 		zero += vertex_list(p, ring, 0, plan->start[k], plan->start[k + 1] - plan->start[k]);
@@ -782,6 +816,23 @@ static void corner_table(vn_plan* plan, build* b)
 		plan->far_start[next++] = e;
 }
 
+/* Whether the gather's loads may take plan->words for the stride, made
+ * first when they are for another: not when the stride is no multiple of
+ * 4 bytes, nor when the last position's 16-byte load ends beyond 2^32
+ * words (such loads multiply index by stride). */
+static int words_for(vn_plan* plan, size_t stride)
+{
+	if (stride % 4 || (uint64_t)plan->vertex_count * (stride / 4) + 4 > UINT32_MAX)
+		return 0;
+	if (plan->words_stride != stride) {
+		const uint32_t k = (uint32_t)(stride / 4);
+		for (size_t i = 0; i < plan->index_count; ++i)
+			plan->words[i] = plan->indices[i] * k;
+		plan->words_stride = stride;
+	}
+	return 1;
+}
+
 vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
                          size_t vertex_count, const vn_options* options, vn_plan** out)
 {
@@ -870,13 +921,14 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 	work = work > record_bytes ? work : record_bytes;
 	const size_t head = round64(sizeof(vn_plan));
 	const size_t idx_bytes = round64(sizeof(uint32_t) * ni);
+	const size_t word_bytes = gather ? idx_bytes : 0;
 	const size_t off_bytes = face_offsets ? round64(sizeof(uint32_t) * (face_count + 1)) : 0;
 	const size_t slot_bytes = gather ? round64(sizeof(uint32_t) * SLOTS * (size_t)nv) : 0;
 	const size_t over_bytes = round64(sizeof(uint32_t) * (2 * over_count + 1 + over_codes));
 	const size_t order_bytes = gather ? round64(sizeof(uint32_t) * ((size_t)nv + chunks + 2)) : 0;
 	const size_t far_bytes = gather ? round64(sizeof(uint32_t) * (chunks + 1 + 2 * far)) + round64(chunks) : 0;
 	const size_t total =
-	    head + idx_bytes + off_bytes + slot_bytes + over_bytes + order_bytes + far_bytes + round64(work) + 64;
+	    head + idx_bytes + word_bytes + off_bytes + slot_bytes + over_bytes + order_bytes + far_bytes + round64(work) + 64;
 	unsigned char* block = (unsigned char*)heap.allocate(heap.user, total);
 	if (!block) {
 		if (b.count)
@@ -897,6 +949,8 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 	if (ni)
 		memcpy(plan->indices, indices, sizeof(uint32_t) * ni);
 	at += idx_bytes;
+	plan->words = (uint32_t*)at;
+	at += word_bytes;
 	if (face_offsets) {
 		plan->offsets = (uint32_t*)at;
 		memcpy(plan->offsets, face_offsets, sizeof(uint32_t) * (face_count + 1));
@@ -929,6 +983,7 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 		schedule(plan, &b);
 		corner_table(plan, &b);
 		heap.deallocate(heap.user, b.count);
+		words_for(plan, 3 * sizeof(float)); /* packed float32, the common layout */
 	}
 	*out = plan;
 	return vn_result_success;
@@ -972,6 +1027,7 @@ vn_result vn_plan_normals(vn_plan* plan, const vn_positions* positions, vn_metho
 	pass p;
 	p.plan = plan;
 	p.reader = vn_position_reader(positions, stride);
+	p.words = words_for(plan, stride) ? plan->words : NULL;
 	p.method = method;
 	p.out = &out;
 	p.want_stats = stats != NULL;

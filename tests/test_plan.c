@@ -300,9 +300,10 @@ static void overflow_beyond_eight_corners(void** state)
 
 /* ---------------------------------------------------------------- layouts */
 
-/* An interleaved float32 vertex buffer (position, uv, colour: 36 bytes) in,
- * normals into an interleaved 28-byte output, and float64 in / float32 out:
- * the same values as packed arrays. */
+/* Interleaved float32 vertex buffers (position, uv, colour: 36 bytes; and
+ * 38, whose positions are not 4-byte aligned) in, normals into an
+ * interleaved 28-byte output, and float64 in / float32 out: the same values
+ * as packed arrays, also from one plan that sees the strides in turn. */
 static void strides_and_types(void** state)
 {
 	(void)state;
@@ -313,32 +314,45 @@ static void strides_and_types(void** state)
 	const float* packed = g.pos32;
 	float* a = (float*)g.a;
 	double* d = g.b;
-	unsigned char* inter = (unsigned char*)malloc(36 * nv);
+	unsigned char* inter = (unsigned char*)malloc(38 * nv);
 	unsigned char* b = (unsigned char*)malloc(28 * nv);
-	memset(inter, 0x7f, 36 * nv);
-	for (size_t v = 0; v < nv; ++v)
-		memcpy(inter + 36 * v, packed + 3 * v, 12);
-	const vn_positions pp = {packed, nv, 0, vn_scalar_float32}, pi = {inter, nv, 36, vn_scalar_float32};
-	const vn_positions pd = {pos, nv, 0, vn_scalar_float64};
+	const vn_positions pp = {packed, nv, 0, vn_scalar_float32}, pd = {pos, nv, 0, vn_scalar_float64};
 	const vn_vectors oa = {a, 0, vn_scalar_float32}, ob = {b, 28, vn_scalar_float32}, od = {d, 0, vn_scalar_float64};
-	for (unsigned m = 0; m < 6; ++m) {
-		assert_int_equal(plan_tri(&pp, idx, ni / 3, (vn_method)m, NULL, &oa, NULL), vn_result_success);
-		memset(b, 0x55, 28 * nv);
-		assert_int_equal(plan_tri(&pi, idx, ni / 3, (vn_method)m, NULL, &ob, NULL), vn_result_success);
-		for (size_t v = 0; v < nv; ++v) {
-			assert_memory_equal(b + 28 * v, a + 3 * v, 12);
-			assert_int_equal(b[28 * v + 12], 0x55); /* the rest of the element untouched */
-		}
-		/* float32 positions, float64 output: the float results widened */
-		assert_int_equal(plan_tri(&pi, idx, ni / 3, (vn_method)m, NULL, &od, NULL), vn_result_success);
-		for (size_t i = 0; i < 3 * nv; ++i)
-			assert_true(d[i] == (double)a[i]);
-		/* float64 positions, float32 output: vn_triangle_normals' bits */
-		assert_int_equal(vn_triangle_normals(&oa, &pd, idx, ni, (vn_method)m, NULL, NULL), vn_result_success);
-		assert_int_equal(plan_tri(&pd, idx, ni / 3, (vn_method)m, NULL, &ob, NULL), vn_result_success);
+	vn_plan* plan = NULL;
+	assert_int_equal(vn_plan_create(idx, NULL, ni / 3, nv, NULL, &plan), vn_result_success);
+	for (size_t stride = 36; stride <= 38; stride += 2) {
+		memset(inter, 0x7f, 38 * nv);
 		for (size_t v = 0; v < nv; ++v)
-			assert_memory_equal(b + 28 * v, a + 3 * v, 12);
+			memcpy(inter + stride * v, packed + 3 * v, 12);
+		const vn_positions pi = {inter, nv, stride, vn_scalar_float32};
+		for (unsigned m = 0; m < 6; ++m) {
+			assert_int_equal(plan_tri(&pp, idx, ni / 3, (vn_method)m, NULL, &oa, NULL), vn_result_success);
+			for (int again = 0; again < 2; ++again) {
+				memset(b, 0x55, 28 * nv);
+				assert_int_equal(again ? vn_plan_normals(plan, &pi, (vn_method)m, &ob, NULL)
+				                       : plan_tri(&pi, idx, ni / 3, (vn_method)m, NULL, &ob, NULL),
+				                 vn_result_success);
+				for (size_t v = 0; v < nv; ++v) {
+					assert_memory_equal(b + 28 * v, a + 3 * v, 12);
+					assert_int_equal(b[28 * v + 12], 0x55); /* the rest of the element untouched */
+				}
+			}
+			memset(d, 0, sizeof(float) * 3 * nv);
+			assert_int_equal(vn_plan_normals(plan, &pp, (vn_method)m, &(vn_vectors){d, 0, vn_scalar_float32}, NULL),
+			                 vn_result_success);
+			assert_memory_equal(d, a, sizeof(float) * 3 * nv);
+			/* float32 positions, float64 output: the float results widened */
+			assert_int_equal(plan_tri(&pi, idx, ni / 3, (vn_method)m, NULL, &od, NULL), vn_result_success);
+			for (size_t i = 0; i < 3 * nv; ++i)
+				assert_true(d[i] == (double)a[i]);
+			/* float64 positions, float32 output: vn_triangle_normals' bits */
+			assert_int_equal(vn_triangle_normals(&oa, &pd, idx, ni, (vn_method)m, NULL, NULL), vn_result_success);
+			assert_int_equal(plan_tri(&pd, idx, ni / 3, (vn_method)m, NULL, &ob, NULL), vn_result_success);
+			for (size_t v = 0; v < nv; ++v)
+				assert_memory_equal(b + 28 * v, a + 3 * v, 12);
+		}
 	}
+	vn_plan_destroy(plan);
 	free(b);
 	free(inter);
 	free_grid(&g);
