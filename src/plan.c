@@ -1019,6 +1019,9 @@ vn_result vn_plan_normals(vn_plan* plan, const vn_positions* positions, vn_metho
 		if (plan->offsets)
 			return vn_polygon_normals(normals, positions, plan->indices, plan->offsets, plan->face_count, method,
 			                          &plan->opt, stats);
+		if (method == vn_method_mwa && positions->type == vn_scalar_float64)
+			return vn_triangle_normals_mwa_poly(normals, positions, plan->indices, plan->index_count, &plan->opt,
+			                                    stats);
 		return vn_triangle_normals(normals, positions, plan->indices, plan->index_count, method, &plan->opt, stats);
 	}
 
