@@ -52,9 +52,13 @@ struct vn_plan {
 	size_t face_count, index_count;
 	uint32_t* indices;
 	uint32_t* offsets; /* NULL for triangles */
+	/* The gather's faces: indices, or their locality order when the input
+	 * has none (vn_plan_create); the slots keep each vertex's corners in
+	 * input order either way. */
+	uint32_t* faces;
 	/* For the gather's position loads (one instruction fewer than index
 	 * times stride): indices[i] * words_stride / 4, the position's offset
-	 * in 4-byte words for that stride (0: none yet); made for packed
+	 * in 4-byte words for that stride (0: none yet), in faces' order; made for packed
 	 * float32 at create, again for another stride when a call brings one. */
 	uint32_t* words;
 	size_t words_stride;
@@ -624,7 +628,7 @@ static VN_AVX2_FMA size_t vertices_float_avx2(const pass* p, const float* record
 /* Faces first .. first + n into the planes at dst. */
 static size_t face_range(const pass* p, size_t first, size_t n, float* dst, size_t plane, int checked)
 {
-	const uint32_t* idx = p->plan->indices + 3 * first;
+	const uint32_t* idx = p->plan->faces + 3 * first;
 #ifdef VN_HAVE_AVX2
 	if (p->plan->simd)
 		return face_range_avx2(p, idx, p->words ? p->words + 3 * first : NULL, n, dst, plane, checked);
@@ -702,9 +706,12 @@ VN_INLINE size_t round64(size_t n)
 }
 
 /* Scratch of vn_plan_create for the gather table, 6 arrays of nv; place
- * (each vertex's place in order[]) reuses first, which only buckets() reads. */
+ * (each vertex's place in order[]) reuses first, which only buckets() reads.
+ * With a locality order (locality_sort), perm and rank. */
 typedef struct build {
 	uint32_t *count, *ordinal, *first, *last, *bucket, *far, *place;
+	uint32_t* perm; /* the gather's face g is input face perm[g] */
+	uint32_t* rank; /* input corner c is corner rank[c] of its vertex, in input order */
 	size_t from[MAX_WORKERS + 1]; /* worker t's faces are [from[t], from[t + 1]) */
 } build;
 
@@ -742,6 +749,63 @@ static size_t buckets(const vn_plan* plan, build* b)
 		}
 	}
 	return far;
+}
+
+/* Each vertex's first and last face in the gather's order: input face
+ * b->perm[g] (b->perm NULL: g) is its face g. */
+static void face_span(const uint32_t* idx, size_t nf, build* b)
+{
+	for (size_t g = nf; g-- > 0;)
+		for (int k = 0; k < 3; ++k)
+			b->first[idx[3 * (size_t)(b->perm ? b->perm[g] : g) + k]] = (uint32_t)g;
+	for (size_t g = 0; g < nf; ++g)
+		for (int k = 0; k < 3; ++k)
+			b->last[idx[3 * (size_t)(b->perm ? b->perm[g] : g) + k]] = (uint32_t)g;
+}
+
+/* A locality order for faces whose input order has none: breadth first over
+ * shared vertices from face 0 (then from the first face not reached, for
+ * each further component), so that the faces around a vertex come close
+ * together. Sets b->perm and b->rank (from b->count, the corners of each
+ * vertex) in one block from the allocator (returned; NULL when it fails);
+ * b->bucket and b->far serve as scratch. */
+static void* locality_sort(const uint32_t* idx, size_t nf, uint32_t nv, const vn_allocator* heap, build* b)
+{
+	const size_t ni = 3 * nf;
+	/* perm, rank, each vertex's faces (CSR: vface from vstart), reached faces */
+	uint32_t* block = (uint32_t*)heap->allocate(heap->user, sizeof(uint32_t) * (nf + 2 * ni + nv + 1) + nf);
+	if (!block)
+		return NULL;
+	uint32_t *perm = block, *rank = perm + nf, *vface = rank + ni, *vstart = vface + ni;
+	unsigned char* reached = (unsigned char*)(vstart + nv + 1);
+	uint32_t *cursor = b->bucket, *done = b->far;
+	vstart[0] = 0;
+	for (uint32_t v = 0; v < nv; ++v)
+		vstart[v + 1] = vstart[v] + b->count[v], cursor[v] = vstart[v], done[v] = 0;
+	for (size_t c = 0; c < ni; ++c) {
+		const uint32_t v = idx[c], i = cursor[v]++;
+		vface[i] = (uint32_t)(c / 3);
+		rank[c] = i - vstart[v];
+	}
+	memset(reached, 0, nf);
+	size_t head = 0, tail = 0;
+	for (size_t seed = 0; seed < nf; ++seed) {
+		if (reached[seed])
+			continue;
+		reached[seed] = 1, perm[tail++] = (uint32_t)seed;
+		while (head < tail) {
+			const uint32_t f = perm[head++];
+			for (int k = 0; k < 3; ++k) {
+				const uint32_t v = idx[3 * (size_t)f + k];
+				for (uint32_t i = vstart[v]; !done[v] && i < vstart[v + 1]; ++i)
+					if (!reached[vface[i]])
+						reached[vface[i]] = 1, perm[tail++] = vface[i];
+				done[v] = 1;
+			}
+		}
+	}
+	b->perm = perm, b->rank = rank;
+	return block;
 }
 
 /* The order in which the vertices are summed: a counting sort by bucket,
@@ -789,7 +853,7 @@ static void corner_table(vn_plan* plan, build* b)
 	memset(b->count, 0, sizeof(uint32_t) * nv);
 	unsigned t = 0;
 	uint32_t e = 0, next = 0;
-	for (size_t f = 0; f < plan->face_count; ++f) {
+	for (size_t f = 0; f < plan->face_count; ++f) { /* f in the gather's order */
 		while (f >= b->from[t + 1])
 			++t;
 		const size_t local = f - b->from[t];
@@ -797,7 +861,8 @@ static void corner_table(vn_plan* plan, build* b)
 		while (next <= chunk)
 			plan->far_start[next++] = e;
 		for (uint32_t k = 0; k < 3; ++k) {
-			const uint32_t v = plan->indices[3 * f + k], j = b->count[v]++;
+			const uint32_t v = plan->faces[3 * f + k];
+			const uint32_t j = b->rank ? b->rank[3 * (size_t)b->perm[f] + k] : b->count[v]++;
 			const uint32_t ring = (uint32_t)(k * plan->ring_faces + local % plan->ring_faces);
 			uint32_t code = (uint32_t)(sizeof(float) * CORNER(ring));
 			plan->last_in_chunk[chunk] |= v == nv - 1;
@@ -827,7 +892,7 @@ static int words_for(vn_plan* plan, size_t stride)
 	if (plan->words_stride != stride) {
 		const uint32_t k = (uint32_t)(stride / 4);
 		for (size_t i = 0; i < plan->index_count; ++i)
-			plan->words[i] = plan->indices[i] * k;
+			plan->words[i] = plan->faces[i] * k;
 		plan->words_stride = stride;
 	}
 	return 1;
@@ -879,8 +944,10 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 	}
 	base[workers] = chunks;
 
-	/* Scratch: corners, overflow ordinal, first and last face, bucket, far corner of each vertex. */
+	/* Scratch: corners, overflow ordinal, first and last face, bucket, far
+	 * corner of each vertex; with a locality order, its scratch and faces. */
 	size_t over_count = 0, over_codes = 0, far = 0;
+	void* sort = NULL;
 	vn_plan shape; /* what buckets() reads */
 	memset(&shape, 0, sizeof(shape));
 	if (gather) {
@@ -889,15 +956,8 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 		b.ordinal = b.count + nv, b.first = b.ordinal + nv, b.last = b.first + nv;
 		b.bucket = b.last + nv, b.far = b.bucket + nv;
 		memset(b.count, 0, sizeof(uint32_t) * nv);
-		for (size_t f = face_count; f-- > 0;)
-			for (int k = 0; k < 3; ++k)
-				b.first[indices[3 * f + k]] = (uint32_t)f;
-		for (size_t f = 0; f < face_count; ++f)
-			for (int k = 0; k < 3; ++k) {
-				const uint32_t v = indices[3 * f + k];
-				++b.count[v];
-				b.last[v] = (uint32_t)f;
-			}
+		for (size_t i = 0; i < ni; ++i)
+			++b.count[indices[i]];
 		for (uint32_t v = 0; v < nv; ++v)
 			if (b.count[v] > SLOTS)
 				b.ordinal[v] = (uint32_t)over_count++, over_codes += b.count[v] - SLOTS;
@@ -905,10 +965,25 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 		shape.workers = workers;
 		shape.ring_faces = ring_faces;
 		memcpy(shape.base, base, sizeof(uint32_t) * (workers + 1));
+		face_span(indices, face_count, &b);
 		far = buckets(&shape, &b);
+		/* More than a quarter of the corners far: the input's order has no
+		 * locality (a shuffled file), so the gather takes faces in a
+		 * locality order; a good order stays as it is. */
+		if (far > ni / 4) {
+			if (!(sort = locality_sort(indices, face_count, nv, &heap, &b))) {
+				heap.deallocate(heap.user, b.count);
+				return vn_result_out_of_memory;
+			}
+			face_span(indices, face_count, &b);
+			far = buckets(&shape, &b);
+		}
 		if (far >= MAX_FAR) { /* no locality at all: the existing entry points */
 			heap.deallocate(heap.user, b.count);
+			if (sort)
+				heap.deallocate(heap.user, sort);
 			memset(&b, 0, sizeof(b));
+			sort = NULL;
 			gather = 0, far = 0, over_count = over_codes = 0, chunks = 0;
 			memset(base, 0, sizeof(base));
 		}
@@ -921,16 +996,19 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 	work = work > record_bytes ? work : record_bytes;
 	const size_t head = round64(sizeof(vn_plan));
 	const size_t idx_bytes = round64(sizeof(uint32_t) * ni);
-	const size_t word_bytes = gather ? idx_bytes : 0;
+	const size_t word_bytes = gather ? idx_bytes : 0, sorted_bytes = sort ? idx_bytes : 0;
 	const size_t off_bytes = face_offsets ? round64(sizeof(uint32_t) * (face_count + 1)) : 0;
 	const size_t slot_bytes = gather ? round64(sizeof(uint32_t) * SLOTS * (size_t)nv) : 0;
 	const size_t over_bytes = round64(sizeof(uint32_t) * (2 * over_count + 1 + over_codes));
 	const size_t order_bytes = gather ? round64(sizeof(uint32_t) * ((size_t)nv + chunks + 2)) : 0;
 	const size_t far_bytes = gather ? round64(sizeof(uint32_t) * (chunks + 1 + 2 * far)) + round64(chunks) : 0;
 	const size_t total =
-	    head + idx_bytes + word_bytes + off_bytes + slot_bytes + over_bytes + order_bytes + far_bytes + round64(work) + 64;
+	    head + idx_bytes + word_bytes + sorted_bytes + off_bytes + slot_bytes + over_bytes + order_bytes + far_bytes +
+	    round64(work) + 64;
 	unsigned char* block = (unsigned char*)heap.allocate(heap.user, total);
 	if (!block) {
+		if (sort)
+			heap.deallocate(heap.user, sort);
 		if (b.count)
 			heap.deallocate(heap.user, b.count);
 		return vn_result_out_of_memory;
@@ -951,6 +1029,13 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 	at += idx_bytes;
 	plan->words = (uint32_t*)at;
 	at += word_bytes;
+	plan->faces = plan->indices;
+	if (sort) {
+		plan->faces = (uint32_t*)at;
+		for (size_t f = 0; f < face_count; ++f)
+			memcpy(plan->faces + 3 * f, indices + 3 * (size_t)b.perm[f], 3 * sizeof(uint32_t));
+		at += sorted_bytes;
+	}
 	if (face_offsets) {
 		plan->offsets = (uint32_t*)at;
 		memcpy(plan->offsets, face_offsets, sizeof(uint32_t) * (face_count + 1));
@@ -983,6 +1068,8 @@ vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, 
 		schedule(plan, &b);
 		corner_table(plan, &b);
 		heap.deallocate(heap.user, b.count);
+		if (sort)
+			heap.deallocate(heap.user, sort);
 		words_for(plan, 3 * sizeof(float)); /* packed float32, the common layout */
 	}
 	*out = plan;

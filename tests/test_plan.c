@@ -292,6 +292,56 @@ static void threads_bit_identical(void** state)
 	free_grid(&g);
 }
 
+/* A 90 x 90 grid's faces in a random order, and isolated vertices up to
+ * 33000 (2 workers when asked): on 1 worker every face is in its ring and
+ * the order stays; on 2 most vertices span both, so the plan takes faces
+ * in a locality order (one more allocation at create). Each vertex still
+ * sums its corners in input order: the same bits. */
+static void locality_order_same_bits(void** state)
+{
+	(void)state;
+	grid g = make_grid(90, 1.0);
+	const size_t nf = g.ni / 3, nv = 33000;
+	float* pos = (float*)calloc(3 * nv, sizeof(float));
+	memcpy(pos, g.pos32, sizeof(float) * 3 * g.nv);
+	uint32_t seed = 2463534242u;
+	for (size_t f = nf; f > 1; --f) {
+		seed ^= seed << 13, seed ^= seed >> 17, seed ^= seed << 5;
+		const size_t j = seed % f;
+		uint32_t t[3];
+		memcpy(t, g.idx + 3 * (f - 1), sizeof(t));
+		memcpy(g.idx + 3 * (f - 1), g.idx + 3 * j, sizeof(t));
+		memcpy(g.idx + 3 * j, t, sizeof(t));
+	}
+	float* a = (float*)malloc(sizeof(float) * 3 * nv);
+	float* b = (float*)malloc(sizeof(float) * 3 * nv);
+	const vn_positions p = {pos, nv, 0, vn_scalar_float32};
+	const vn_vectors oa = {a, 0, vn_scalar_float32}, ob = {b, 0, vn_scalar_float32};
+	counting c1 = {0, 0, -1}, c2 = {0, 0, -1};
+	vn_options o1 = counting_options(&c1), o2 = counting_options(&c2);
+	o2.threads = 2;
+	vn_plan *kept = NULL, *sorted = NULL;
+	assert_int_equal(vn_plan_create(g.idx, NULL, nf, nv, &o1, &kept), vn_result_success);
+	assert_int_equal(vn_plan_create(g.idx, NULL, nf, nv, &o2, &sorted), vn_result_success);
+	assert_int_equal(c1.allocations, 2);
+	assert_int_equal(c2.allocations, 3);
+	for (unsigned m = 0; m < 6; ++m) {
+		vn_stats sa, sb;
+		assert_int_equal(vn_plan_normals(kept, &p, (vn_method)m, &oa, &sa), vn_result_success);
+		assert_int_equal(vn_plan_normals(sorted, &p, (vn_method)m, &ob, &sb), vn_result_success);
+		assert_memory_equal(a, b, sizeof(float) * 3 * nv);
+		assert_memory_equal(&sa, &sb, sizeof(sa));
+		assert_int_equal(sb.zero_normals, nv - g.nv);
+	}
+	vn_plan_destroy(sorted);
+	vn_plan_destroy(kept);
+	assert_int_equal(c2.frees, 3);
+	free(b);
+	free(a);
+	free(pos);
+	free_grid(&g);
+}
+
 /* A vertex with 20 triangles (12 beyond the 8 slots), one with 9, in both
  * arithmetics: the overflow list keeps face order. */
 static void overflow_beyond_eight_corners(void** state)
@@ -622,6 +672,7 @@ int main(void)
 	    cmocka_unit_test(double_atan2_bound),
 	    cmocka_unit_test(threads_bit_identical),
 	    cmocka_unit_test(overflow_beyond_eight_corners),
+	    cmocka_unit_test(locality_order_same_bits),
 	    cmocka_unit_test(strides_and_types),
 	    cmocka_unit_test(polygons_equal_polygon_normals),
 	    cmocka_unit_test(corners_equal_corner_normals),
