@@ -1,10 +1,10 @@
 /* Per-frame plans: the topology work of a normal computation done once.
  *
  * vn_plan_create checks the indices once, copies them and lists the corners
- * of every vertex in 8 fixed slots (ascending, so in face order; unused
- * slots name a zero corner; vertices with more corners continue in an
- * overflow list). vn_plan_normals on float32 positions then gathers, for
- * the weighted family on triangles, in float arithmetic:
+ * of every vertex in 8 fixed slots (in input face order; unused slots name
+ * a zero corner; vertices with more corners continue in an overflow list).
+ * vn_plan_normals on float32 positions then gathers, for the weighted
+ * family on triangles, in float arithmetic:
  *  - faces, eight per AVX2 step: each corner's contribution n * w_k (n the
  *    unnormalized normal, w_k the corner's weight as vn_triangle_weights
  *    defines it) as x, y, z, 0; zeros when the face contributes nothing;
@@ -14,16 +14,20 @@
  * and after each chunk sums the vertices whose last face it held (a
  * schedule built at create). A vertex whose faces span more than the ring,
  * or two workers, or none, is far: its corners are also copied to a far
- * buffer and it is summed after all faces. Each vertex's sum is formed in
- * one fixed order whatever the split, so results are bit-identical for any
- * thread count; the scalar and AVX2 kernels do the same IEEE operations
- * (simd.h), so they agree bit for bit too.
+ * buffer and it is summed after all faces. When most vertices would be far
+ * (input without locality), the faces are taken in a breadth-first order
+ * instead, the slots still in input order. Each vertex's sum is formed in
+ * one fixed order whatever the split and the face order, so results are
+ * bit-identical for any thread count; the scalar and AVX2 kernels do the
+ * same IEEE operations (fused ones with fmaf), so they agree bit for bit
+ * too.
  *
- * float64 positions take vn_triangle_normals' scatter kernels, whose
- * results the double gather would have to reproduce bit for bit anyway, and
- * which were faster here (docs/PERFORMANCE.md); everything else (polygons,
- * the other schemes, per-corner normals) runs the existing entry points on
- * the plan's copy of the indices, with the plan's memory as workspace. */
+ * float64 positions take vn_triangle_normals' scatter kernels (MWA with
+ * vn_atan2_poly's angles), whose results a double gather would have to
+ * reproduce bit for bit anyway, and which were as fast here
+ * (docs/PERFORMANCE.md); everything else (polygons, the other schemes,
+ * per-corner normals) runs the existing entry points on the plan's copy of
+ * the indices, with the plan's memory as workspace. */
 #include <stdlib.h>
 
 #include "internal.h"
@@ -755,12 +759,14 @@ static size_t buckets(const vn_plan* plan, build* b)
  * b->perm[g] (b->perm NULL: g) is its face g. */
 static void face_span(const uint32_t* idx, size_t nf, build* b)
 {
-	for (size_t g = nf; g-- > 0;)
-		for (int k = 0; k < 3; ++k)
-			b->first[idx[3 * (size_t)(b->perm ? b->perm[g] : g) + k]] = (uint32_t)g;
-	for (size_t g = 0; g < nf; ++g)
-		for (int k = 0; k < 3; ++k)
-			b->last[idx[3 * (size_t)(b->perm ? b->perm[g] : g) + k]] = (uint32_t)g;
+	for (size_t g = nf; g-- > 0;) {
+		const uint32_t* face = idx + 3 * (size_t)(b->perm ? b->perm[g] : g);
+		b->first[face[0]] = b->first[face[1]] = b->first[face[2]] = (uint32_t)g;
+	}
+	for (size_t g = 0; g < nf; ++g) {
+		const uint32_t* face = idx + 3 * (size_t)(b->perm ? b->perm[g] : g);
+		b->last[face[0]] = b->last[face[1]] = b->last[face[2]] = (uint32_t)g;
+	}
 }
 
 /* A locality order for faces whose input order has none: breadth first over
@@ -837,9 +843,10 @@ static void corner_table(vn_plan* plan, build* b)
 	const uint32_t nv = plan->vertex_count, chunks = plan->base[plan->workers];
 	const uint32_t ring_pad = (uint32_t)(sizeof(float) * CORNER(3 * plan->ring_faces));
 	const uint32_t far_pad = (uint32_t)(sizeof(float) * CORNER(plan->far_count));
-	for (uint32_t v = 0; v < nv; ++v)
-		for (int j = 0; j < SLOTS; ++j)
-			plan->slots[SLOTS * (size_t)b->place[v] + j] = b->bucket[v] == chunks ? far_pad : ring_pad;
+	/* The far vertices come last in the order. */
+	const size_t first_far = SLOTS * (size_t)plan->start[chunks];
+	for (size_t i = 0; i < SLOTS * (size_t)nv; ++i)
+		plan->slots[i] = i < first_far ? ring_pad : far_pad;
 	memset(plan->last_in_chunk, 0, chunks);
 	uint32_t start = 0;
 	for (uint32_t v = 0; v < nv; ++v)
@@ -858,14 +865,16 @@ static void corner_table(vn_plan* plan, build* b)
 			++t;
 		const size_t local = f - b->from[t];
 		const uint32_t chunk = plan->base[t] + (uint32_t)(local / CHUNK);
+		const uint32_t place = (uint32_t)(local % plan->ring_faces);
+		const uint32_t* face = plan->faces + 3 * f;
+		const uint32_t* rank = b->rank ? b->rank + 3 * (size_t)b->perm[f] : NULL;
 		while (next <= chunk)
 			plan->far_start[next++] = e;
+		plan->last_in_chunk[chunk] |= (face[0] == nv - 1) | (face[1] == nv - 1) | (face[2] == nv - 1);
 		for (uint32_t k = 0; k < 3; ++k) {
-			const uint32_t v = plan->faces[3 * f + k];
-			const uint32_t j = b->rank ? b->rank[3 * (size_t)b->perm[f] + k] : b->count[v]++;
-			const uint32_t ring = (uint32_t)(k * plan->ring_faces + local % plan->ring_faces);
+			const uint32_t v = face[k], j = rank ? rank[k] : b->count[v]++;
+			const uint32_t ring = k * plan->ring_faces + place;
 			uint32_t code = (uint32_t)(sizeof(float) * CORNER(ring));
-			plan->last_in_chunk[chunk] |= v == nv - 1;
 			if (b->bucket[v] == chunks) {
 				plan->far_from[e] = ring;
 				plan->far_to[e] = b->far[v] + j;
