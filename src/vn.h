@@ -427,9 +427,9 @@ typedef struct vn_plan vn_plan;
  * breadth-first order over shared vertices, which costs 4 more bytes a
  * corner in the block and, while it builds, 8 a corner + 5 a face + 4 a
  * vertex of scratch; each vertex still sums its corners in input order,
- * so the results are the same bits. Takes about as long as 6 to 9
- * vn_triangle_normals calls, 4 to 6 times that on a shuffled mesh
- * (docs/PERFORMANCE.md). */
+ * so the results are the same bits. Takes about as long as 5 or 6
+ * vn_triangle_normals calls (7 to 10 on a shuffled mesh, which it sorts;
+ * docs/PERFORMANCE.md). */
 VN_API vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
                                 size_t vertex_count, const vn_options* options, vn_plan** out);
 
