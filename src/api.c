@@ -3,6 +3,7 @@
 
 #include "internal.h"
 #include "simd.h"
+#include "weights.h"
 
 uint32_t vn_version(void)
 {
@@ -161,8 +162,10 @@ size_t vn_workspace_size(size_t vertex_count, const vn_options* options)
 	return vn_work_bytes((uint32_t)vertex_count, options ? options->threads : 0);
 }
 
-vn_result vn_triangle_normals(const vn_vectors* normals, const vn_positions* positions, const uint32_t* indices,
-                              size_t index_count, vn_method method, const vn_options* options, vn_stats* stats)
+/* vn_triangle_normals on the kernels of `kernel`: method, or VN_MWA_POLY. */
+static vn_result triangle_normals(const vn_vectors* normals, const vn_positions* positions, const uint32_t* indices,
+                                  size_t index_count, vn_method method, vn_method kernel, const vn_options* options,
+                                  vn_stats* stats)
 {
 	vn_work w;
 	vn_result r = prepare(&w, normals, positions, method, options);
@@ -175,7 +178,21 @@ vn_result vn_triangle_normals(const vn_vectors* normals, const vn_positions* pos
 	/* The triangle kernels check the indices as they scan them. */
 	w.indices = indices;
 	w.face_count = index_count / 3;
+	w.method = kernel;
 	return compute(&w, normals, options, stats);
+}
+
+vn_result vn_triangle_normals(const vn_vectors* normals, const vn_positions* positions, const uint32_t* indices,
+                              size_t index_count, vn_method method, const vn_options* options, vn_stats* stats)
+{
+	return triangle_normals(normals, positions, indices, index_count, method, method, options, stats);
+}
+
+vn_result vn_triangle_normals_mwa_poly(const vn_vectors* normals, const vn_positions* positions,
+                                       const uint32_t* indices, size_t index_count, const vn_options* options,
+                                       vn_stats* stats)
+{
+	return triangle_normals(normals, positions, indices, index_count, vn_method_mwa, VN_MWA_POLY, options, stats);
 }
 
 vn_result vn_polygon_normals(const vn_vectors* normals, const vn_positions* positions, const uint32_t* indices,

@@ -104,6 +104,11 @@ typedef int (*vn_triangle_fn)(vn_method method, const double p0[3], const double
                               double c[3][3]);
 /* weights.c: MWE .. MWRELR. */
 int vn_weighted_triangle(vn_method method, const double p0[3], const double p1[3], const double p2[3], double c[3][3]);
+/* api.c: vn_triangle_normals for MWA with vn_atan2_poly's corner angles
+ * (fastmath.h): the per-frame plans' float64 MWA. */
+vn_result vn_triangle_normals_mwa_poly(const vn_vectors* normals, const vn_positions* positions,
+                                       const uint32_t* indices, size_t index_count, const vn_options* options,
+                                       vn_stats* stats);
 /* cotangent.c: MEWCSA (method is not read). */
 int vn_cotangent_triangle(vn_method method, const double p0[3], const double p1[3], const double p2[3], double c[3][3]);
 

@@ -19,6 +19,9 @@
 
 #define VN_AVX2 __attribute__((target("avx2")))
 #define VN_AVX2_INLINE static inline __attribute__((target("avx2"), always_inline))
+/* The per-frame plans' float kernels also fuse multiply-adds (plan.c). */
+#define VN_AVX2_FMA __attribute__((target("avx2,fma")))
+#define VN_AVX2_FMA_INLINE static inline __attribute__((target("avx2,fma"), always_inline))
 
 /* The corners of one group: x, y, z of corner c, lane k = triangle k. */
 typedef struct vn_group {
@@ -222,8 +225,18 @@ static inline int vn_cpu_has_avx2(void)
 	return __builtin_cpu_supports("avx2");
 }
 
+static inline int vn_cpu_has_avx2_fma(void)
+{
+	return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+}
+
 #else
 static inline int vn_cpu_has_avx2(void)
+{
+	return 0;
+}
+
+static inline int vn_cpu_has_avx2_fma(void)
 {
 	return 0;
 }

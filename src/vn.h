@@ -427,13 +427,21 @@ typedef struct vn_plan vn_plan;
  * indices or vertices, or a half-set allocator; out_of_memory when the
  * allocator fails. *out is written on success only. Memory, in one block
  * from the allocator (and 24 bytes a vertex of scratch while it builds):
- * the indices (4 bytes a corner); for triangles a corner table of 36 bytes
- * a vertex (+ 4 a corner beyond 8 at a vertex, + 24 a corner of a vertex
- * with more than 8 corners, or faces more than 16384 faces apart or in two
- * threads' ranges); and a work area of the largest of vn_workspace_size(),
+ * the indices (4 bytes a corner); for triangles the positions' offsets
+ * for the fast path (4 bytes a corner), a corner table of 36 bytes a vertex
+ * (+ 4 a corner beyond 8 at a vertex, + 24 a corner of a vertex with more
+ * than 8 corners, or faces more than 16384 faces apart or in two threads'
+ * ranges); and a work area of the largest of vn_workspace_size(),
  * vn_polygon_corner_normals' workspace bound (about 108 bytes a triangle)
- * and the gather's 48 bytes a face of up to 16384 faces per thread. Takes
- * about as long as 4 to 6 vn_triangle_normals calls (docs/PERFORMANCE.md). */
+ * and the fast path's 48 bytes a face of up to 16384 faces per thread.
+ * Triangles in an order without locality (more than a quarter of the
+ * corners would be far: a shuffled file) are taken by the fast path in a
+ * breadth-first order over shared vertices, which costs 4 more bytes a
+ * corner in the block and, while it builds, 8 a corner + 5 a face + 4 a
+ * vertex of scratch; each vertex still sums its corners in input order,
+ * so the results are the same bits. Takes about as long as 5 or 6
+ * vn_triangle_normals calls (7 to 10 on a shuffled mesh, which it sorts;
+ * docs/PERFORMANCE.md). */
 VN_API vn_result vn_plan_create(const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
                                 size_t vertex_count, const vn_options* options, vn_plan** out);
 
@@ -451,16 +459,25 @@ VN_API void vn_plan_destroy(vn_plan* plan);
  * contributions go to a buffer that stays in cache, then each vertex sums
  * its corners in face order; indices are not checked again. Both passes
  * run on the plan's threads, the results are bit-identical whatever their
- * number (and with or without AVX2), and the call allocates nothing. They
- * are within 1e-4 degrees of vn_triangle_normals on the same positions
- * (MWA's corner angles from a polynomial atan2 within 3e-7 rad). A
- * triangle whose float arithmetic leaves the float range (zero or
- * non-finite area, or weights beyond about 1e38, e.g. MWSELR's on edges
- * below about 1e-9 units) is computed in double, its contributions rounded
- * to float and clamped to its range.
+ * number (and with or without AVX2: the vector kernels need AVX2 and FMA,
+ * the scalar ones round fused multiply-adds as those do, with fmaf), and
+ * the call allocates nothing. They are within 1e-4 degrees of
+ * vn_triangle_normals on the same positions (cross products correct to 2
+ * ulps even on thin triangles; MWA's corner angles from a polynomial
+ * atan2 within 3e-7 rad). A triangle whose float arithmetic leaves the
+ * float range (zero or non-finite area, or weights beyond about 1e38,
+ * e.g. MWSELR's on edges below about 1e-9 units) is computed in double,
+ * its contributions rounded to float and clamped to its range. The
+ * offsets of positions are made for packed float32 (12-byte stride) at
+ * create; a call with another stride than the last makes them again
+ * (about 1 ns a corner, once).
  * float64 positions run vn_triangle_normals' kernels (double arithmetic,
  * its results bit for bit, its threads; they check indices as they scan
- * them) with the plan's memory as workspace, allocating nothing.
+ * them) with the plan's memory as workspace, allocating nothing; but MWA
+ * takes its corner angles from a polynomial atan2 (within 1e-13 rad, one
+ * division instead of Cephes' two), so its normals are within 1e-9 degrees
+ * of vn_triangle_normals', the same bits whatever the threads and with or
+ * without AVX2.
  * Everything else (polygons, MEWCSA, SMEWCSA, QUADRIC, JET, ADAPTIVE)
  * likewise runs vn_polygon_normals or vn_triangle_normals on the plan's
  * indices and memory: the same results, speed and threads as those calls;

@@ -109,22 +109,27 @@ VN_TRIANGLES(tri_d_mwselr, vn_scalar_float64, vn_method_mwselr)
 VN_TRIANGLES(tri_d_mwaat, vn_scalar_float64, vn_method_mwaat)
 VN_TRIANGLES(tri_d_mwelr, vn_scalar_float64, vn_method_mwelr)
 VN_TRIANGLES(tri_d_mwrelr, vn_scalar_float64, vn_method_mwrelr)
+VN_TRIANGLES(tri_f_mwa_poly, vn_scalar_float32, VN_MWA_POLY)
+VN_TRIANGLES(tri_d_mwa_poly, vn_scalar_float64, VN_MWA_POLY)
 
 void vn_accumulate_weighted_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	/* Indexed by [simd][type][method], in vn_method order up to MWRELR. */
-	static const vn_accumulate_fn table[2][2][6] = {
-	    {{tri_f_mwe, tri_f_mwa, tri_f_mwselr, tri_f_mwaat, tri_f_mwelr, tri_f_mwrelr},
-	     {tri_d_mwe, tri_d_mwa, tri_d_mwselr, tri_d_mwaat, tri_d_mwelr, tri_d_mwrelr}},
+	/* Indexed by [simd][type][method], in vn_method order up to MWRELR,
+	 * then VN_MWA_POLY. */
+	static const vn_accumulate_fn table[2][2][7] = {
+	    {{tri_f_mwe, tri_f_mwa, tri_f_mwselr, tri_f_mwaat, tri_f_mwelr, tri_f_mwrelr, tri_f_mwa_poly},
+	     {tri_d_mwe, tri_d_mwa, tri_d_mwselr, tri_d_mwaat, tri_d_mwelr, tri_d_mwrelr, tri_d_mwa_poly}},
 #ifdef VN_HAVE_AVX2
-	    {{tri_f_mwe_avx2, tri_f_mwa_avx2, tri_f_mwselr_avx2, tri_f_mwaat_avx2, tri_f_mwelr_avx2, tri_f_mwrelr_avx2},
-	     {tri_d_mwe_avx2, tri_d_mwa_avx2, tri_d_mwselr_avx2, tri_d_mwaat_avx2, tri_d_mwelr_avx2, tri_d_mwrelr_avx2}},
+	    {{tri_f_mwe_avx2, tri_f_mwa_avx2, tri_f_mwselr_avx2, tri_f_mwaat_avx2, tri_f_mwelr_avx2, tri_f_mwrelr_avx2,
+	      tri_f_mwa_poly_avx2},
+	     {tri_d_mwe_avx2, tri_d_mwa_avx2, tri_d_mwselr_avx2, tri_d_mwaat_avx2, tri_d_mwelr_avx2, tri_d_mwrelr_avx2,
+	      tri_d_mwa_poly_avx2}},
 #else
-	    {{tri_f_mwe, tri_f_mwa, tri_f_mwselr, tri_f_mwaat, tri_f_mwelr, tri_f_mwrelr},
-	     {tri_d_mwe, tri_d_mwa, tri_d_mwselr, tri_d_mwaat, tri_d_mwelr, tri_d_mwrelr}},
+	    {{tri_f_mwe, tri_f_mwa, tri_f_mwselr, tri_f_mwaat, tri_f_mwelr, tri_f_mwrelr, tri_f_mwa_poly},
+	     {tri_d_mwe, tri_d_mwa, tri_d_mwselr, tri_d_mwaat, tri_d_mwelr, tri_d_mwrelr, tri_d_mwa_poly}},
 #endif
 	};
-	table[w->simd != 0][w->type == vn_scalar_float64][w->method](w, lo, hi, st);
+	table[w->simd != 0][w->type == vn_scalar_float64][w->method == VN_MWA_POLY ? 6 : w->method](w, lo, hi, st);
 }
 
 /* ---------------------------------------------------------------- polygons */

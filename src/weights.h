@@ -8,6 +8,10 @@
 
 #include "fastmath.h"
 
+/* MWA with vn_atan2_poly's corner angles, which the per-frame plans' float64
+ * path runs (vn.h); no public method. */
+#define VN_MWA_POLY vn_method_count
+
 /* Corner k's weight over l = sqrt(l2) = |n|, so that w[k] n = w(f, k) N_f,
  * with one division per triangle: the products |E||E'| at the three corners
  * are ca, ab, bc for edge lengths a = |e01|, b = |e12|, c = |e20|, so
@@ -19,12 +23,14 @@ VN_INLINE void vn_triangle_weights(vn_method method, const double e01[3], const 
 	case vn_method_mwe:
 		w[0] = w[1] = w[2] = 1.0 / sqrt(l2);
 		break;
-	case vn_method_mwa: {
+	case vn_method_mwa:
+	case VN_MWA_POLY: {
 		/* Angles at corners 0 and 1 from atan2(|E x E'|, E . E'); the
 		 * third is pi minus both (exact for a triangle). */
-		const double l = sqrt(l2), inv = 1.0 / l;
-		const double a0 = vn_atan2_nonneg(l, -vn_dot(e20, e01));
-		const double a1 = vn_atan2_nonneg(l, -vn_dot(e01, e12));
+		const double l = sqrt(l2), inv = 1.0 / l, c0 = -vn_dot(e20, e01), c1 = -vn_dot(e01, e12);
+		const int poly = method == VN_MWA_POLY;
+		const double a0 = poly ? vn_atan2_poly(l, c0) : vn_atan2_nonneg(l, c0);
+		const double a1 = poly ? vn_atan2_poly(l, c1) : vn_atan2_nonneg(l, c1);
 		w[0] = a0 * inv, w[1] = a1 * inv, w[2] = (VN_PI - a0 - a1) * inv;
 		break;
 	}
@@ -64,13 +70,15 @@ VN_AVX2_INLINE void vn_triangle_weights4(vn_method method, const __m256d e[3][3]
 	case vn_method_mwe:
 		wt[0] = wt[1] = wt[2] = _mm256_div_pd(one, _mm256_sqrt_pd(l2));
 		break;
-	case vn_method_mwa: {
+	case vn_method_mwa:
+	case VN_MWA_POLY: {
 		const __m256d l = _mm256_sqrt_pd(l2), inv = _mm256_div_pd(one, l);
 		const __m256d neg = _mm256_set1_pd(-0.0);
-		const __m256d a0 =
-		    vn_atan2_nonneg4(l, _mm256_xor_pd(neg, vn_dot4(e20[0], e20[1], e20[2], e01[0], e01[1], e01[2])));
-		const __m256d a1 =
-		    vn_atan2_nonneg4(l, _mm256_xor_pd(neg, vn_dot4(e01[0], e01[1], e01[2], e12[0], e12[1], e12[2])));
+		const __m256d c0 = _mm256_xor_pd(neg, vn_dot4(e20[0], e20[1], e20[2], e01[0], e01[1], e01[2]));
+		const __m256d c1 = _mm256_xor_pd(neg, vn_dot4(e01[0], e01[1], e01[2], e12[0], e12[1], e12[2]));
+		const int poly = method == VN_MWA_POLY;
+		const __m256d a0 = poly ? vn_atan2_poly4(l, c0) : vn_atan2_nonneg4(l, c0);
+		const __m256d a1 = poly ? vn_atan2_poly4(l, c1) : vn_atan2_nonneg4(l, c1);
 		wt[0] = _mm256_mul_pd(a0, inv);
 		wt[1] = _mm256_mul_pd(a1, inv);
 		wt[2] = _mm256_mul_pd(_mm256_sub_pd(_mm256_sub_pd(_mm256_set1_pd(VN_PI), a0), a1), inv);

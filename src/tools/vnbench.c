@@ -3,6 +3,7 @@
  *   vnbench MESH [--method M|all] [--threads N] [--repeat K] [--csv]
  *   vnbench MESH --corners [--sharp-every K] [--crease DEG] [...]
  *   vnbench MESH --plan [--float32] [...]
+ *   vnbench MESH --shuffle SEED [...]
  *
  * Positions are handed to the library as packed float32, as the peer
  * benchmark in shared/bench/peers does, so rows compare like for like. Each
@@ -11,7 +12,8 @@
  * mesh, vn_polygon_normals, per face, and prints their ratio. --plan times
  * vn_plan_create once and vn_plan_normals per frame, and in the same run the
  * entry point without a plan, and prints after how many frames the plan has
- * paid for itself. */
+ * paid for itself. --shuffle times a randomly ordered copy of the mesh
+ * (faces and vertices permuted), as files without locality come. */
 #include "common.h"
 
 #include <math.h>
@@ -44,6 +46,8 @@ static void usage(FILE* out)
 	        "                         per frame, next to the call without a plan (CSV: method,\n"
 	        "                         threads,triangles,positions,create_ms,plan_ns_per_tri,\n"
 	        "                         today_ns_per_tri,speedup,frames_to_pay_off)\n"
+	        "      --shuffle SEED     permute the faces and the vertices at random first (the same\n"
+	        "                         order for the same SEED): a mesh without locality\n"
 	        "      --list-methods     list the schemes\n"
 	        "  -h, --help             this text\n"
 	        "      --version          print the version\n"
@@ -58,6 +62,58 @@ static int cmp_double(const void* a, const void* b)
 {
 	const double x = *(const double*)a, y = *(const double*)b;
 	return (x > y) - (x < y);
+}
+
+/* The next number of a splitmix64 sequence. */
+static uint64_t splitmix(uint64_t* state)
+{
+	uint64_t z = (*state += 0x9e3779b97f4a7c15u);
+	z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+	z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+	return z ^ (z >> 31);
+}
+
+/* A random permutation of 0 .. n - 1 (Fisher-Yates), or NULL. */
+static uint32_t* permutation(size_t n, uint64_t* state)
+{
+	uint32_t* p = (uint32_t*)malloc(sizeof(uint32_t) * (n ? n : 1));
+	for (size_t i = 0; p && i < n; ++i)
+		p[i] = (uint32_t)i;
+	for (size_t i = n; p && i > 1; --i) {
+		const size_t j = (size_t)(splitmix(state) % i);
+		const uint32_t t = p[i - 1];
+		p[i - 1] = p[j], p[j] = t;
+	}
+	return p;
+}
+
+/* --shuffle: the mesh's faces and vertices in a random order drawn from
+ * seed; each face keeps its corners' cyclic order. Only positions and faces
+ * are kept (vnbench reads nothing else). */
+static void shuffle_mesh(vn_io_mesh* mesh, unsigned long seed)
+{
+	const size_t nv = mesh->vertex_count, nf = mesh->face_count, ni = mesh->face_offsets[nf];
+	uint64_t state = seed;
+	uint32_t* vperm = permutation(nv, &state); /* old vertex -> new */
+	uint32_t* fperm = permutation(nf, &state); /* new face -> old */
+	double* pos = (double*)malloc(sizeof(double) * 3 * (nv ? nv : 1));
+	uint32_t* idx = (uint32_t*)malloc(sizeof(uint32_t) * (ni ? ni : 1));
+	uint32_t* off = (uint32_t*)malloc(sizeof(uint32_t) * (nf + 1));
+	if (!vperm || !fperm || !pos || !idx || !off)
+		die(1, "%s", "out of memory");
+	for (size_t v = 0; v < nv; ++v)
+		memcpy(pos + 3 * (size_t)vperm[v], mesh->positions + 3 * v, 3 * sizeof(double));
+	off[0] = 0;
+	for (size_t g = 0; g < nf; ++g) {
+		const uint32_t a = mesh->face_offsets[fperm[g]], b = mesh->face_offsets[fperm[g] + 1];
+		for (uint32_t c = a; c < b; ++c)
+			idx[off[g] + c - a] = vperm[mesh->indices[c]];
+		off[g + 1] = off[g] + (b - a);
+	}
+	free(mesh->positions), free(mesh->indices), free(mesh->face_offsets);
+	mesh->positions = pos, mesh->indices = idx, mesh->face_offsets = off;
+	free(fperm);
+	free(vperm);
 }
 
 /* What one timed call computes. */
@@ -117,7 +173,8 @@ int main(int argc, char** argv)
 	tool_check_version(prog);
 	const char* path = NULL;
 	int all = 1, csv = 0, f64 = -1, alloc = 0, corners = 0, plan = 0;
-	unsigned long sharp_every = 0;
+	unsigned long sharp_every = 0, shuffle_seed = 0;
+	int shuffle = 0;
 	double crease_deg = 180.0;
 	vn_method method = vn_method_mwe;
 	unsigned long threads = 1, repeat = 9;
@@ -163,6 +220,10 @@ int main(int argc, char** argv)
 			f64 = 0;
 		} else if (!strcmp(s, "--plan")) {
 			plan = 1;
+		} else if (!strcmp(s, "--shuffle") && has_value) {
+			if (!vn_io_parse_uint(argv[++i], 0, 4294967295ul, &shuffle_seed))
+				die(2, "--shuffle needs a whole number seed, not '%s'", argv[i]);
+			shuffle = 1;
 		} else if (!strcmp(s, "--alloc")) {
 			alloc = 1;
 		} else if (s[0] == '-' && s[1]) {
@@ -187,6 +248,8 @@ int main(int argc, char** argv)
 		die(1, "%s", err.message);
 	if (!mesh.face_count)
 		die(1, "%s: the mesh has no faces to time", path);
+	if (shuffle)
+		shuffle_mesh(&mesh, shuffle_seed);
 
 	const size_t nv = mesh.vertex_count, nf = mesh.face_count;
 	const int tri = vn_io_mesh_is_triangles(&mesh);
