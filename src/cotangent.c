@@ -131,7 +131,7 @@ VN_AVX2_INLINE void cotangent_group(vn_method method, const __m256d e[3][3], con
 	static VN_AVX2 void name(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)                     \
 	{                                                                                                            \
 		VN_DISPATCH_RANGE(w, lo, hi,                                                                             \
-		                  vn_triangles_avx2(w, type, vn_method_mewcsa, lengths, range, st, cotangent_group, scalar)); \
+		                  vn_triangles_avx2(w, type, vn_method_mewcsa, lengths, range, st, cotangent_group, NULL, scalar)); \
 	}
 VN_TRIANGLES_AVX2(triangles_f_avx2, vn_scalar_float32, 0, triangles_f)
 VN_TRIANGLES_AVX2(triangles_d_avx2, vn_scalar_float64, 0, triangles_d)

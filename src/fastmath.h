@@ -154,13 +154,17 @@ VN_AVX2_INLINE __m256d vn_atan2_nonneg4(__m256d y, __m256d x)
 #endif
 
 /* The float64 corner angle of the per-frame plans (vn.h): atan2 without
- * Cephes' second division, so that four lanes run about as fast as MWE.
- * The octant reduction as above, then |t| <= tan(pi/8) by (t - 1) / (t +
- * 1), and atan(t) = t + t z p(z), z = t^2, p of degree 7: a minimax
- * (Remez) fit of absolute error 6.1e-15 on that interval, evaluated by
- * Estrin's scheme (short dependency chains), without fused operations as
- * the other double kernels (simd.h). The result is within 1e-13 rad of
- * atan2 (tests/test_plan.c checks it over [0, pi]). */
+ * Cephes' second division, and a short dependency chain. The octant
+ * reduction as above, then |t| <= tan(pi/8) by (t - 1) / (t + 1), and
+ * atan(t) = t + t z p(z), z = t^2, p of degree 7: a minimax (Remez) fit of
+ * absolute error 6.1e-15 on that interval, evaluated by Estrin's scheme
+ * with fused multiply-adds (fma, which rounds as the vector FMA does, so
+ * both give the same bits). The angle is then base + s atan(t), s = -1
+ * where the octant mirrors it: s goes on t's numerator before the
+ * division, and base (a multiple of pi/4) is chosen from the reductions
+ * while the division runs, so one addition follows the polynomial. The
+ * result is within 1e-13 rad of atan2 (tests/test_plan.c checks it over
+ * [0, pi]). */
 #define VN_ATANP_C0 -0.3333333332965795131164534
 #define VN_ATANP_C1 0.1999999944346672742050995
 #define VN_ATANP_C2 -0.1428568311354966790073515
@@ -170,45 +174,59 @@ VN_AVX2_INLINE __m256d vn_atan2_nonneg4(__m256d y, __m256d x)
 #define VN_ATANP_C6 -0.05831502115785053549039518
 #define VN_ATANP_C7 0.03005620863890554956547128
 #define VN_TAN_PI_8 0.41421356237309504880
+/* The most chains vn_atan2_poly4 takes. */
+#define VN_ATAN2_CHAINS 8
 
 /* atan2(y, x) for y >= 0; 0 when both are 0. */
 VN_INLINE double vn_atan2_poly(double y, double x)
 {
 	const double ax = fabs(x);
-	const int steep = y > ax;
-	const double num = steep ? ax : y, den = steep ? y : ax;
+	const int steep = y > ax, neg = x < 0.0;
+	const double num = y < ax ? y : ax, den = y > ax ? y : ax; /* minpd, maxpd */
 	const int big = num > VN_TAN_PI_8 * den;
-	const double t = big ? (num - den) / (num + den) : num / den;
+	const double t = (num - (big ? den : 0.0)) / (den + (big ? num : 0.0));
+	const double base = (steep ? VN_PI_2 : neg ? VN_PI : 0.0) + (big ? (steep != neg ? -VN_PI_4 : VN_PI_4) : 0.0);
 	const double z = t * t, z2 = z * z, z4 = z2 * z2;
-	const double q0 = VN_ATANP_C1 * z + VN_ATANP_C0, q1 = VN_ATANP_C3 * z + VN_ATANP_C2;
-	const double q2 = VN_ATANP_C5 * z + VN_ATANP_C4, q3 = VN_ATANP_C7 * z + VN_ATANP_C6;
-	const double p = (q3 * z2 + q2) * z4 + (q1 * z2 + q0);
-	double a = t * z * p + t;
-	a = big ? VN_PI_4 + a : a;
-	a = den > 0.0 ? a : 0.0;
-	a = steep ? VN_PI_2 - a : a;
-	return x < 0.0 ? VN_PI - a : a;
+	const double q0 = fma(VN_ATANP_C1, z, VN_ATANP_C0), q1 = fma(VN_ATANP_C3, z, VN_ATANP_C2);
+	const double q2 = fma(VN_ATANP_C5, z, VN_ATANP_C4), q3 = fma(VN_ATANP_C7, z, VN_ATANP_C6);
+	const double r = fma(t * z, fma(fma(q3, z2, q2), z4, fma(q1, z2, q0)), t);
+	return den > 0.0 ? base + (steep != neg ? -r : r) : 0.0;
 }
 
 #ifdef VN_HAVE_AVX2
-/* vn_atan2_poly on four lanes, with the same operations. */
-VN_AVX2_INLINE __m256d vn_atan2_poly4(__m256d y, __m256d x)
+/* vn_atan2_poly on four lanes, with the same operations, for y > 0 (the
+ * triangle kernels' lengths, so den > 0): a[i] = atan2(y[i], x[i]) for
+ * i < n <= VN_ATAN2_CHAINS, the chains' operations interleaved so that
+ * they overlap in the reorder window. Masks select by and, not blends. */
+VN_AVX2_FMA_INLINE void vn_atan2_poly4(int n, const __m256d* y, const __m256d* x, __m256d* a)
 {
 #define C(v) _mm256_set1_pd(v)
-	const __m256d zero = _mm256_setzero_pd();
-	__m256d steep, big, den;
-	const __m256d t = vn_atan2_reduce4(y, x, VN_TAN_PI_8, &steep, &big, &den);
-	const __m256d z = _mm256_mul_pd(t, t), z2 = _mm256_mul_pd(z, z), z4 = _mm256_mul_pd(z2, z2);
-#define MADD(a, b, c) _mm256_add_pd(_mm256_mul_pd(a, b), c)
-	const __m256d q0 = MADD(C(VN_ATANP_C1), z, C(VN_ATANP_C0)), q1 = MADD(C(VN_ATANP_C3), z, C(VN_ATANP_C2));
-	const __m256d q2 = MADD(C(VN_ATANP_C5), z, C(VN_ATANP_C4)), q3 = MADD(C(VN_ATANP_C7), z, C(VN_ATANP_C6));
-	const __m256d p = _mm256_add_pd(_mm256_mul_pd(MADD(q3, z2, q2), z4), MADD(q1, z2, q0));
-	__m256d a = MADD(_mm256_mul_pd(t, z), p, t);
-#undef MADD
-	a = _mm256_blendv_pd(a, _mm256_add_pd(C(VN_PI_4), a), big);
-	a = _mm256_blendv_pd(zero, a, _mm256_cmp_pd(den, zero, _CMP_GT_OQ));
-	a = _mm256_blendv_pd(a, _mm256_sub_pd(C(VN_PI_2), a), steep);
-	return _mm256_blendv_pd(a, _mm256_sub_pd(C(VN_PI), a), _mm256_cmp_pd(x, zero, _CMP_LT_OQ));
+#define EACH for (int i = 0; i < n; ++i)
+	const __m256d sign = C(-0.0);
+	__m256d t[VN_ATAN2_CHAINS], base[VN_ATAN2_CHAINS], flip[VN_ATAN2_CHAINS], z[VN_ATAN2_CHAINS];
+	__m256d z2[VN_ATAN2_CHAINS], lo[VN_ATAN2_CHAINS], hi[VN_ATAN2_CHAINS];
+	EACH {
+		const __m256d ax = _mm256_andnot_pd(sign, x[i]);
+		const __m256d num = _mm256_min_pd(y[i], ax), den = _mm256_max_pd(y[i], ax);
+		const __m256d steep = _mm256_cmp_pd(y[i], ax, _CMP_GT_OQ);
+		const __m256d neg = _mm256_cmp_pd(x[i], _mm256_setzero_pd(), _CMP_LT_OQ);
+		const __m256d big = _mm256_cmp_pd(num, _mm256_mul_pd(C(VN_TAN_PI_8), den), _CMP_GT_OQ);
+		t[i] = _mm256_div_pd(_mm256_sub_pd(num, _mm256_and_pd(big, den)), _mm256_add_pd(den, _mm256_and_pd(big, num)));
+		flip[i] = _mm256_and_pd(_mm256_xor_pd(steep, neg), sign);
+		const __m256d half = _mm256_or_pd(_mm256_and_pd(steep, C(VN_PI_2)),
+		                                  _mm256_andnot_pd(steep, _mm256_and_pd(neg, C(VN_PI))));
+		base[i] = _mm256_add_pd(half, _mm256_and_pd(big, _mm256_xor_pd(C(VN_PI_4), flip[i])));
+	}
+	EACH z[i] = _mm256_mul_pd(t[i], t[i]);
+	EACH z2[i] = _mm256_mul_pd(z[i], z[i]);
+	EACH lo[i] = _mm256_fmadd_pd(_mm256_fmadd_pd(C(VN_ATANP_C3), z[i], C(VN_ATANP_C2)), z2[i],
+	                             _mm256_fmadd_pd(C(VN_ATANP_C1), z[i], C(VN_ATANP_C0)));
+	EACH hi[i] = _mm256_fmadd_pd(_mm256_fmadd_pd(C(VN_ATANP_C7), z[i], C(VN_ATANP_C6)), z2[i],
+	                             _mm256_fmadd_pd(C(VN_ATANP_C5), z[i], C(VN_ATANP_C4)));
+	EACH lo[i] = _mm256_fmadd_pd(hi[i], _mm256_mul_pd(z2[i], z2[i]), lo[i]);
+	EACH a[i] = _mm256_fmadd_pd(_mm256_mul_pd(t[i], z[i]), lo[i], t[i]);
+	EACH a[i] = _mm256_add_pd(base[i], _mm256_xor_pd(a[i], flip[i]));
+#undef EACH
 #undef C
 }
 #endif

@@ -15,6 +15,8 @@
 
 #if (defined(__x86_64__) || defined(_M_X64)) && (defined(__GNUC__) || defined(__clang__))
 #define VN_HAVE_AVX2 1
+/* The groups of four triangles a vn_pair_fn takes in one step. */
+#define VN_PG 2
 #include <immintrin.h>
 
 #define VN_AVX2 __attribute__((target("avx2")))
@@ -165,14 +167,38 @@ VN_INLINE size_t vn_group_degenerate(const uint32_t* idx, int usable, vn_range r
  * the unnormalized normal n = e20 x e01 and l2 = n . n. */
 typedef void (*vn_group_fn)(vn_method method, const __m256d e[3][3], const __m256d n[3], __m256d l2, __m256d cx[3],
                             __m256d cy[3], __m256d cz[3]);
+/* VN_PG consecutive groups idx[0..12 VN_PG) that all take the vector path, as a
+ * family's kernel handles them (loads, arithmetic, degenerate count,
+ * scatter), their operations interleaved so that their dependency chains
+ * overlap in the reorder window; returns the degenerate faces. */
+typedef size_t (*vn_pair_fn)(const vn_work* w, const uint32_t* idx, vn_range range);
+
+/* Group idx[0..12)'s edges e[k], from corner k to the next, and normal n;
+ * returns l2. */
+VN_AVX2_INLINE __m256d vn_group_edges(const vn_work* w, vn_scalar type, const uint32_t* idx, __m256d e[3][3],
+                                      __m256d n[3])
+{
+	vn_group p;
+	vn_load_group(w, type, idx, &p);
+	for (int k = 0; k < 3; ++k) {
+		const int j = k == 2 ? 0 : k + 1;
+		e[k][0] = _mm256_sub_pd(p.x[j], p.x[k]);
+		e[k][1] = _mm256_sub_pd(p.y[j], p.y[k]);
+		e[k][2] = _mm256_sub_pd(p.z[j], p.z[k]);
+	}
+	vn_cross4(e[2][0], e[2][1], e[2][2], e[0][0], e[0][1], e[0][2], &n[0], &n[1], &n[2]);
+	return vn_dot4(n[0], n[1], n[2], n[0], n[1], n[2]);
+}
 
 /* The triangle loop both families share, four triangles per step: group
  * classification, loads, edges and normal, degenerate count, scatter (with
- * lengths: vn_scatter_group's). Groups that touch the last vertex, and the
- * tail, go to `scalar`, the family's scalar kernel for the same position
- * type, method and lengths. */
+ * lengths: vn_scatter_group's). With `pair` (else NULL), VN_PG consecutive
+ * groups that all take the vector path go through it in one step. Groups
+ * that touch the last vertex, and the tail, go to `scalar`, the family's
+ * scalar kernel for the same position type, method and lengths. */
 VN_AVX2_INLINE void vn_triangles_avx2(const vn_work* w, vn_scalar type, vn_method method, int lengths,
-                                      vn_range range, vn_range_stats* st, vn_group_fn group, vn_accumulate_fn scalar)
+                                      vn_range range, vn_range_stats* st, vn_group_fn group, vn_pair_fn pair,
+                                      vn_accumulate_fn scalar)
 {
 	const uint32_t last = w->vertex_count - 1;
 	const uint32_t lo = range.full ? 0 : range.lo, hi = range.full ? w->vertex_count : range.lo + range.span;
@@ -183,6 +209,15 @@ VN_AVX2_INLINE void vn_triangles_avx2(const vn_work* w, vn_scalar type, vn_metho
 	for (size_t g = 0; g < groups; ++g) {
 		const uint32_t* idx = w->indices + 12 * g;
 		const int kind = vn_group_kind(idx, last, range);
+		if (pair && kind == VN_GROUP_SIMD && g + VN_PG - 1 < groups) {
+			int ok = 1;
+			for (int h = 1; h < VN_PG; ++h) ok &= vn_group_kind(idx + 12 * h, last, range) == VN_GROUP_SIMD;
+			if (ok) {
+				degenerate += pair(w, idx, range);
+				g += VN_PG - 1;
+				continue;
+			}
+		}
 		if (kind == VN_GROUP_SKIP)
 			continue;
 		if (kind == VN_GROUP_SCALAR) {
@@ -193,17 +228,8 @@ VN_AVX2_INLINE void vn_triangles_avx2(const vn_work* w, vn_scalar type, vn_metho
 				return;
 			continue;
 		}
-		vn_group p;
-		vn_load_group(w, type, idx, &p);
 		__m256d e[3][3], n[3];
-		for (int k = 0; k < 3; ++k) { /* e[k] runs from corner k to the next */
-			const int j = k == 2 ? 0 : k + 1;
-			e[k][0] = _mm256_sub_pd(p.x[j], p.x[k]);
-			e[k][1] = _mm256_sub_pd(p.y[j], p.y[k]);
-			e[k][2] = _mm256_sub_pd(p.z[j], p.z[k]);
-		}
-		vn_cross4(e[2][0], e[2][1], e[2][2], e[0][0], e[0][1], e[0][2], &n[0], &n[1], &n[2]);
-		const __m256d l2 = vn_dot4(n[0], n[1], n[2], n[0], n[1], n[2]);
+		const __m256d l2 = vn_group_edges(w, type, idx, e, n);
 		const int usable = vn_usable4(l2);
 		degenerate += vn_group_degenerate(idx, usable, range);
 		if (!usable)
@@ -218,7 +244,6 @@ VN_AVX2_INLINE void vn_triangles_avx2(const vn_work* w, vn_scalar type, vn_metho
 	rest.face_count = w->face_count - 4 * groups;
 	scalar(&rest, lo, hi, st);
 }
-
 
 static inline int vn_cpu_has_avx2(void)
 {

@@ -70,20 +70,27 @@ int vn_weighted_triangle(vn_method method, const double p0[3], const double p1[3
 }
 
 #ifdef VN_HAVE_AVX2
+/* Corner k's vector n wt[k]. */
+VN_AVX2_INLINE void weighted_corners(const __m256d n[3], const __m256d wt[3], __m256d cx[3], __m256d cy[3],
+                                     __m256d cz[3])
+{
+	for (int k = 0; k < 3; ++k)
+		cx[k] = _mm256_mul_pd(n[0], wt[k]), cy[k] = _mm256_mul_pd(n[1], wt[k]), cz[k] = _mm256_mul_pd(n[2], wt[k]);
+}
+
 /* triangles()' contributions on four lanes, operation for operation (see simd.h). */
 VN_AVX2_INLINE void weighted_group(vn_method method, const __m256d e[3][3], const __m256d n[3], __m256d l2,
                                    __m256d cx[3], __m256d cy[3], __m256d cz[3])
 {
 	__m256d wt[3];
 	vn_triangle_weights4(method, e, l2, wt);
-	for (int k = 0; k < 3; ++k)
-		cx[k] = _mm256_mul_pd(n[0], wt[k]), cy[k] = _mm256_mul_pd(n[1], wt[k]), cz[k] = _mm256_mul_pd(n[2], wt[k]);
+	weighted_corners(n, wt, cx, cy, cz);
 }
 
-#define VN_TRIANGLES_FAST(name, type, method)                                                                 \
-	static VN_AVX2 void name##_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)           \
-	{                                                                                                         \
-		VN_DISPATCH_RANGE(w, lo, hi, vn_triangles_avx2(w, type, method, 0, range, st, weighted_group, name)); \
+#define VN_TRIANGLES_FAST(name, type, method)                                                                       \
+	static VN_AVX2 void name##_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)                 \
+	{                                                                                                               \
+		VN_DISPATCH_RANGE(w, lo, hi, vn_triangles_avx2(w, type, method, 0, range, st, weighted_group, NULL, name)); \
 	}
 #else
 #define VN_TRIANGLES_FAST(name, type, method)
@@ -109,27 +116,108 @@ VN_TRIANGLES(tri_d_mwselr, vn_scalar_float64, vn_method_mwselr)
 VN_TRIANGLES(tri_d_mwaat, vn_scalar_float64, vn_method_mwaat)
 VN_TRIANGLES(tri_d_mwelr, vn_scalar_float64, vn_method_mwelr)
 VN_TRIANGLES(tri_d_mwrelr, vn_scalar_float64, vn_method_mwrelr)
-VN_TRIANGLES(tri_f_mwa_poly, vn_scalar_float32, VN_MWA_POLY)
-VN_TRIANGLES(tri_d_mwa_poly, vn_scalar_float64, VN_MWA_POLY)
+
+/* VN_MWA_POLY, float64 positions only (the per-frame plans' float64 MWA). */
+static void tri_d_mwa_poly(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	VN_DISPATCH_RANGE(w, lo, hi, triangles(w, vn_scalar_float64, VN_MWA_POLY, range, st));
+}
+
+#ifdef VN_HAVE_AVX2
+/* Minus the dot products e20 . e01 and e01 . e12: the cosines of the
+ * angles at corners 0 and 1 times their edges' lengths. */
+VN_AVX2_INLINE void mwa_cosines(const __m256d e[3][3], __m256d c[2])
+{
+	const __m256d neg = _mm256_set1_pd(-0.0), *e01 = e[0], *e12 = e[1], *e20 = e[2];
+	c[0] = _mm256_xor_pd(neg, vn_dot4(e20[0], e20[1], e20[2], e01[0], e01[1], e01[2]));
+	c[1] = _mm256_xor_pd(neg, vn_dot4(e01[0], e01[1], e01[2], e12[0], e12[1], e12[2]));
+}
+
+/* triangles()' VN_MWA_POLY weights of k <= VN_PG groups from l2 and the
+ * cosines c[2h], c[2h + 1] of group h, their angles' chains interleaved. */
+VN_AVX2_FMA_INLINE void mwa_poly_weights(int k, const __m256d* l2, const __m256d* c, __m256d (*wt)[3])
+{
+	__m256d l[VN_PG], y[2 * VN_PG], a[2 * VN_PG];
+	for (int h = 0; h < k; ++h)
+		y[2 * h] = y[2 * h + 1] = l[h] = _mm256_sqrt_pd(l2[h]);
+	vn_atan2_poly4(2 * k, y, c, a);
+	for (int h = 0; h < k; ++h) {
+		const __m256d inv = _mm256_div_pd(_mm256_set1_pd(1.0), l[h]);
+		wt[h][0] = _mm256_mul_pd(a[2 * h], inv);
+		wt[h][1] = _mm256_mul_pd(a[2 * h + 1], inv);
+		wt[h][2] = _mm256_mul_pd(_mm256_sub_pd(_mm256_sub_pd(_mm256_set1_pd(VN_PI), a[2 * h]), a[2 * h + 1]), inv);
+	}
+}
+
+VN_AVX2_FMA_INLINE void mwa_poly_group(vn_method method, const __m256d e[3][3], const __m256d n[3], __m256d l2,
+                                       __m256d cx[3], __m256d cy[3], __m256d cz[3])
+{
+	(void)method;
+	__m256d c[2], wt[1][3];
+	mwa_cosines(e, c);
+	mwa_poly_weights(1, &l2, c, wt);
+	weighted_corners(n, wt[0], cx, cy, cz);
+}
+
+/* Each group's cosines right after its edges, so that only the normals
+ * stay live until the angles are done. */
+VN_AVX2_FMA_INLINE size_t mwa_poly_pair(const vn_work* w, const uint32_t* idx, vn_range range)
+{
+	__m256d n[VN_PG][3], l2[VN_PG], c[2 * VN_PG], wt[VN_PG][3];
+	int usable[VN_PG];
+	size_t degenerate = 0;
+	for (int h = 0; h < VN_PG; ++h) {
+		__m256d e[3][3];
+		l2[h] = vn_group_edges(w, vn_scalar_float64, idx + 12 * h, e, n[h]);
+		usable[h] = vn_usable4(l2[h]);
+		degenerate += vn_group_degenerate(idx + 12 * h, usable[h], range);
+		mwa_cosines((const __m256d(*)[3])e, c + 2 * h);
+	}
+	mwa_poly_weights(VN_PG, l2, c, wt);
+	for (int h = 0; h < VN_PG; ++h) {
+		__m256d cx[3], cy[3], cz[3];
+		weighted_corners(n[h], wt[h], cx, cy, cz);
+		vn_scatter_group(w->acc, idx + 12 * h, usable[h], range, 0, cx, cy, cz);
+	}
+	return degenerate;
+}
+
+/* VN_PG groups a step; fused multiply-adds in the polynomial, as fma in
+ * triangles(). */
+static VN_AVX2_FMA void tri_d_mwa_poly_avx2(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
+{
+	VN_DISPATCH_RANGE(w, lo, hi,
+	                  vn_triangles_avx2(w, vn_scalar_float64, VN_MWA_POLY, 0, range, st, mwa_poly_group, mwa_poly_pair,
+	                                    tri_d_mwa_poly));
+}
+#endif
 
 void vn_accumulate_weighted_triangles(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)
 {
-	/* Indexed by [simd][type][method], in vn_method order up to MWRELR,
-	 * then VN_MWA_POLY. */
-	static const vn_accumulate_fn table[2][2][7] = {
-	    {{tri_f_mwe, tri_f_mwa, tri_f_mwselr, tri_f_mwaat, tri_f_mwelr, tri_f_mwrelr, tri_f_mwa_poly},
-	     {tri_d_mwe, tri_d_mwa, tri_d_mwselr, tri_d_mwaat, tri_d_mwelr, tri_d_mwrelr, tri_d_mwa_poly}},
+	/* Indexed by [simd][type][method], in vn_method order up to MWRELR. */
+	static const vn_accumulate_fn table[2][2][6] = {
+	    {{tri_f_mwe, tri_f_mwa, tri_f_mwselr, tri_f_mwaat, tri_f_mwelr, tri_f_mwrelr},
+	     {tri_d_mwe, tri_d_mwa, tri_d_mwselr, tri_d_mwaat, tri_d_mwelr, tri_d_mwrelr}},
 #ifdef VN_HAVE_AVX2
-	    {{tri_f_mwe_avx2, tri_f_mwa_avx2, tri_f_mwselr_avx2, tri_f_mwaat_avx2, tri_f_mwelr_avx2, tri_f_mwrelr_avx2,
-	      tri_f_mwa_poly_avx2},
-	     {tri_d_mwe_avx2, tri_d_mwa_avx2, tri_d_mwselr_avx2, tri_d_mwaat_avx2, tri_d_mwelr_avx2, tri_d_mwrelr_avx2,
-	      tri_d_mwa_poly_avx2}},
+	    {{tri_f_mwe_avx2, tri_f_mwa_avx2, tri_f_mwselr_avx2, tri_f_mwaat_avx2, tri_f_mwelr_avx2, tri_f_mwrelr_avx2},
+	     {tri_d_mwe_avx2, tri_d_mwa_avx2, tri_d_mwselr_avx2, tri_d_mwaat_avx2, tri_d_mwelr_avx2, tri_d_mwrelr_avx2}},
 #else
-	    {{tri_f_mwe, tri_f_mwa, tri_f_mwselr, tri_f_mwaat, tri_f_mwelr, tri_f_mwrelr, tri_f_mwa_poly},
-	     {tri_d_mwe, tri_d_mwa, tri_d_mwselr, tri_d_mwaat, tri_d_mwelr, tri_d_mwrelr, tri_d_mwa_poly}},
+	    {{tri_f_mwe, tri_f_mwa, tri_f_mwselr, tri_f_mwaat, tri_f_mwelr, tri_f_mwrelr},
+	     {tri_d_mwe, tri_d_mwa, tri_d_mwselr, tri_d_mwaat, tri_d_mwelr, tri_d_mwrelr}},
 #endif
 	};
-	table[w->simd != 0][w->type == vn_scalar_float64][w->method == VN_MWA_POLY ? 6 : w->method](w, lo, hi, st);
+	if (w->method == VN_MWA_POLY) {
+#ifdef VN_HAVE_AVX2
+		/* The vector kernel fuses multiply-adds: it needs FMA too. */
+		if (w->simd && vn_cpu_has_avx2_fma()) {
+			tri_d_mwa_poly_avx2(w, lo, hi, st);
+			return;
+		}
+#endif
+		tri_d_mwa_poly(w, lo, hi, st);
+		return;
+	}
+	table[w->simd != 0][w->type == vn_scalar_float64][w->method](w, lo, hi, st);
 }
 
 /* ---------------------------------------------------------------- polygons */

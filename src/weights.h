@@ -70,15 +70,12 @@ VN_AVX2_INLINE void vn_triangle_weights4(vn_method method, const __m256d e[3][3]
 	case vn_method_mwe:
 		wt[0] = wt[1] = wt[2] = _mm256_div_pd(one, _mm256_sqrt_pd(l2));
 		break;
-	case vn_method_mwa:
-	case VN_MWA_POLY: {
+	case vn_method_mwa: {
 		const __m256d l = _mm256_sqrt_pd(l2), inv = _mm256_div_pd(one, l);
 		const __m256d neg = _mm256_set1_pd(-0.0);
 		const __m256d c0 = _mm256_xor_pd(neg, vn_dot4(e20[0], e20[1], e20[2], e01[0], e01[1], e01[2]));
 		const __m256d c1 = _mm256_xor_pd(neg, vn_dot4(e01[0], e01[1], e01[2], e12[0], e12[1], e12[2]));
-		const int poly = method == VN_MWA_POLY;
-		const __m256d a0 = poly ? vn_atan2_poly4(l, c0) : vn_atan2_nonneg4(l, c0);
-		const __m256d a1 = poly ? vn_atan2_poly4(l, c1) : vn_atan2_nonneg4(l, c1);
+		const __m256d a0 = vn_atan2_nonneg4(l, c0), a1 = vn_atan2_nonneg4(l, c1);
 		wt[0] = _mm256_mul_pd(a0, inv);
 		wt[1] = _mm256_mul_pd(a1, inv);
 		wt[2] = _mm256_mul_pd(_mm256_sub_pd(_mm256_sub_pd(_mm256_set1_pd(VN_PI), a0), a1), inv);
