@@ -109,29 +109,19 @@ VN_AVX2_FMA_INLINE __m256 vn_atan2f_nonneg8(__m256 y, __m256 x)
 #endif
 
 #ifdef VN_HAVE_AVX2
-/* The reductions of the four-lane atan2s below: the octant (steep where
- * |x| < y; num / den <= 1), then (num - den) / (num + den) where num / den
- * exceeds split (big); returns the reduced ratio. */
-VN_AVX2_INLINE __m256d vn_atan2_reduce4(__m256d y, __m256d x, double split, __m256d* steep, __m256d* big,
-                                        __m256d* den)
-{
-	const __m256d ax = _mm256_andnot_pd(_mm256_set1_pd(-0.0), x);
-	*steep = _mm256_cmp_pd(y, ax, _CMP_GT_OQ);
-	const __m256d num = _mm256_blendv_pd(y, ax, *steep);
-	*den = _mm256_blendv_pd(ax, y, *steep);
-	*big = _mm256_cmp_pd(num, _mm256_mul_pd(_mm256_set1_pd(split), *den), _CMP_GT_OQ);
-	return _mm256_div_pd(_mm256_blendv_pd(num, _mm256_sub_pd(num, *den), *big),
-	                     _mm256_blendv_pd(*den, _mm256_add_pd(num, *den), *big));
-}
-
 /* vn_atan2_nonneg on four lanes: both sides of every branch, then a blend, so
  * each lane gets exactly the scalar result. */
 VN_AVX2_INLINE __m256d vn_atan2_nonneg4(__m256d y, __m256d x)
 {
 #define C(v) _mm256_set1_pd(v)
 	const __m256d zero = _mm256_setzero_pd();
-	__m256d steep, big, den;
-	const __m256d xr = vn_atan2_reduce4(y, x, 0.66, &steep, &big, &den); /* vn_atan_ratio's */
+	const __m256d ax = _mm256_andnot_pd(C(-0.0), x);
+	const __m256d steep = _mm256_cmp_pd(y, ax, _CMP_GT_OQ);
+	const __m256d num = _mm256_blendv_pd(y, ax, steep), den = _mm256_blendv_pd(ax, y, steep);
+	/* vn_atan_ratio */
+	const __m256d big = _mm256_cmp_pd(num, _mm256_mul_pd(C(0.66), den), _CMP_GT_OQ);
+	const __m256d xr = _mm256_div_pd(_mm256_blendv_pd(num, _mm256_sub_pd(num, den), big),
+	                                 _mm256_blendv_pd(den, _mm256_add_pd(num, den), big));
 	const __m256d z = _mm256_mul_pd(xr, xr);
 	__m256d p = _mm256_add_pd(_mm256_mul_pd(C(VN_ATAN_P0), z), C(VN_ATAN_P1));
 	p = _mm256_add_pd(_mm256_mul_pd(p, z), C(VN_ATAN_P2));
@@ -160,9 +150,9 @@ VN_AVX2_INLINE __m256d vn_atan2_nonneg4(__m256d y, __m256d x)
  * absolute error 6.1e-15 on that interval, evaluated by Estrin's scheme
  * with fused multiply-adds (fma, which rounds as the vector FMA does, so
  * both give the same bits). The angle is then base + s atan(t), s = -1
- * where the octant mirrors it: s goes on t's numerator before the
- * division, and base (a multiple of pi/4) is chosen from the reductions
- * while the division runs, so one addition follows the polynomial. The
+ * where the octant mirrors it (a flip of the polynomial's sign bit), and
+ * base (a multiple of pi/4) is chosen from the reductions while the
+ * division runs, so one addition follows the polynomial. The
  * result is within 1e-13 rad of atan2 (tests/test_plan.c checks it over
  * [0, pi]). */
 #define VN_ATANP_C0 -0.3333333332965795131164534

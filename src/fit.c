@@ -653,10 +653,6 @@ static int gather_vertex(const fit_job* j, scratch* s, uint32_t v, vn_fit_points
 	return 1;
 }
 
-/* ADAPTIVE's wide fits: the points' weights become exp(-|p|^2 / (2 r^2)),
- * r^2 the mean |p|^2 of the members (a Gaussian as wide as the 4-ring).
- * Returns the effective number of points, (sum w)^2 / sum w^2, and sets
- * *sum to sum w, the vertex (weight 1) included in both. */
 /* exp(x) for x <= 0, without a libm call (which was 12% of ADAPTIVE's
  * instructions): x = n ln 2 + r with |r| <= ln 2 / 2 (n by the 1.5 2^52
  * rounding trick, ln 2 in two parts so that n ln2_hi is exact), e^r by its
@@ -682,6 +678,10 @@ static double exp_nonpositive(double x)
 	return e * scale;
 }
 
+/* ADAPTIVE's wide fits: the points' weights become exp(-|p|^2 / (2 r^2)),
+ * r^2 the mean |p|^2 of the members (a Gaussian as wide as the 4-ring).
+ * Returns the effective number of points, (sum w)^2 / sum w^2, and sets
+ * *sum to sum w, the vertex (weight 1) included in both. */
 static double gaussian_weights(const vn_fit_points* p, double* sum)
 {
 	double r2 = 0.0, sw = 1.0, sww = 1.0;

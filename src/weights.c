@@ -124,15 +124,6 @@ static void tri_d_mwa_poly(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_
 }
 
 #ifdef VN_HAVE_AVX2
-/* Minus the dot products e20 . e01 and e01 . e12: the cosines of the
- * angles at corners 0 and 1 times their edges' lengths. */
-VN_AVX2_INLINE void mwa_cosines(const __m256d e[3][3], __m256d c[2])
-{
-	const __m256d neg = _mm256_set1_pd(-0.0), *e01 = e[0], *e12 = e[1], *e20 = e[2];
-	c[0] = _mm256_xor_pd(neg, vn_dot4(e20[0], e20[1], e20[2], e01[0], e01[1], e01[2]));
-	c[1] = _mm256_xor_pd(neg, vn_dot4(e01[0], e01[1], e01[2], e12[0], e12[1], e12[2]));
-}
-
 /* triangles()' VN_MWA_POLY weights of k <= VN_PG groups from l2 and the
  * cosines c[2h], c[2h + 1] of group h, their angles' chains interleaved. */
 VN_AVX2_FMA_INLINE void mwa_poly_weights(int k, const __m256d* l2, const __m256d* c, __m256d (*wt)[3])
@@ -154,7 +145,7 @@ VN_AVX2_FMA_INLINE void mwa_poly_group(vn_method method, const __m256d e[3][3], 
 {
 	(void)method;
 	__m256d c[2], wt[1][3];
-	mwa_cosines(e, c);
+	vn_mwa_cosines4(e, c);
 	mwa_poly_weights(1, &l2, c, wt);
 	weighted_corners(n, wt[0], cx, cy, cz);
 }
@@ -171,7 +162,7 @@ VN_AVX2_FMA_INLINE size_t mwa_poly_pair(const vn_work* w, const uint32_t* idx, v
 		l2[h] = vn_group_edges(w, vn_scalar_float64, idx + 12 * h, e, n[h]);
 		usable[h] = vn_usable4(l2[h]);
 		degenerate += vn_group_degenerate(idx + 12 * h, usable[h], range);
-		mwa_cosines((const __m256d(*)[3])e, c + 2 * h);
+		vn_mwa_cosines4((const __m256d(*)[3])e, c + 2 * h);
 	}
 	mwa_poly_weights(VN_PG, l2, c, wt);
 	for (int h = 0; h < VN_PG; ++h) {

@@ -60,6 +60,16 @@ VN_INLINE void vn_triangle_weights(vn_method method, const double e01[3], const 
 }
 
 #ifdef VN_HAVE_AVX2
+/* Minus the dot products e20 . e01 and e01 . e12 (e as below): the cosines
+ * of the angles at corners 0 and 1 times their edges' lengths, MWA's atan2
+ * arguments. */
+VN_AVX2_INLINE void vn_mwa_cosines4(const __m256d e[3][3], __m256d c[2])
+{
+	const __m256d neg = _mm256_set1_pd(-0.0), *e01 = e[0], *e12 = e[1], *e20 = e[2];
+	c[0] = _mm256_xor_pd(neg, vn_dot4(e20[0], e20[1], e20[2], e01[0], e01[1], e01[2]));
+	c[1] = _mm256_xor_pd(neg, vn_dot4(e01[0], e01[1], e01[2], e12[0], e12[1], e12[2]));
+}
+
 /* vn_triangle_weights on four lanes, operation for operation (see simd.h):
  * e[0] = e01, e[1] = e12, e[2] = e20 (x, y, z lanes each). */
 VN_AVX2_INLINE void vn_triangle_weights4(vn_method method, const __m256d e[3][3], __m256d l2, __m256d wt[3])
@@ -72,10 +82,9 @@ VN_AVX2_INLINE void vn_triangle_weights4(vn_method method, const __m256d e[3][3]
 		break;
 	case vn_method_mwa: {
 		const __m256d l = _mm256_sqrt_pd(l2), inv = _mm256_div_pd(one, l);
-		const __m256d neg = _mm256_set1_pd(-0.0);
-		const __m256d c0 = _mm256_xor_pd(neg, vn_dot4(e20[0], e20[1], e20[2], e01[0], e01[1], e01[2]));
-		const __m256d c1 = _mm256_xor_pd(neg, vn_dot4(e01[0], e01[1], e01[2], e12[0], e12[1], e12[2]));
-		const __m256d a0 = vn_atan2_nonneg4(l, c0), a1 = vn_atan2_nonneg4(l, c1);
+		__m256d c[2];
+		vn_mwa_cosines4(e, c);
+		const __m256d a0 = vn_atan2_nonneg4(l, c[0]), a1 = vn_atan2_nonneg4(l, c[1]);
 		wt[0] = _mm256_mul_pd(a0, inv);
 		wt[1] = _mm256_mul_pd(a1, inv);
 		wt[2] = _mm256_mul_pd(_mm256_sub_pd(_mm256_sub_pd(_mm256_set1_pd(VN_PI), a0), a1), inv);
