@@ -35,9 +35,8 @@
  * for any thread count.
  *
  * Work memory, from the allocator (the workspace serves the seed pass):
- * 24 bytes a vertex (seeds) + 4 a corner + 1 a face (+ 4 a corner for
- * polygons) + 8 a vertex + 4 a 1-ring member + 4 a vertex per thread + ring
- * scratch.
+ * 24 bytes a vertex (seeds) + 8 a corner + 1 a face + 8 a vertex + 4 a
+ * 1-ring member + 4 a vertex per thread + ring scratch.
  *
  * ADAPTIVE (vn.h) adds the 4-ring, gathered past the 2-ring up to the ring
  * capacity, and fits a quadric and a cubic there; each vertex keeps two
@@ -83,22 +82,18 @@
 
 /* ---------------------------------------------------------------- the fit */
 
-void vn_fit_prepare(const vn_fit_points* p, double h)
-{
-	const double inv = 1.0 / h;
-	for (uint32_t i = 0; i < p->m; ++i) {
-		const double x = p->x[i] * inv, y = p->y[i] * inv, z = p->z[i] * inv;
-		p->x[i] = x, p->y[i] = y, p->z[i] = z;
-		p->w[i] = 1.0 / (1.0 + (x * x + y * y + z * z));
-	}
-}
-
 /* Fits run LANES vertices at a time, each step of the arithmetic done for
  * every lane before the next step: a fit is a chain of dependent divisions
  * and square roots, and the lanes' chains overlap (the compiler also maps
  * lanes to SIMD registers). A lane's arithmetic is the same whatever the
  * other lanes hold, so results do not depend on how vertices are batched. */
 #define LANES 4
+/* A batch's points are interleaved, so that one load reads a coordinate of
+ * every lane: lane l's point i (relative to its vertex) is x = q[PT i + l],
+ * y, z and its weight LANES, 2 LANES and 3 LANES further. A lane sums its
+ * own points in order, and the moments need no sum across a register. */
+#define PT (4 * LANES)
+_Static_assert(PT == 16, "vn_fit_frame takes 16 doubles of scratch a point (internal.h)");
 /* Loops over lanes or at most 10 unknowns: unrolled where the count is a
  * constant. */
 #if defined(__GNUC__) || defined(__clang__)
@@ -126,79 +121,141 @@ static const unsigned char MOMENT[10][10] = {
 	{8, 12, 13, 17, 18, 19, 23, 24, 25, 26},   {9, 13, 14, 18, 19, 20, 24, 25, 26, 27},
 };
 
-/* LANES fits: frames (t1, t2, a), coefficients c, unit normals n, the
- * slopes' variance factor vs = (M^-1)_11 + (M^-1)_22, the weighted RMS
- * residual res over h (the vertex included), and whether each
- * succeeded. */
 typedef double lanes __attribute__((vector_size(LANES * sizeof(double))));
 typedef long long masks __attribute__((vector_size(LANES * sizeof(long long))));
+
+/* Unaligned loads and stores of LANES doubles. */
+typedef double unaligned_lanes __attribute__((vector_size(LANES * sizeof(double)), aligned(8), may_alias));
+#define LOAD(p) ((lanes) * (const unaligned_lanes*)(const void*)(p))
+#define STORE(p, v) (*(unaligned_lanes*)(void*)(p) = (v))
+
+/* Square roots of each lane, as sqrt rounds them (SSE2 on x86-64). */
+VN_INLINE void sqrt_lanes(lanes* x)
+{
+#ifdef VN_HAVE_AVX2
+	__m128d half[2];
+	memcpy(half, x, sizeof(half));
+	half[0] = _mm_sqrt_pd(half[0]), half[1] = _mm_sqrt_pd(half[1]);
+	memcpy(x, half, sizeof(half));
+#else
+	UNROLL for (int l = 0; l < LANES; ++l)
+		(*x)[l] = sqrt((*x)[l]);
+#endif
+}
+
+/* Points [0, top) of a batch: coordinates divided by each lane's h (inv =
+ * 1 / h), weights 1 / (1 + |p|^2) from the result. */
+VN_INLINE void prepare_lanes(double* q, uint32_t top, const lanes* scale)
+{
+	const lanes one = {1.0, 1.0, 1.0, 1.0}, inv = *scale;
+	for (uint32_t i = 0; i < top; ++i) {
+		double* b = q + PT * (size_t)i;
+		const lanes x = LOAD(b) * inv, y = LOAD(b + LANES) * inv, z = LOAD(b + 2 * LANES) * inv;
+		STORE(b, x), STORE(b + LANES, y), STORE(b + 2 * LANES, z);
+		STORE(b + 3 * LANES, one / (one + (x * x + y * y + z * z)));
+	}
+}
+
+/* A batch's points [0, top) as gathered (relative to their vertices), over
+ * each lane's h, the mean distance to its first first[l] points (the
+ * 1-ring), and weighted (prepare_lanes). A lane whose h is 0 or not finite
+ * leaves act. */
+VN_INLINE void scale_lanes(double* q, const uint32_t first[LANES], uint32_t top, int act[LANES])
+{
+	const lanes zero = {0.0, 0.0, 0.0, 0.0};
+	lanes h = zero, count = zero, divisor, inv;
+	uint32_t most = 0;
+	UNROLL for (int l = 0; l < LANES; ++l) {
+		const uint32_t c = act[l] ? first[l] : 0;
+		count[l] = (double)c, divisor[l] = c ? (double)c : 1.0, most = c > most ? c : most;
+	}
+	for (uint32_t i = 0; i < most; ++i) { /* each lane's sum in its order: + 0 past its count */
+		const double* b = q + PT * (size_t)i;
+		const lanes x = LOAD(b), y = LOAD(b + LANES), z = LOAD(b + 2 * LANES);
+		lanes r = x * x + y * y + z * z;
+		sqrt_lanes(&r);
+		h += (lanes)((masks)r & ((lanes){(double)i, (double)i, (double)i, (double)i} < count));
+	}
+	h /= divisor;
+	UNROLL for (int l = 0; l < LANES; ++l) {
+		act[l] = count[l] > 0.0 && h[l] > 0.0 && h[l] <= DBL_MAX;
+		inv[l] = act[l] ? 1.0 / h[l] : 1.0;
+	}
+	prepare_lanes(q, top, &inv);
+}
+
+/* LANES fits: frames (t1, t2, a), coefficients c, unit normals n, the
+ * slopes' variance factor vs = (M^-1)_11 + (M^-1)_22, the weighted sum of
+ * squared residuals e2 and the sum of the weights sw (the vertex included
+ * in both: rms_residual makes the RMS), and whether each succeeded. */
 typedef struct fits {
-	lanes t1[3], t2[3], a[3], c[10], n[3], vs, res;
+	lanes t1[3], t2[3], a[3], c[10], n[3], vs, e2, sw;
 	int ok[LANES];
 } fits;
 
-/* Points X..W[0..LANES) added to the moments of lane `to` (the points'
- * own lanes are summed in a fixed order at the end). */
-VN_INLINE void moments_block(const double* X, const double* Y, const double* Z, const double* W, const fits* f,
-                             unsigned to, int cubic, lanes acc[MOMENTS])
+/* One point of each lane (b: x, y, z relative to the lane's vertex,
+ * weight; the weight taken as 0 where `in` is clear) added to the moments,
+ * in each lane's frame. */
+#define ADD(k, e) (acc[k] += (e))
+VN_INLINE void moments_point(const double* b, const masks* in, const fits* f, int cubic, lanes acc[MOMENTS])
 {
-	lanes px, py, pz, w;
-	memcpy(&px, X, sizeof(px)), memcpy(&py, Y, sizeof(py)), memcpy(&pz, Z, sizeof(pz)), memcpy(&w, W, sizeof(w));
-	const lanes x = px * f->t1[0][to] + py * f->t1[1][to] + pz * f->t1[2][to];
-	const lanes y = px * f->t2[0][to] + py * f->t2[1][to] + pz * f->t2[2][to];
-	const lanes z = px * f->a[0][to] + py * f->a[1][to] + pz * f->a[2][to];
+	const lanes px = LOAD(b), py = LOAD(b + LANES), pz = LOAD(b + 2 * LANES);
+	const lanes w = (lanes)((masks)LOAD(b + 3 * LANES) & *in);
+	const lanes x = px * f->t1[0] + py * f->t1[1] + pz * f->t1[2];
+	const lanes y = px * f->t2[0] + py * f->t2[1] + pz * f->t2[2];
+	const lanes z = px * f->a[0] + py * f->a[1] + pz * f->a[2];
 	const lanes wx = w * x, wy = w * y, xx = x * x, xy = x * y, yy = y * y;
 	const lanes wxx = wx * x, wxy = wx * y, wyy = wy * y, wz = w * z;
-	acc[0] += w, acc[1] += wx, acc[2] += wy, acc[3] += wxx, acc[4] += wxy, acc[5] += wyy;
-	acc[ZZ] += wz * z;
-	acc[S_MAX] += wz, acc[S_MAX + 1] += wz * x, acc[S_MAX + 2] += wz * y;
-	acc[S_MAX + 3] += wz * xx, acc[S_MAX + 4] += wz * xy, acc[S_MAX + 5] += wz * yy;
+	ADD(0, w), ADD(1, wx), ADD(2, wy), ADD(3, wxx), ADD(4, wxy), ADD(5, wyy);
+	ADD(ZZ, wz * z);
+	ADD(S_MAX, wz), ADD(S_MAX + 1, wz * x), ADD(S_MAX + 2, wz * y);
+	ADD(S_MAX + 3, wz * xx), ADD(S_MAX + 4, wz * xy), ADD(S_MAX + 5, wz * yy);
 	if (!cubic) {
-		acc[6] += wxx * x, acc[7] += wxx * y, acc[8] += wxy * y, acc[9] += wyy * y;
-		acc[10] += wxx * xx, acc[11] += wxx * xy, acc[12] += wxx * yy, acc[13] += wxy * yy, acc[14] += wyy * yy;
+		ADD(6, wxx * x), ADD(7, wxx * y), ADD(8, wxy * y), ADD(9, wyy * y);
+		ADD(10, wxx * xx), ADD(11, wxx * xy), ADD(12, wxx * yy), ADD(13, wxy * yy), ADD(14, wyy * yy);
 		return;
 	}
 	const lanes wxxx = wxx * x, wxxy = wxx * y, wxyy = wxy * y, wyyy = wyy * y;
 	const lanes xxx = xx * x, xxy = xx * y, xyy = x * yy, yyy = yy * y;
-	acc[6] += wxxx, acc[7] += wxxy, acc[8] += wxyy, acc[9] += wyyy;
-	acc[10] += wxxx * x, acc[11] += wxxx * y, acc[12] += wxxy * y, acc[13] += wxyy * y, acc[14] += wyyy * y;
-	acc[15] += wxxx * xx, acc[16] += wxxx * xy, acc[17] += wxxx * yy;
-	acc[18] += wxxy * yy, acc[19] += wxyy * yy, acc[20] += wyyy * yy;
-	acc[21] += wxxx * xxx, acc[22] += wxxx * xxy, acc[23] += wxxx * xyy, acc[24] += wxxx * yyy;
-	acc[25] += wxxy * yyy, acc[26] += wxyy * yyy, acc[27] += wyyy * yyy;
-	acc[S_MAX + 6] += wz * xxx, acc[S_MAX + 7] += wz * xxy, acc[S_MAX + 8] += wz * xyy, acc[S_MAX + 9] += wz * yyy;
+	ADD(6, wxxx), ADD(7, wxxy), ADD(8, wxyy), ADD(9, wyyy);
+	ADD(10, wxxx * x), ADD(11, wxxx * y), ADD(12, wxxy * y), ADD(13, wxyy * y), ADD(14, wyyy * y);
+	ADD(15, wxxx * xx), ADD(16, wxxx * xy), ADD(17, wxxx * yy);
+	ADD(18, wxxy * yy), ADD(19, wxyy * yy), ADD(20, wyyy * yy);
+	ADD(21, wxxx * xxx), ADD(22, wxxx * xxy), ADD(23, wxxx * xyy), ADD(24, wxxx * yyy);
+	ADD(25, wxxy * yyy), ADD(26, wxyy * yyy), ADD(27, wyyy * yyy);
+	ADD(S_MAX + 6, wz * xxx), ADD(S_MAX + 7, wz * xxy), ADD(S_MAX + 8, wz * xyy), ADD(S_MAX + 9, wz * yyy);
 }
+#undef ADD
 
-/* The moments of lane `to`'s points in its frame, into s[.][to] (the
- * vertex itself, the origin with weight 1, included), t[.][to] and
- * zz[to]. */
-VN_INLINE void moments(const vn_fit_points* p, const fits* f, unsigned to, int cubic, lanes s[S_MAX], lanes t[T_MAX],
-                       lanes* zz)
+/* The moments of each lane's first m[l] points in its frame, for the lanes
+ * with f->ok set (zero for the others), into acc (s: the first S_MAX, t:
+ * T_MAX from S_MAX, then sum w z^2 at ZZ); the vertex itself, the origin
+ * with weight 1, is included. Points past a lane's count are read with
+ * weight 0: they must be finite (they add +0). */
+VN_INLINE void moments(const double* q, const uint32_t m[LANES], const fits* f, int cubic, lanes acc[MOMENTS])
 {
-	const int ns = cubic ? S_MAX : 15, nt = cubic ? T_MAX : 6;
 	const lanes zero = {0.0, 0.0, 0.0, 0.0};
-	lanes acc[MOMENTS];
-	UNROLL for (int q = 0; q < ns; ++q)
-		acc[q] = zero;
-	UNROLL for (int q = 0; q < nt; ++q)
-		acc[S_MAX + q] = zero;
-	acc[ZZ] = zero;
-	uint32_t i = 0;
-	for (; i + LANES <= p->m; i += LANES)
-		moments_block(p->x + i, p->y + i, p->z + i, p->w + i, f, to, cubic, acc);
-	if (i < p->m) { /* the rest, padded with weight-0 points at the origin: they add +0 */
-		double tail[4][LANES];
-		memset(tail, 0, sizeof(tail));
-		for (uint32_t l = 0; i + l < p->m; ++l)
-			tail[0][l] = p->x[i + l], tail[1][l] = p->y[i + l], tail[2][l] = p->z[i + l], tail[3][l] = p->w[i + l];
-		moments_block(tail[0], tail[1], tail[2], tail[3], f, to, cubic, acc);
+	lanes count = zero, vertex = zero;
+	uint32_t top = 0;
+	UNROLL for (int l = 0; l < LANES; ++l) {
+		const uint32_t c = f->ok[l] ? m[l] : 0;
+		count[l] = (double)c, vertex[l] = f->ok[l] ? 1.0 : 0.0;
+		top = c > top ? c : top;
 	}
-	UNROLL for (int q = 0; q < ns; ++q)
-		s[q][to] = (acc[q][0] + acc[q][1]) + (acc[q][2] + acc[q][3]);
-	UNROLL for (int q = 0; q < nt; ++q)
-		t[q][to] = (acc[S_MAX + q][0] + acc[S_MAX + q][1]) + (acc[S_MAX + q][2] + acc[S_MAX + q][3]);
-	(*zz)[to] = (acc[ZZ][0] + acc[ZZ][1]) + (acc[ZZ][2] + acc[ZZ][3]);
-	s[0][to] += 1.0;
+	/* count - count is +0, but not a constant: the compiler makes no memset
+	 * of it (a slow rep stos). */
+	const lanes zeros = count - count;
+	const int ns = cubic ? S_MAX : 15, nt = cubic ? T_MAX : 6;
+	UNROLL for (int k = 0; k < ns; ++k)
+		acc[k] = zeros;
+	UNROLL for (int k = 0; k < nt; ++k)
+		acc[S_MAX + k] = zeros;
+	acc[ZZ] = zeros;
+	for (uint32_t i = 0; i < top; ++i) {
+		const masks in = (lanes){(double)i, (double)i, (double)i, (double)i} < count;
+		moments_point(q + PT * (size_t)i, &in, f, cubic, acc);
+	}
+	acc[0] += vertex;
 }
 
 /* Solves M c = t for each lane's k x k normal matrix (M_il = s[MOMENT[i][l]])
@@ -212,13 +269,13 @@ VN_INLINE void solve(const lanes s[S_MAX], const lanes t_in[T_MAX], const lanes*
 	lanes L[10][10], U[10][10], inv[10], t[10];
 	memcpy(t, t_in, sizeof(lanes) * (size_t)k);
 	const lanes one = {1.0, 1.0, 1.0, 1.0};
+	masks ok = {-1, -1, -1, -1};
 	UNROLL for (int j = 0; j < k; ++j) {
 		lanes d = s[MOMENT[j][j]];
 		UNROLL for (int p = 0; p < j; ++p)
 			d -= U[j][p] * L[j][p];
 		const masks good = (d > 0.0) & (d >= PIVOT_MIN * s[MOMENT[j][j]]);
-		UNROLL for (int l = 0; l < LANES; ++l)
-			f->ok[l] &= good[l] != 0;
+		ok &= good;
 		inv[j] = one / (lanes)(((masks)d & good) | ((masks)one & ~good));
 		UNROLL for (int i = j + 1; i < k; ++i) {
 			lanes x = s[MOMENT[i][j]];
@@ -247,9 +304,9 @@ VN_INLINE void solve(const lanes s[S_MAX], const lanes t_in[T_MAX], const lanes*
 			f->vs += sum;
 	}
 	/* 1 / (k trace) below RCOND_MIN: fail. */
-	const masks conditioned = trace * (double)k <= 1.0 / RCOND_MIN;
+	ok &= trace * (double)k <= 1.0 / RCOND_MIN;
 	UNROLL for (int l = 0; l < LANES; ++l)
-		f->ok[l] &= conditioned[l] != 0;
+		f->ok[l] &= ok[l] != 0;
 	UNROLL for (int i = 0; i < k; ++i) /* forward: t becomes L^-1 t */
 		UNROLL for (int p = 0; p < i; ++p)
 			t[i] -= L[i][p] * t[p];
@@ -262,99 +319,105 @@ VN_INLINE void solve(const lanes s[S_MAX], const lanes t_in[T_MAX], const lanes*
 		f->c[i] = one - one;
 	/* sum w e^2 = sum w z^2 - c . t: its rounding error is about eps sum w
 	 * z^2, far below any residual ADAPTIVE compares (clamped at 0). */
-	lanes e2 = *zz;
+	f->e2 = *zz, f->sw = s[0];
 	UNROLL for (int i = 0; i < k; ++i)
-		e2 -= f->c[i] * t_in[i];
-	UNROLL for (int l = 0; l < LANES; ++l) /* s[0] = sum w >= 1 where the lane is active */
-		f->res[l] = e2[l] > 0.0 && s[0][l] > 0.0 ? sqrt(e2[l] / s[0][l]) : 0.0;
+		f->e2 -= f->c[i] * t_in[i];
 }
 
-/* The unit normal of each lane's fit, or ok cleared. */
+/* Lane l's weighted RMS residual over h. */
+static double rms_residual(const fits* f, unsigned l)
+{
+	const double e2 = f->e2[l], sw = f->sw[l]; /* sw >= 1 where the lane is active */
+	return e2 > 0.0 && sw > 0.0 ? sqrt(e2 / sw) : 0.0;
+}
+
+/* The unit normal of each lane's fit, or ok cleared. The normal is a unit
+ * axis plus tangents, so its squared length is at least about 1; outside
+ * vn_normalize's direct range (huge slopes, or not finite) the lane fails
+ * (its normal would lie in the tangent plane, past the seed's 60 degrees). */
 VN_INLINE void fit_normals(fits* f)
 {
-	UNROLL for (int l = 0; l < LANES; ++l) {
-		double n[3];
-		UNROLL for (int d = 0; d < 3; ++d)
-			n[d] = f->a[d][l] - f->c[1][l] * f->t1[d][l] - f->c[2][l] * f->t2[d][l];
-		f->ok[l] &= !vn_normalize(n);
-		UNROLL for (int d = 0; d < 3; ++d)
-			f->n[d][l] = n[d];
-	}
+	UNROLL for (int d = 0; d < 3; ++d)
+		f->n[d] = f->a[d] - f->c[1] * f->t1[d] - f->c[2] * f->t2[d];
+	const lanes len2 = f->n[0] * f->n[0] + f->n[1] * f->n[1] + f->n[2] * f->n[2];
+	const masks in = (len2 >= VN_LEN2_MIN) & (len2 <= VN_LEN2_MAX);
+	const lanes one = {1.0, 1.0, 1.0, 1.0};
+	lanes root = (lanes)(((masks)len2 & in) | ((masks)one & ~in));
+	sqrt_lanes(&root);
+	UNROLL for (int l = 0; l < LANES; ++l)
+		f->ok[l] &= in[l] != 0;
+	const lanes inv = one / root;
+	UNROLL for (int d = 0; d < 3; ++d)
+		f->n[d] *= inv;
 }
 
-/* Fits the active lanes' points p[l] in the frames of the unit axes
+/* Fits the active lanes' first m[l] points of q in the frames of the unit axes
  * a[.][l]; the others fail. kind 0: the quadric into f[0]; 1: the cubic
  * into f[0]; 2: both from one pass over the points, the quadric into f[0]
  * and the cubic into f[1] (the quadric's moments are a subset of the
- * cubic's, so each equals its own fit bit for bit). */
-VN_INLINE void fit_lanes(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], int kind, fits* f)
+ * cubic's). */
+VN_INLINE void fit_lanes(const double* q, const uint32_t m[LANES], const int act[LANES], lanes a[3], int kind, fits* f)
 {
 	const int k = kind == 1 ? 10 : 6;
-	/* A unit tangent pair without a square root (Duff et al. 2017). */
-	UNROLL for (int l = 0; l < LANES; ++l) {
-		const double x = a[0][l], y = a[1][l], z = a[2][l], sign = copysign(1.0, z);
-		const double A = -1.0 / (sign + z), B = x * y * A;
-		f->t1[0][l] = 1.0 + sign * x * x * A, f->t1[1][l] = sign * B, f->t1[2][l] = -sign * x;
-		f->t2[0][l] = B, f->t2[1][l] = sign + y * y * A, f->t2[2][l] = -y;
-		f->a[0][l] = x, f->a[1][l] = y, f->a[2][l] = z;
-		f->ok[l] = act[l] && p[l].m + 1 >= (uint32_t)k;
-	}
-	lanes s[S_MAX], t[T_MAX], zz;
-	for (unsigned l = 0; l < LANES; ++l) {
-		if (f->ok[l])
-			moments(p + l, f, l, kind != 0, s, t, &zz);
-		else { /* zero: fails the first pivot */
-			UNROLL for (int q = 0; q < S_MAX; ++q)
-				s[q][l] = 0.0;
-			UNROLL for (int q = 0; q < T_MAX; ++q)
-				t[q][l] = 0.0;
-			zz[l] = 0.0;
-		}
-	}
+	/* A unit tangent pair without a square root (Duff et al. 2017); sign is
+	 * copysign(1, z), made from z's sign bit. */
+	const lanes x = a[0], y = a[1], z = a[2], one = {1.0, 1.0, 1.0, 1.0};
+	const lanes sign_bit = {-0.0, -0.0, -0.0, -0.0};
+	const lanes sign = (lanes)(((masks)z & (masks)sign_bit) | (masks)one);
+	const lanes A = -one / (sign + z), B = x * y * A;
+	f->t1[0] = one + sign * x * x * A, f->t1[1] = sign * B, f->t1[2] = -sign * x;
+	f->t2[0] = B, f->t2[1] = sign + y * y * A, f->t2[2] = -y;
+	f->a[0] = x, f->a[1] = y, f->a[2] = z;
+	UNROLL for (int l = 0; l < LANES; ++l)
+		f->ok[l] = act[l] && m[l] + 1 >= (uint32_t)k;
+	lanes acc[MOMENTS];
+	moments(q, m, f, kind != 0, acc); /* zero where a lane fails: fails the first pivot */
+	const lanes *s = acc, *t = acc + S_MAX, *zz = acc + ZZ;
 	if (kind == 2) {
 		memcpy(f[1].t1, f->t1, sizeof(f->t1)), memcpy(f[1].t2, f->t2, sizeof(f->t2)), memcpy(f[1].a, f->a, sizeof(f->a));
 		UNROLL for (int l = 0; l < LANES; ++l)
-			f[1].ok[l] = f->ok[l] && p[l].m + 1 >= 10;
-		solve(s, t, &zz, 10, f + 1);
+			f[1].ok[l] = f->ok[l] && m[l] + 1 >= 10;
+		solve(s, t, zz, 10, f + 1);
 		fit_normals(f + 1);
 	}
-	solve(s, t, &zz, k, f);
+	solve(s, t, zz, k, f);
 	fit_normals(f);
 }
 
-static void fit_quadrics(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
+static void fit_quadrics(const double* q, const uint32_t m[LANES], const int act[LANES], lanes a[3], fits* f)
 {
-	fit_lanes(p, act, a, 0, f);
+	fit_lanes(q, m, act, a, 0, f);
 }
 
-static void fit_jets(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
+static void fit_jets(const double* q, const uint32_t m[LANES], const int act[LANES], lanes a[3], fits* f)
 {
-	fit_lanes(p, act, a, 1, f);
+	fit_lanes(q, m, act, a, 1, f);
 }
 
-static void fit_pairs(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
+static void fit_pairs(const double* q, const uint32_t m[LANES], const int act[LANES], lanes a[3], fits* f)
 {
-	fit_lanes(p, act, a, 2, f);
+	fit_lanes(q, m, act, a, 2, f);
 }
 
 /* The same arithmetic in AVX2 registers: the same results, bit for bit
  * (IEEE operations lane by lane, no FMA, sums in the same order). */
-typedef void (*fit_fn)(const vn_fit_points*, const int*, lanes*, fits*);
+typedef void (*fit_fn)(const double*, const uint32_t*, const int*, lanes*, fits*);
 static const fit_fn fit_kinds[3] = {fit_quadrics, fit_jets, fit_pairs};
 #ifdef VN_HAVE_AVX2
-static VN_AVX2 void fit_quadrics_avx2(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
+static VN_AVX2 void fit_quadrics_avx2(const double* q, const uint32_t m[LANES], const int act[LANES], lanes a[3],
+                                      fits* f)
 {
-	fit_lanes(p, act, a, 0, f);
+	fit_lanes(q, m, act, a, 0, f);
 }
 
-static VN_AVX2 void fit_jets_avx2(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
+static VN_AVX2 void fit_jets_avx2(const double* q, const uint32_t m[LANES], const int act[LANES], lanes a[3], fits* f)
 {
-	fit_lanes(p, act, a, 1, f);
+	fit_lanes(q, m, act, a, 1, f);
 }
 
-static VN_AVX2 void fit_pairs_avx2(const vn_fit_points p[LANES], const int act[LANES], lanes a[3], fits* f)
+static VN_AVX2 void fit_pairs_avx2(const double* q, const uint32_t m[LANES], const int act[LANES], lanes a[3], fits* f)
 {
-	fit_lanes(p, act, a, 2, f);
+	fit_lanes(q, m, act, a, 2, f);
 }
 
 static const fit_fn fit_kinds_avx2[3] = {fit_quadrics_avx2, fit_jets_avx2, fit_pairs_avx2};
@@ -363,6 +426,11 @@ static fit_fn fit_kernel(int kind, int simd)
 {
 	return (simd ? fit_kinds_avx2 : fit_kinds)[kind];
 }
+
+static VN_AVX2 void scale_batch_avx2(double* q, const uint32_t first[LANES], uint32_t top, int act[LANES])
+{
+	scale_lanes(q, first, top, act);
+}
 #else
 static fit_fn fit_kernel(int kind, int simd)
 {
@@ -370,6 +438,20 @@ static fit_fn fit_kernel(int kind, int simd)
 	return fit_kinds[kind];
 }
 #endif
+
+/* scale_lanes, in AVX2 registers where simd is set (the same bits). */
+static void scale_batch(double* q, const uint32_t first[LANES], uint32_t top, int act[LANES], int simd)
+{
+#ifdef VN_HAVE_AVX2
+	if (simd) {
+		scale_batch_avx2(q, first, top, act);
+		return;
+	}
+#else
+	(void)simd;
+#endif
+	scale_lanes(q, first, top, act);
+}
 
 /* Lane l of fit r, if it succeeded within 60 degrees of the seed: its
  * normal into n and, when res is not NULL, its residual; returns whether. */
@@ -380,7 +462,7 @@ static int take(const fits* r, int first_ok, unsigned l, const double* seed, dou
 	for (int d = 0; d < 3; ++d)
 		n[d] = r->n[d][l];
 	if (res)
-		*res = r->res[l];
+		*res = rms_residual(r, l);
 	return 1;
 }
 
@@ -388,8 +470,8 @@ static int take(const fits* r, int first_ok, unsigned l, const double* seed, dou
  * active lanes: ok[l] says whether n[l] was written (0 when the first fit
  * fails or the result strays from the seed); res[l] is the residual of the
  * fit written, computed only when res is not NULL. */
-static void fit_twice(const vn_fit_points p[LANES], const int act[LANES], const double* const seed[LANES], int cubic,
-                      int simd, double n[LANES][3], int ok[LANES], double res[LANES])
+static void fit_twice(const double* q, const uint32_t m[LANES], const int act[LANES], const double* const seed[LANES],
+                      int cubic, int simd, double n[LANES][3], int ok[LANES], double res[LANES])
 {
 	fits f[2];
 	lanes a[3];
@@ -397,27 +479,32 @@ static void fit_twice(const vn_fit_points p[LANES], const int act[LANES], const 
 		for (int d = 0; d < 3; ++d)
 			a[d][l] = act[l] ? seed[l][d] : (d == 2);
 	const fit_fn fit = fit_kernel(cubic, simd);
-	fit(p, act, a, f);
-	fit(p, f[0].ok, f[0].n, f + 1);
+	fit(q, m, act, a, f);
+	fit(q, m, f[0].ok, f[0].n, f + 1);
 	for (unsigned l = 0; l < LANES; ++l)
 		ok[l] = take(f[1].ok[l] ? f + 1 : f, f[0].ok[l], l, seed[l], n[l], res ? res + l : NULL);
 }
 
-int vn_fit_frame(const vn_fit_points* p, const double a[3], int degree, double n[3], double* residual)
+int vn_fit_frame(const double* p, uint32_t m, double h, double* scratch, const double a[3], int degree, double n[3],
+                 double* residual)
 {
-	vn_fit_points q[LANES];
-	memset(q, 0, sizeof(q));
-	q[0] = *p;
+	memset(scratch, 0, sizeof(double) * PT * (size_t)m);
+	for (uint32_t i = 0; i < m; ++i)
+		for (int d = 0; d < 3; ++d)
+			scratch[PT * (size_t)i + d * LANES] = p[3 * (size_t)i + d];
+	const lanes inv = {1.0 / h, 1.0, 1.0, 1.0};
+	prepare_lanes(scratch, m, &inv);
+	const uint32_t count[LANES] = {m, 0, 0, 0};
 	const int act[LANES] = {1, 0, 0, 0};
 	lanes axis[3] = {{a[0], 0, 0, 0}, {a[1], 0, 0, 0}, {a[2], 1, 1, 1}};
 	fits f;
-	(degree == 3 ? fit_jets : fit_quadrics)(q, act, axis, &f);
+	(degree == 3 ? fit_jets : fit_quadrics)(scratch, count, act, axis, &f);
 	if (!f.ok[0])
 		return 0;
 	for (int d = 0; d < 3; ++d)
 		n[d] = f.n[d][0];
 	if (residual)
-		*residual = f.res[0];
+		*residual = rms_residual(&f, 0);
 	return 1;
 }
 
@@ -427,7 +514,7 @@ typedef struct scratch {
 	uint32_t* stamp; /* nv: the tag of the ring a vertex was last added to */
 	uint32_t tag;
 	uint32_t* ring;  /* up to cap members (and room for one more) */
-	double* q;       /* per lane 4 cap: members' x, y, z (minus the vertex's, then over h), weight */
+	double* q;       /* PT cap: the batch's points (PT): x, y, z minus the vertex's, then over h, weight */
 	size_t cap;
 } scratch;
 
@@ -439,7 +526,7 @@ typedef struct fit_job {
 	unsigned char* usable; /* per face */
 	uint32_t* face_of;     /* polygons: per corner */
 	uint32_t* start;       /* nv + 1: counts, then where each vertex's corners end */
-	uint32_t* list;        /* corners by vertex, in corner order */
+	uint32_t* list;        /* corners by vertex, in corner order (phase_list) */
 	uint32_t* top;         /* per worker: its largest 1-ring candidate count */
 	uint32_t* nstart;      /* nv + 1: where each vertex's 1-ring begins in nbr */
 	uint32_t* nbr;         /* every vertex's 1-ring, as gather lists it */
@@ -499,21 +586,41 @@ VN_INLINE uint32_t face_at(const fit_job* j, uint32_t c, uint32_t* b, uint32_t* 
 }
 
 /* Each worker lists its vertices' corners (start[v] moves from v's first
- * to past its last) and finds its largest 1-ring candidate count. */
+ * to past its last) and finds its largest 1-ring candidate count. A
+ * polygon corner is listed as its corner index; a triangle corner as the
+ * triangle's next and previous vertices (two entries), read here in corner
+ * order, so that gather does not look up the faces again in vertex order:
+ * for an unusable triangle both are the vertex itself, which gather has
+ * stamped already. */
 static void phase_list(void* ctx, unsigned t)
 {
 	fit_job* j = (fit_job*)ctx;
 	const vn_work* w = &j->w;
 	const uint32_t v0 = range_lo(w->vertex_count, t, j->nt), v1 = range_lo(w->vertex_count, t + 1, j->nt);
 	const uint32_t n = corner_count(w);
+	const uint32_t* idx = w->indices;
 	uint32_t begin = v0 < v1 ? j->start[v0] : 0;
-	for (uint32_t c = 0; c < n; ++c)
-		if (w->indices[c] - v0 < v1 - v0)
-			j->list[j->start[w->indices[c]]++] = c;
+	if (w->offsets) {
+		for (uint32_t c = 0; c < n; ++c)
+			if (idx[c] - v0 < v1 - v0)
+				j->list[j->start[idx[c]]++] = c;
+	} else {
+		for (uint32_t f = 0; f < n / 3; ++f)
+			for (uint32_t at = 0; at < 3; ++at) {
+				const uint32_t v = idx[3 * f + at];
+				if (v - v0 >= v1 - v0)
+					continue;
+				uint32_t* e = j->list + 2 * (size_t)j->start[v]++;
+				const int ok = j->usable[f];
+				e[0] = ok ? idx[3 * f + (at + 1) % 3] : v, e[1] = ok ? idx[3 * f + (at + 2) % 3] : v;
+			}
+	}
 	uint32_t top = 0;
 	for (uint32_t v = v0; v < v1; begin = j->start[v++]) {
 		uint32_t cand = 0;
-		for (uint32_t i = begin; i < j->start[v]; ++i) {
+		if (!w->offsets) /* two a triangle */
+			cand = 2 * (j->start[v] - begin);
+		for (uint32_t i = begin; i < j->start[v] && w->offsets; ++i) {
 			uint32_t b, k;
 			face_at(j, j->list[i], &b, &k);
 			cand += k <= RING_ALL_MAX ? k - 1 : 2;
@@ -527,21 +634,19 @@ static void phase_list(void* ctx, unsigned t)
  * while it has fewer than s->cap members. */
 static uint32_t gather(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
 {
-	static const unsigned char next[3] = {1, 2, 0}, prev[3] = {2, 0, 1};
 	const uint32_t* idx = j->w.indices;
+	const uint32_t tag = s->tag, cap = (uint32_t)s->cap;
+	if (!j->w.offsets) { /* triangles: each corner's next and previous vertex (phase_list) */
+		/* Without a branch on the stamp, as in expand: in a closed fan
+		 * every neighbour comes twice. */
+		for (size_t i = 2 * (size_t)(u ? j->start[u - 1] : 0); i < 2 * (size_t)j->start[u]; ++i) {
+			const uint32_t x = j->list[i], fresh = s->stamp[x] != tag;
+			s->stamp[x] = tag, s->ring[m] = x, m += fresh & (m < cap);
+		}
+		return m;
+	}
 	for (uint32_t i = u ? j->start[u - 1] : 0; i < j->start[u]; ++i) {
 		const uint32_t c = j->list[i];
-		if (!j->w.offsets) { /* a triangle: its next corner, then its previous */
-			const uint32_t f = c / 3, at = c - 3 * f;
-			if (!j->usable[f])
-				continue;
-			const uint32_t x = idx[3 * f + next[at]], y = idx[3 * f + prev[at]];
-			if (s->stamp[x] != s->tag && m < s->cap)
-				s->stamp[x] = s->tag, s->ring[m++] = x;
-			if (s->stamp[y] != s->tag && m < s->cap)
-				s->stamp[y] = s->tag, s->ring[m++] = y;
-			continue;
-		}
 		uint32_t b, k;
 		if (!j->usable[face_at(j, c, &b, &k)])
 			continue;
@@ -605,52 +710,48 @@ static uint32_t expand(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
 
 /* ---------------------------------------------------------------- per vertex */
 
-/* Loads ring members [from, to) into lane points p, relative to o. */
+/* Loads ring members [from, to) into lane `lane` of the batch's points q,
+ * relative to o. */
 static void load_members(const fit_job* j, const scratch* s, uint32_t from, uint32_t to, const double o[3],
-                         const vn_fit_points* p)
+                         unsigned lane)
 {
 	for (uint32_t i = from; i < to; ++i) {
 		double x[3];
 		vn_load(&j->w, j->w.type, s->ring[i], x);
-		p->x[i] = x[0] - o[0], p->y[i] = x[1] - o[1], p->z[i] = x[2] - o[2];
+		double* b = s->q + PT * (size_t)i + lane;
+		b[0] = x[0] - o[0], b[LANES] = x[1] - o[1], b[2 * LANES] = x[2] - o[2];
 	}
 }
 
-/* Vertex v's points into p: its 1-ring (ring[0, m[0])), then for JET and
- * ADAPTIVE its 2-ring (to m[1]), then for ADAPTIVE its 3- and 4-rings (to
- * m[2] and m[3], the members nearest by rings first when they would pass
- * the scratch's capacity); p->m = m[1]. 0 when v keeps its seed. */
-static int gather_vertex(const fit_job* j, scratch* s, uint32_t v, vn_fit_points* p, uint32_t m[4])
+/* Vertex v's points into lane `lane` of the batch, relative to v (not yet
+ * over h): its 1-ring (ring[0, m[0])), then for JET and ADAPTIVE its
+ * 2-ring (to m[1]), then for ADAPTIVE its 3- and 4-rings (to m[2] and
+ * m[3], the members nearest by rings first when they would pass the
+ * scratch's capacity). m all 0 when v keeps its seed. */
+static void gather_vertex(const fit_job* j, scratch* s, uint32_t v, unsigned lane, uint32_t m[4])
 {
+	m[0] = m[1] = m[2] = m[3] = 0;
 	const double* seed = j->seed + 3 * (size_t)v;
 	if (seed[0] == 0.0 && seed[1] == 0.0 && seed[2] == 0.0)
-		return 0;
+		return;
 	new_tag(j, s);
 	s->stamp[v] = s->tag;
-	m[0] = m[1] = m[2] = m[3] = j->nbr ? expand(j, s, v, 0) : gather(j, s, v, 0);
-	if (!m[0])
-		return 0;
-	double o[3], h = 0.0;
+	const uint32_t first = j->nbr ? expand(j, s, v, 0) : gather(j, s, v, 0);
+	if (!first)
+		return;
+	double o[3];
 	vn_load(&j->w, j->w.type, v, o);
-	load_members(j, s, 0, m[0], o, p);
-	for (uint32_t i = 0; i < m[0]; ++i)
-		h += sqrt(p->x[i] * p->x[i] + p->y[i] * p->y[i] + p->z[i] * p->z[i]);
-	h /= m[0];
-	if (!(h > 0.0 && h <= DBL_MAX))
-		return 0;
+	load_members(j, s, 0, first, o, lane);
+	m[0] = m[1] = m[2] = m[3] = first;
 	const int rings = j->w.method == vn_method_quadric ? 1 : j->w.method == vn_method_jet ? 2 : 4;
 	for (int r = 1; r < rings; ++r) {
 		m[r] = m[r - 1];
 		for (uint32_t i = r > 1 ? m[r - 2] : 0; i < m[r - 1]; ++i)
 			m[r] = expand(j, s, s->ring[i], m[r]);
-		load_members(j, s, m[r - 1], m[r], o, p);
+		load_members(j, s, m[r - 1], m[r], o, lane);
 	}
 	for (int r = rings; r < 4; ++r)
 		m[r] = m[r - 1];
-	p->m = m[3];
-	vn_fit_prepare(p, h);
-	p->m = m[1];
-	return 1;
 }
 
 /* exp(x) for x <= 0, without a libm call (which was 12% of ADAPTIVE's
@@ -678,19 +779,23 @@ static double exp_nonpositive(double x)
 	return e * scale;
 }
 
-/* ADAPTIVE's wide fits: the points' weights become exp(-|p|^2 / (2 r^2)),
+/* ADAPTIVE's wide fits: the weights of one lane's first m points (q at
+ * the lane's first) become exp(-|p|^2 / (2 r^2)),
  * r^2 the mean |p|^2 of the members (a Gaussian as wide as the 4-ring).
  * Returns the effective number of points, (sum w)^2 / sum w^2, and sets
  * *sum to sum w, the vertex (weight 1) included in both. */
-static double gaussian_weights(const vn_fit_points* p, double* sum)
+static double gaussian_weights(double* q, uint32_t m, double* sum)
 {
 	double r2 = 0.0, sw = 1.0, sww = 1.0;
-	for (uint32_t i = 0; i < p->m; ++i)
-		r2 += p->x[i] * p->x[i] + p->y[i] * p->y[i] + p->z[i] * p->z[i];
-	const double k = -0.5 * p->m / r2;
-	for (uint32_t i = 0; i < p->m; ++i) {
-		const double w = exp_nonpositive(k * (p->x[i] * p->x[i] + p->y[i] * p->y[i] + p->z[i] * p->z[i]));
-		p->w[i] = w, sw += w, sww += w * w;
+	for (uint32_t i = 0; i < m; ++i) {
+		const double* b = q + PT * (size_t)i;
+		r2 += b[0] * b[0] + b[LANES] * b[LANES] + b[2 * LANES] * b[2 * LANES];
+	}
+	const double k = -0.5 * m / r2;
+	for (uint32_t i = 0; i < m; ++i) {
+		double* b = q + PT * (size_t)i;
+		const double w = exp_nonpositive(k * (b[0] * b[0] + b[LANES] * b[LANES] + b[2 * LANES] * b[2 * LANES]));
+		b[3 * LANES] = w, sw += w, sww += w * w;
 	}
 	*sum = sw;
 	return sw * sw / sww;
@@ -705,13 +810,15 @@ static double gcv(double res, double n, int k)
 	return d > 0.0 ? res * res / (d * d) : DBL_MAX;
 }
 
-/* The effective number of points (sum w)^2 / sum w^2, the vertex (weight
- * 1) included. */
-static double effective_points(const vn_fit_points* p)
+/* The effective number of one lane's first m points (q at the lane's
+ * first), (sum w)^2 / sum w^2, the vertex (weight 1) included. */
+static double effective_points(const double* q, uint32_t m)
 {
 	double sw = 1.0, sww = 1.0;
-	for (uint32_t i = 0; i < p->m; ++i)
-		sw += p->w[i], sww += p->w[i] * p->w[i];
+	for (uint32_t i = 0; i < m; ++i) {
+		const double w = q[PT * (size_t)i + 3 * LANES];
+		sw += w, sww += w * w;
+	}
 	return sw * sw / sww;
 }
 
@@ -724,15 +831,16 @@ static double effective_points(const vn_fit_points* p)
  * where its residual exceeds ADAPTIVE_FIT_MAX, then log T where both wide
  * fits succeeded (NaN elsewhere): phase_choose takes one. Vertices from
  * v1 on are another worker's. */
-static void adaptive_lanes(const fit_job* j, vn_fit_points p[LANES], const int act[LANES], const uint32_t m[LANES][4],
+static void adaptive_lanes(const fit_job* j, double* pts, const int act[LANES], const uint32_t m[LANES][4],
                            const double* const seed[LANES], const double f[LANES][3], const int ok[LANES],
                            const double res[LANES], const uint32_t v0, const uint32_t v1)
 {
 	int wide[LANES], any = 0;
 	double neff[LANES], sw[LANES], best[LANES];
+	uint32_t count[LANES];
 	lanes axis[3];
 	for (unsigned l = 0; l < LANES; ++l) {
-		wide[l] = 0;
+		wide[l] = 0, count[l] = m[l][3];
 		for (int d = 0; d < 3; ++d)
 			axis[d][l] = d == 2;
 		if (v0 + l >= v1) /* another worker's vertex */
@@ -743,11 +851,10 @@ static void adaptive_lanes(const fit_job* j, vn_fit_points p[LANES], const int a
 		memcpy(out, jet && res[l] <= ADAPTIVE_FIT_MAX ? f[l] : j->rough + 3 * (size_t)(v0 + l), 3 * sizeof(double));
 		memcpy(out + 3, out, 3 * sizeof(double));
 		out[6] = NAN;
-		best[l] = !jet ? DBL_MAX : res[l] <= ADAPTIVE_JET_EXACT ? 0.0 : gcv(res[l], effective_points(p + l), 10);
+		best[l] = !jet ? DBL_MAX : res[l] <= ADAPTIVE_JET_EXACT ? 0.0 : gcv(res[l], effective_points(pts + l, m[l][1]), 10);
 		wide[l] = act[l] && best[l] > 0.0 && m[l][3] > m[l][0];
 		if (wide[l]) {
-			p[l].m = m[l][3];
-			neff[l] = gaussian_weights(p + l, sw + l);
+			neff[l] = gaussian_weights(pts + l, m[l][3], sw + l);
 			any = 1;
 			for (int d = 0; d < 3; ++d) /* the wide fits' frame */
 				axis[d][l] = ok[l] ? f[l][d] : seed[l][d];
@@ -756,7 +863,7 @@ static void adaptive_lanes(const fit_job* j, vn_fit_points p[LANES], const int a
 	if (!any)
 		return;
 	fits w[2];
-	fit_kernel(2, j->w.simd)(p, wide, axis, w);
+	fit_kernel(2, j->w.simd)(pts, count, wide, axis, w);
 	for (unsigned l = 0; l < LANES; ++l) {
 		if (!wide[l])
 			continue;
@@ -778,7 +885,7 @@ static void adaptive_lanes(const fit_job* j, vn_fit_points p[LANES], const int a
 			 * = sigma^2 (vs_cubic - vs_quadric) for nested least squares,
 			 * sigma^2 from the cubic's residual over its degrees of freedom. */
 			const double d1 = w[0].c[1][l] - w[1].c[1][l], d2 = w[0].c[2][l] - w[1].c[2][l];
-			const double var = rc * rc * sw[l] / ((double)p[l].m + 1.0 - 10.0) * (w[1].vs[l] - w[0].vs[l]);
+			const double var = rc * rc * sw[l] / ((double)m[l][3] + 1.0 - 10.0) * (w[1].vs[l] - w[0].vs[l]);
 			const double t = (d1 * d1 + d2 * d2) / var;
 			out[6] = !(var > 0.0) ? T_LOG_MAX : t > 0.0 ? fmin(fmax(log(t), -T_LOG_MAX), T_LOG_MAX) : -T_LOG_MAX;
 		}
@@ -814,29 +921,39 @@ static void phase_choose(void* ctx, unsigned t)
 /* Vertices v0 .. v0 + LANES - 1 (those below v1). */
 static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 {
-	vn_fit_points p[LANES];
 	const double* seed[LANES];
 	int act[LANES], ok[LANES];
-	uint32_t m[LANES][4];
+	uint32_t m[LANES][4], top = 0, ring[LANES], first[LANES];
 	double n[LANES][3], res[LANES];
 	for (unsigned l = 0; l < LANES; ++l) {
 		const uint32_t v = v0 + l;
-		double* q = s->q + 4 * s->cap * l;
-		p[l] = (vn_fit_points){q, q + s->cap, q + 2 * s->cap, q + 3 * s->cap, 0};
 		seed[l] = j->seed + 3 * (size_t)(v < v1 ? v : v0);
-		act[l] = v < v1 && gather_vertex(j, s, v, p + l, m[l]);
+		if (v < v1)
+			gather_vertex(j, s, v, l, m[l]);
+		else
+			memset(m[l], 0, sizeof(m[l]));
+		act[l] = m[l][0] > 0;
+		top = m[l][3] > top ? m[l][3] : top;
+		ring[l] = m[l][1], first[l] = m[l][0];
 		memcpy(n[l], seed[l], sizeof(n[l]));
 	}
+	/* Every lane's points up to the batch's longest are finite: the fits
+	 * read them all (with weight 0 past a lane's count). */
+	for (unsigned l = 0; l < LANES; ++l)
+		for (uint32_t i = m[l][3]; i < top; ++i)
+			for (int d = 0; d < 4; ++d)
+				s->q[PT * (size_t)i + d * LANES + l] = 0.0;
+	scale_batch(s->q, first, top, act, j->w.simd);
 	if (j->w.method == vn_method_quadric)
-		fit_twice(p, act, seed, 0, j->w.simd, n, ok, NULL);
+		fit_twice(s->q, first, act, seed, 0, j->w.simd, n, ok, NULL);
 	else if (j->w.method == vn_method_adaptive) { /* stored by phase_choose */
 		double f[LANES][3];
-		fit_twice(p, act, seed, 1, j->w.simd, f, ok, res);
-		adaptive_lanes(j, p, act, (const uint32_t(*)[4])m, seed, (const double(*)[3])f, ok, res, v0, v1);
+		fit_twice(s->q, ring, act, seed, 1, j->w.simd, f, ok, res);
+		adaptive_lanes(j, s->q, act, (const uint32_t(*)[4])m, seed, (const double(*)[3])f, ok, res, v0, v1);
 		return;
 	} else {
 		double f[LANES][3];
-		fit_twice(p, act, seed, 1, j->w.simd, f, ok, NULL);
+		fit_twice(s->q, ring, act, seed, 1, j->w.simd, f, ok, NULL);
 		int again = 0;
 		for (unsigned l = 0; l < LANES; ++l) {
 			if (ok[l])
@@ -844,10 +961,9 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 			/* JET falls back to the quadric on the 1-ring. */
 			act[l] = act[l] && !ok[l];
 			again |= act[l];
-			p[l].m = m[l][0];
 		}
 		if (again)
-			fit_twice(p, act, seed, 0, j->w.simd, n, ok, NULL);
+			fit_twice(s->q, first, act, seed, 0, j->w.simd, n, ok, NULL);
 	}
 	for (unsigned l = 0; l < LANES && v0 + l < v1; ++l) {
 		const double* r = n[l];
@@ -932,7 +1048,9 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 	j.seed = seed;
 	j.nt = nt;
 
-	const size_t words = 2 * ((size_t)nv + 1) + nc + (work->offsets ? nc : 0) + nt;
+	/* start, list (two words a triangle corner; one a polygon corner, plus
+	 * its face in face_of), top, nstart. */
+	const size_t words = 2 * ((size_t)nv + 1) + 2 * (size_t)nc + nt;
 	const size_t bytes = sizeof(scratch) * nt + sizeof(uint32_t) * words + nf;
 	unsigned char* block = r == vn_result_success ? (unsigned char*)heap.allocate(heap.user, bytes) : NULL;
 	if (r == vn_result_success && !block)
@@ -941,7 +1059,7 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 		j.scratch = (scratch*)(void*)block;
 		j.start = (uint32_t*)(void*)(j.scratch + nt);
 		j.list = j.start + nv + 1;
-		j.top = j.list + nc;
+		j.top = j.list + (work->offsets ? nc : 2 * (size_t)nc);
 		j.nstart = j.top + nt;
 		j.face_of = work->offsets ? j.nstart + nv + 1 : NULL;
 		j.usable = (unsigned char*)(j.start + words);
@@ -964,7 +1082,7 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 		unsigned t = 0;
 		for (; t < nt; ++t) {
 			scratch* s = j.scratch + t;
-			s->stamp = (uint32_t*)heap.allocate(heap.user, ring_bytes + 4 * LANES * sizeof(double) * cap);
+			s->stamp = (uint32_t*)heap.allocate(heap.user, ring_bytes + PT * sizeof(double) * cap);
 			if (!s->stamp)
 				break;
 			memset(s->stamp, 0, sizeof(uint32_t) * nv);

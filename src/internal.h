@@ -79,22 +79,16 @@ void vn_smewcsa_finalize(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_st
 
 /* fit.c: QUADRIC, JET and ADAPTIVE (w->method); the same contract as vn_run. */
 vn_result vn_fit_run(const vn_work* w, const vn_options* o, vn_range_stats* st);
-/* A fit's points, relative to the vertex (the origin, one more point):
- * coordinates x, y, z, weights w, m of each. */
-typedef struct vn_fit_points {
-	double *x, *y, *z, *w;
-	uint32_t m;
-} vn_fit_points;
-/* Divides the coordinates by h, the length that scales them, and sets the
- * weights 1 / (1 + |p|^2) from the result. */
-void vn_fit_prepare(const vn_fit_points* p, double h);
-/* The fit of fit.c over prepared points p, in the frame of the unit axis
+/* The fit of fit.c over the m points p (3 doubles each: x, y, z relative to
+ * the vertex, the origin, which is one more point), coordinates divided by
+ * h and weighted 1 / (1 + |p|^2) after that, in the frame of the unit axis
  * a; degree 2 (the quadric: 1, x, y, x^2, xy, y^2) or 3 (the jet: also
- * the cubic monomials). On success writes the unit normal n and, when
- * residual is not NULL, the weighted RMS residual (over h), and returns 1;
- * returns 0 (nothing written) with fewer points than unknowns, an
- * ill-conditioned system or a zero normal. */
-int vn_fit_frame(const vn_fit_points* p, const double a[3], int degree, double n[3], double* residual);
+ * the cubic monomials). scratch: 16 m doubles. On success writes the unit
+ * normal n and, when residual is not NULL, the weighted RMS residual (over
+ * h), and returns 1; returns 0 (nothing written) with fewer points than
+ * unknowns, an ill-conditioned system or a zero normal. */
+int vn_fit_frame(const double* p, uint32_t m, double h, double* scratch, const double a[3], int degree, double n[3],
+                 double* residual);
 
 /* One triangle's corner contributions: c[k] receives the vector the method's
  * triangle kernel adds to corner k's sum, computed with the same operations,

@@ -217,13 +217,9 @@ static double cubic_field(double x, double y)
 /* fit.c's fit of the ring q (3 doubles a member), coordinates over 0.1. */
 static int fit_ring(const double* q, uint32_t m, int degree, double n[3], double* res)
 {
-	double x[24], y[24], z[24], w[24];
-	for (uint32_t i = 0; i < m; ++i)
-		x[i] = q[3 * i], y[i] = q[3 * i + 1], z[i] = q[3 * i + 2];
-	const vn_fit_points p = {x, y, z, w, m};
-	vn_fit_prepare(&p, 0.1);
+	double scratch[16 * 24];
 	const double up[3] = {0, 0, 1};
-	return vn_fit_frame(&p, up, degree, n, res);
+	return vn_fit_frame(q, m, 0.1, scratch, up, degree, n, res);
 }
 
 /* Every interior vertex (2-ring inside the grid): the fit in the frame of
