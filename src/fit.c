@@ -184,6 +184,66 @@ VN_INLINE void scale_lanes(double* q, const uint32_t first[LANES], uint32_t top,
 	prepare_lanes(q, top, &inv);
 }
 
+/* exp(x) for x <= 0 in each lane, without a libm call (which was 12% of
+ * ADAPTIVE's instructions): x = n ln 2 + r with |r| <= ln 2 / 2 (n by the
+ * 1.5 2^52 rounding trick, which also leaves n in the low bits of x log2 e
+ * + 1.5 2^52; ln 2 in two parts so that n ln2_hi is exact), e^r by its
+ * Taylor series to r^13 (truncation below 4e-18 relative), times 2^n made
+ * in the exponent bits; 0 below -708 (and for NaN), where exp leaves the
+ * normal range (a weight under 1e-307 adds nothing). Within a few ulps of
+ * exp. */
+VN_INLINE void exp_nonpositive(lanes* v)
+{
+	static const double inv_factorial[13] = {1.0 / 479001600.0, 1.0 / 39916800.0, 1.0 / 3628800.0, 1.0 / 362880.0,
+	                                         1.0 / 40320.0,     1.0 / 5040.0,     1.0 / 720.0,     1.0 / 120.0,
+	                                         1.0 / 24.0,        1.0 / 6.0,        0.5,             1.0,
+	                                         1.0};
+	const lanes zero = {0.0, 0.0, 0.0, 0.0}, x = *v, shift = zero + 0x1.8p52;
+	const lanes t = x * 1.4426950408889634 + shift, n = t - shift;
+	const lanes r = (x - n * 6.93147180369123816490e-01) - n * 1.90821492927058770002e-10;
+	lanes e = zero + 1.0 / 6227020800.0; /* 1 / 13! */
+	UNROLL for (int i = 0; i < 13; ++i)
+		e = e * r + inv_factorial[i];
+	typedef unsigned long long words __attribute__((vector_size(LANES * sizeof(long long))));
+	const words bits = ((words)t - (words)shift + 1023) << 52; /* t's low bits hold n */
+	*v = (lanes)((masks)(e * (lanes)bits) & (x >= -708.0));
+}
+
+/* ADAPTIVE's wide fits: the weights of each lane's first count[l] points
+ * (the others keep theirs) become exp(-|p|^2 / (2 r^2)), r^2 the mean
+ * |p|^2 of the members (a Gaussian as wide as the 4-ring). Sets neff[l],
+ * the effective number of points (sum w)^2 / sum w^2, and sum[l], sum w,
+ * the vertex (weight 1) included in both, where count[l] > 0. Each lane's
+ * sums in its order (+ 0 past its count). */
+VN_INLINE void gaussian_lanes(double* q, const uint32_t count[LANES], double neff[LANES], double sum[LANES])
+{
+	const lanes zero = {0.0, 0.0, 0.0, 0.0}, one = zero + 1.0;
+	lanes r2 = zero, m = zero, sw = one, sww = one;
+	uint32_t most = 0;
+	UNROLL for (int l = 0; l < LANES; ++l)
+		m[l] = (double)count[l], most = count[l] > most ? count[l] : most;
+	for (uint32_t i = 0; i < most; ++i) {
+		const double* b = q + PT * (size_t)i;
+		const lanes x = LOAD(b), y = LOAD(b + LANES), z = LOAD(b + 2 * LANES);
+		r2 += (lanes)((masks)(x * x + y * y + z * z) & ((zero + (double)i) < m));
+	}
+	const masks some = m > 0.0;
+	const lanes k = -0.5 * m / (lanes)(((masks)r2 & some) | ((masks)one & ~some));
+	for (uint32_t i = 0; i < most; ++i) {
+		double* b = q + PT * (size_t)i;
+		const lanes x = LOAD(b), y = LOAD(b + LANES), z = LOAD(b + 2 * LANES);
+		const masks in = (zero + (double)i) < m;
+		lanes w = k * (x * x + y * y + z * z);
+		exp_nonpositive(&w);
+		STORE(b + 3 * LANES, (lanes)(((masks)w & in) | ((masks)LOAD(b + 3 * LANES) & ~in)));
+		sw += (lanes)((masks)w & in), sww += (lanes)((masks)(w * w) & in);
+	}
+	const lanes effective = sw * sw / sww;
+	UNROLL for (int l = 0; l < LANES; ++l)
+		if (count[l])
+			neff[l] = effective[l], sum[l] = sw[l];
+}
+
 /* LANES fits: frames (t1, t2, a), coefficients c, unit normals n, the
  * slopes' variance factor vs = (M^-1)_11 + (M^-1)_22, the weighted sum of
  * squared residuals e2 and the sum of the weights sw (the vertex included
@@ -431,6 +491,11 @@ static VN_AVX2 void scale_batch_avx2(double* q, const uint32_t first[LANES], uin
 {
 	scale_lanes(q, first, top, act);
 }
+
+static VN_AVX2 void gaussian_batch_avx2(double* q, const uint32_t count[LANES], double neff[LANES], double sum[LANES])
+{
+	gaussian_lanes(q, count, neff, sum);
+}
 #else
 static fit_fn fit_kernel(int kind, int simd)
 {
@@ -451,6 +516,20 @@ static void scale_batch(double* q, const uint32_t first[LANES], uint32_t top, in
 	(void)simd;
 #endif
 	scale_lanes(q, first, top, act);
+}
+
+/* gaussian_lanes, in AVX2 registers where simd is set (the same bits). */
+static void gaussian_batch(double* q, const uint32_t count[LANES], double neff[LANES], double sum[LANES], int simd)
+{
+#ifdef VN_HAVE_AVX2
+	if (simd) {
+		gaussian_batch_avx2(q, count, neff, sum);
+		return;
+	}
+#else
+	(void)simd;
+#endif
+	gaussian_lanes(q, count, neff, sum);
 }
 
 /* Lane l of fit r, if it succeeded within 60 degrees of the seed: its
@@ -754,53 +833,6 @@ static void gather_vertex(const fit_job* j, scratch* s, uint32_t v, unsigned lan
 		m[r] = m[r - 1];
 }
 
-/* exp(x) for x <= 0, without a libm call (which was 12% of ADAPTIVE's
- * instructions): x = n ln 2 + r with |r| <= ln 2 / 2 (n by the 1.5 2^52
- * rounding trick, ln 2 in two parts so that n ln2_hi is exact), e^r by its
- * Taylor series to r^13 (truncation below 4e-18 relative), times 2^n made
- * in the exponent bits; 0 below -708, where exp leaves the normal range
- * (a weight under 1e-307 adds nothing). Within a few ulps of exp. */
-static double exp_nonpositive(double x)
-{
-	if (!(x >= -708.0))
-		return 0.0;
-	const double shift = 0x1.8p52, n = (x * 1.4426950408889634 + shift) - shift;
-	const double r = (x - n * 6.93147180369123816490e-01) - n * 1.90821492927058770002e-10;
-	double e = 1.0 / 6227020800.0; /* 1 / 13! */
-	static const double inv_factorial[13] = {1.0 / 479001600.0, 1.0 / 39916800.0, 1.0 / 3628800.0, 1.0 / 362880.0,
-	                                         1.0 / 40320.0,     1.0 / 5040.0,     1.0 / 720.0,     1.0 / 120.0,
-	                                         1.0 / 24.0,        1.0 / 6.0,        0.5,             1.0,
-	                                         1.0};
-	for (int i = 0; i < 13; ++i)
-		e = e * r + inv_factorial[i];
-	const uint64_t bits = (uint64_t)((int64_t)n + 1023) << 52;
-	double scale;
-	memcpy(&scale, &bits, sizeof(scale));
-	return e * scale;
-}
-
-/* ADAPTIVE's wide fits: the weights of one lane's first m points (q at
- * the lane's first) become exp(-|p|^2 / (2 r^2)),
- * r^2 the mean |p|^2 of the members (a Gaussian as wide as the 4-ring).
- * Returns the effective number of points, (sum w)^2 / sum w^2, and sets
- * *sum to sum w, the vertex (weight 1) included in both. */
-static double gaussian_weights(double* q, uint32_t m, double* sum)
-{
-	double r2 = 0.0, sw = 1.0, sww = 1.0;
-	for (uint32_t i = 0; i < m; ++i) {
-		const double* b = q + PT * (size_t)i;
-		r2 += b[0] * b[0] + b[LANES] * b[LANES] + b[2 * LANES] * b[2 * LANES];
-	}
-	const double k = -0.5 * m / r2;
-	for (uint32_t i = 0; i < m; ++i) {
-		double* b = q + PT * (size_t)i;
-		const double w = exp_nonpositive(k * (b[0] * b[0] + b[LANES] * b[LANES] + b[2 * LANES] * b[2 * LANES]));
-		b[3 * LANES] = w, sw += w, sww += w * w;
-	}
-	*sum = sw;
-	return sw * sw / sww;
-}
-
 /* Generalized cross-validation score of a fit of k unknowns with weighted
  * RMS residual res over n effective points (Craven & Wahba 1979): the
  * residual inflated for the freedom the fit used to reach it. */
@@ -840,7 +872,7 @@ static void adaptive_lanes(const fit_job* j, double* pts, const int act[LANES], 
 	uint32_t count[LANES];
 	lanes axis[3];
 	for (unsigned l = 0; l < LANES; ++l) {
-		wide[l] = 0, count[l] = m[l][3];
+		wide[l] = 0, count[l] = 0;
 		for (int d = 0; d < 3; ++d)
 			axis[d][l] = d == 2;
 		if (v0 + l >= v1) /* another worker's vertex */
@@ -854,14 +886,15 @@ static void adaptive_lanes(const fit_job* j, double* pts, const int act[LANES], 
 		best[l] = !jet ? DBL_MAX : res[l] <= ADAPTIVE_JET_EXACT ? 0.0 : gcv(res[l], effective_points(pts + l, m[l][1]), 10);
 		wide[l] = act[l] && best[l] > 0.0 && m[l][3] > m[l][0];
 		if (wide[l]) {
-			neff[l] = gaussian_weights(pts + l, m[l][3], sw + l);
 			any = 1;
 			for (int d = 0; d < 3; ++d) /* the wide fits' frame */
 				axis[d][l] = ok[l] ? f[l][d] : seed[l][d];
 		}
+		count[l] = wide[l] ? m[l][3] : 0;
 	}
 	if (!any)
 		return;
+	gaussian_batch(pts, count, neff, sw, j->w.simd);
 	fits w[2];
 	fit_kernel(2, j->w.simd)(pts, count, wide, axis, w);
 	for (unsigned l = 0; l < LANES; ++l) {
