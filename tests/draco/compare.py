@@ -4,6 +4,13 @@
                                 step of BITS-bit quantization (Draco's step: A's
                                 largest extent / (2^BITS - 1))
   compare.py --normals A     -> exit 0 when every normal of A is a unit vector
+  compare.py --each A BITS B... -> both checks on every B: prints "B: max error E"
+                                (or why not) for each; exit 0 when every B passes.
+                                A is read once, and a B whose points and
+                                triangles equal an earlier B's is not snapped
+                                again (vnconvert's outputs for each method share
+                                them), which makes it much faster than one
+                                process a file
 
 A and B are draco_decoder's .obj, decode.mjs's .json, or .off. They match
 when they have as many points, distinct positions and triangles, and B's triangles (oriented,
@@ -57,7 +64,11 @@ def canonical(t):
 
 
 def compare(a_path, b_path, bits):
-    (pa, ta, _, na), (pb, tb, _, nb) = load(a_path), load(b_path)
+    return compare_loaded(load(a_path), load(b_path), bits)
+
+
+def compare_loaded(a, b, bits):
+    (pa, ta, _, na), (pb, tb, _, nb) = a, b
     tolerance = max(max(p[k] for p in pa) - min(p[k] for p in pa) for k in range(3)) / (2 ** bits - 1)
     if na != nb or len(set(pa)) != len(set(pb)) or len(ta) != len(tb):
         print(f"counts differ: {na} vs {nb} points, {len(set(pa))} vs {len(set(pb))} positions, "
@@ -87,11 +98,34 @@ def compare(a_path, b_path, bits):
 
 
 def unit_normals(path):
-    normals = load(path)[2]
+    return are_unit(load(path)[2])
+
+
+def are_unit(normals):
     return bool(normals) and all(abs(math.sqrt(sum(x * x for x in n)) - 1) < 1e-3 for n in normals)
 
 
+def each(a_path, bits, b_paths):
+    a, passed, ok = load(a_path), {}, True
+    for path in b_paths:
+        b = load(path)
+        key = (tuple(b[0]), tuple(b[1]), b[3])
+        print(f"{path}: ", end="")
+        if key in passed:
+            print(passed[key])
+        elif compare_loaded(a, b, bits):
+            passed[key] = "the points and triangles of a B above"
+        else:
+            ok = False
+        if not are_unit(b[2]):
+            print(f"{path}: normals missing or not unit")
+            ok = False
+    return ok
+
+
 if __name__ == "__main__":
+    if sys.argv[1] == "--each":
+        sys.exit(not each(sys.argv[2], int(sys.argv[3]), sys.argv[4:]))
     if sys.argv[1] == "--normals":
         sys.exit(not unit_normals(sys.argv[2]))
     sys.exit(not compare(sys.argv[1], sys.argv[2], int(sys.argv[3])))

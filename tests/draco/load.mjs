@@ -5,10 +5,18 @@ import { createRequire } from "node:module";
 import { readFileSync } from "node:fs";
 import path from "node:path";
 
-// {m: the decoder module, decoder, mesh, indices: 3 per triangle}
+// One decoder module for every file of a process: starting it is most of the
+// time a small file takes.
+let decoderModule = null;
+
+// {m: the decoder module, decoder, mesh, indices: 3 per triangle}; the caller
+// may m.destroy() decoder and mesh when done.
 export async function decodeMesh(modules, file) {
-  const draco3d = createRequire(path.join(path.resolve(modules), "noop.js"))("draco3d");
-  const m = await draco3d.createDecoderModule({});
+  if (!decoderModule) {
+    const draco3d = createRequire(path.join(path.resolve(modules), "noop.js"))("draco3d");
+    decoderModule = await draco3d.createDecoderModule({});
+  }
+  const m = decoderModule;
   const bytes = readFileSync(file);
   const buffer = new m.DecoderBuffer();
   buffer.Init(new Int8Array(bytes.buffer, bytes.byteOffset, bytes.byteLength), bytes.byteLength);
@@ -23,11 +31,13 @@ export async function decodeMesh(modules, file) {
     console.error(`${file}: ${status.error_msg()}`);
     process.exit(1);
   }
+  m.destroy(buffer);
   const indices = [];
   const face = new m.DracoInt32Array();
   for (let f = 0; f < mesh.num_faces(); ++f) {
     decoder.GetFaceFromMesh(mesh, f, face);
     indices.push(face.GetValue(0), face.GetValue(1), face.GetValue(2));
   }
+  m.destroy(face);
   return { m, decoder, mesh, indices };
 }
