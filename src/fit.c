@@ -5,7 +5,7 @@
  *   1. ring: the vertices sharing a usable face with v (a triangle's other
  *      two corners; a polygon's other corners when it has at most
  *      RING_ALL_MAX, else its two edge neighbours); the 2-ring adds the
- *      rings of those. Unusable faces (the seven's degenerate faces: zero or
+ *      rings of those but a hub's (RING_HUB_MAX). Unusable faces (the seven's degenerate faces: zero or
  *      non-finite area) add nothing, so a non-finite coordinate never enters.
  *   2. h = the mean distance from v to its 1-ring members; every coordinate
  *      is divided by h, so the system's entries are O(1) at any scale.
@@ -39,7 +39,8 @@
  * 1-ring member + 4 a vertex per thread + ring scratch.
  *
  * ADAPTIVE (vn.h) adds the 4-ring, gathered past the 2-ring up to the ring
- * capacity, and fits a quadric and a cubic there; each vertex keeps two
+ * capacity, and where the jet succeeded but is not exact fits a quadric
+ * and a cubic there; each vertex keeps two
  * outcomes (the jet or the quadric, the jet or the cubic, by GCV score) and
  * the statistic of its cubic terms, and a last pass takes one outcome by
  * that statistic over the vertex's 1-ring (56 more bytes a vertex); its
@@ -50,6 +51,11 @@
 /* A polygon of more corners gives only its two edge neighbours to a ring:
  * all corners of a large n-gon would make rings quadratic in its size. */
 #define RING_ALL_MAX 8
+/* A ring member with a 1-ring of more members (the hub of a fan: a disc or
+ * a cone's cap triangulated from one point) is not expanded into wider
+ * rings: each rim vertex's 2-ring would be the whole fan, and the fits
+ * quadratic in its size. The hub itself stays a member. */
+#define RING_HUB_MAX 256
 /* Smallest pivot of the unit-diagonal normal matrix's Cholesky factor. */
 #define PIVOT_MIN 1e-8
 /* Smallest reciprocal condition 1 / (k trace(M~^-1)) of that matrix M~:
@@ -825,8 +831,11 @@ static void gather_vertex(const fit_job* j, scratch* s, uint32_t v, unsigned lan
 	const int rings = j->w.method == vn_method_quadric ? 1 : j->w.method == vn_method_jet ? 2 : 4;
 	for (int r = 1; r < rings; ++r) {
 		m[r] = m[r - 1];
-		for (uint32_t i = r > 1 ? m[r - 2] : 0; i < m[r - 1]; ++i)
-			m[r] = expand(j, s, s->ring[i], m[r]);
+		for (uint32_t i = r > 1 ? m[r - 2] : 0; i < m[r - 1]; ++i) {
+			const uint32_t u = s->ring[i];
+			if (j->nstart[u + 1] - j->nstart[u] <= RING_HUB_MAX)
+				m[r] = expand(j, s, u, m[r]);
+		}
 		load_members(j, s, m[r - 1], m[r], o, lane);
 	}
 	for (int r = rings; r < 4; ++r)
@@ -856,7 +865,11 @@ static double effective_points(const double* q, uint32_t m)
 
 /* ADAPTIVE at the active lanes, after the 2-ring jet f (ok, residual res):
  * the jet where it is exact; else the quadric and the cubic on the 4-ring
- * with Gaussian weights, in the jet's frame (S's where the jet failed).
+ * with Gaussian weights, in the jet's frame. The wide fits only where the
+ * jet succeeded: where it failed, the 2-ring
+ * is too small or degenerate, and a wide fit would rest on far points (a
+ * cone fan's rim vertex: the rim on a conic and the apex, which tilts the
+ * quadric at will).
  * pick[v] receives two outcomes, the jet or the quadric (the cubic where
  * the quadric failed) by the lower GCV score, and the jet or the cubic
  * (the quadric where the cubic failed) likewise, each the rough fallback
@@ -884,11 +897,11 @@ static void adaptive_lanes(const fit_job* j, double* pts, const int act[LANES], 
 		memcpy(out + 3, out, 3 * sizeof(double));
 		out[6] = NAN;
 		best[l] = !jet ? DBL_MAX : res[l] <= ADAPTIVE_JET_EXACT ? 0.0 : gcv(res[l], effective_points(pts + l, m[l][1]), 10);
-		wide[l] = act[l] && best[l] > 0.0 && m[l][3] > m[l][0];
+		wide[l] = jet && best[l] > 0.0 && m[l][3] > m[l][0];
 		if (wide[l]) {
 			any = 1;
 			for (int d = 0; d < 3; ++d) /* the wide fits' frame */
-				axis[d][l] = ok[l] ? f[l][d] : seed[l][d];
+				axis[d][l] = f[l][d];
 		}
 		count[l] = wide[l] ? m[l][3] : 0;
 	}

@@ -227,6 +227,7 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
 
 /* vn.h's constants. */
 #define RING_ALL_MAX 8        /* a polygon gives all its corners to a ring up to this size */
+#define RING_HUB_MAX 256      /* a vertex of a larger 1-ring is not expanded into wider rings */
 #define PIVOT_MIN 1e-8L       /* smallest squared diagonal of R (the Cholesky pivot) */
 #define RCOND_MIN 1e-10L      /* smallest 1 / (|R|_F |R^-1|_F)^2 */
 #define SEED_COS_MIN 0.5L     /* 60 degrees from the seed */
@@ -623,10 +624,10 @@ static void outcome(const fit_result* f, int path, long double slack, adaptive_r
 }
 
 /* ADAPTIVE at a vertex with the 1-, 2- and 4-ring ends m1 <= m2 <= m4 of
- * q: the jet on the 2-ring; unless its residual is at most
+ * q: the jet on the 2-ring; where it succeeded and its residual is above
  * ADAPTIVE_JET_EXACT, the quadric and the cubic on the 4-ring with Gaussian
  * weights as wide as the ring (gauss = the mean |q|^2 / h^2), each fitted
- * once in the jet's frame (S's where the jet failed). Two outcomes: the jet
+ * once in the jet's frame. Two outcomes: the jet
  * or the quadric (the cubic if the quadric failed), whichever has the lower
  * GCV score, and the jet or the cubic (the quadric if the cubic failed)
  * likewise; each the fallback where its residual is above
@@ -652,9 +653,9 @@ static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m4, vec s
 		else
 			a->path[k] = ref_path_seed;
 	}
-	if (!(best > 0 && m4 > m1))
+	if (!(jet_ok && best > 0 && m4 > m1))
 		return;
-	vec axis = jet_ok ? jet.normal : s;
+	vec axis = jet.normal;
 	long double gauss = 0;
 	for (size_t i = 0; i < m4; i++)
 		gauss += vec_dot(q[i], q[i]) / (h * h);
@@ -703,6 +704,15 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 	uint32_t* ring = checked_calloc(n, sizeof *ring);
 	vec* q = checked_calloc(n, sizeof *q);
 	adaptive_result* ad = method == ref_adaptive ? checked_calloc(n, sizeof *ad) : NULL;
+	char* hub = checked_calloc(n, 1); /* more than RING_HUB_MAX 1-ring members */
+	for (size_t u = 0; u < n; u++) {
+		mark[u] = 1;
+		size_t m = add_ring(t, (uint32_t)u, mark, ring, 0);
+		hub[u] = m > RING_HUB_MAX;
+		for (size_t i = 0; i < m; i++)
+			mark[ring[i]] = 0;
+		mark[u] = 0;
+	}
 	for (size_t v = 0; v < n; v++) {
 		double* o = out + 3 * v;
 		vec s = load(o);
@@ -728,13 +738,15 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		h /= m1 ? (long double)m1 : 1;
 		if (method != ref_quadric) {
 			for (size_t i = 0; i < m1; i++)
-				m2 = add_ring(t, ring[i], mark, ring, m2);
+				if (!hub[ring[i]])
+					m2 = add_ring(t, ring[i], mark, ring, m2);
 			m4 = m2;
 		}
 		for (size_t from = m1, r = 3; method == ref_adaptive && r <= 4; r++) { /* the 3- and 4-rings */
 			size_t to = m4;
 			for (size_t i = from; i < to; i++)
-				m4 = add_ring(t, ring[i], mark, ring, m4);
+				if (!hub[ring[i]])
+					m4 = add_ring(t, ring[i], mark, ring, m4);
 			from = to;
 		}
 		for (size_t i = m1; i < m4; i++)
@@ -793,6 +805,7 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 	free(q);
 	free(ring);
 	free(mark);
+	free(hub);
 }
 
 void ref_normals_ex(int method, const double* positions, size_t vertex_count, const uint32_t* indices,

@@ -510,6 +510,72 @@ static void degenerate_rings(void** state)
 	}
 }
 
+/* z = 0.5 x^2 + 0.2 y^2 on a regular 7 x 7 grid (spacing 0.1) centred on
+ * the origin, and at the origin's neighbour H = (0.1, 0) a fan of `spokes`
+ * triangles to a circle 0.1 above the surface: H's 1-ring has spokes + 6
+ * members. JET at the origin: returns its normal's largest component off
+ * (0, 0, 1). */
+static double jet_beside_a_hub(uint32_t spokes)
+{
+	enum { N = 7 };
+	const uint32_t nv = N * N + spokes, nt = 2 * (N - 1) * (N - 1) + spokes, hub = 3 * N + 4;
+	double* pos = (double*)malloc(3 * sizeof(double) * nv);
+	double* out = (double*)malloc(3 * sizeof(double) * nv);
+	uint32_t* idx = (uint32_t*)malloc(3 * sizeof(uint32_t) * nt);
+	uint32_t t = 0;
+	for (int j = 0; j < N; ++j)
+		for (int i = 0; i < N; ++i) {
+			double* p = pos + 3 * (j * N + i);
+			p[0] = 0.1 * (i - 3), p[1] = 0.1 * (j - 3), p[2] = 0.5 * p[0] * p[0] + 0.2 * p[1] * p[1];
+			if (i + 1 < N && j + 1 < N) {
+				const uint32_t a = (uint32_t)(j * N + i);
+				idx[3 * t] = a, idx[3 * t + 1] = a + 1, idx[3 * t + 2] = a + N + 1, ++t;
+				idx[3 * t] = a, idx[3 * t + 1] = a + N + 1, idx[3 * t + 2] = a + N, ++t;
+			}
+		}
+	for (uint32_t k = 0; k < spokes; ++k) {
+		double* p = pos + 3 * (N * N + k);
+		p[0] = 0.1 + 0.05 * cos(2 * PI * k / spokes), p[1] = 0.05 * sin(2 * PI * k / spokes), p[2] = 0.105;
+		idx[3 * t] = hub, idx[3 * t + 1] = N * N + k, idx[3 * t + 2] = N * N + (k + 1) % spokes, ++t;
+	}
+	assert_int_equal(tri(pos, nv, idx, 3 * (size_t)nt, vn_method_jet, 1, out), vn_result_success);
+	const double* o = out + 3 * (3 * N + 3);
+	const double off = fmax(fmax(fabs(o[0]), fabs(o[1])), fabs(o[2] - 1));
+	free(idx), free(out), free(pos);
+	return off;
+}
+
+/* A hub (more than 256 ring members) is a member of its neighbours' 2-rings
+ * but not expanded: the origin's 2-ring stays on the surface and the jet is
+ * exact there; with 250 spokes H is expanded and the raised circle tilts it. */
+static void hubs_not_expanded(void** state)
+{
+	(void)state;
+	assert_true(jet_beside_a_hub(251) <= 1e-12);
+	assert_true(jet_beside_a_hub(250) > 1e-3);
+}
+
+/* A cone's fan, apex (0, 0, 0.5) over a circle of 16 points in z = 0: a rim
+ * vertex's 2-ring is the rim (on a conic) and the apex, the jet fails
+ * there, and ADAPTIVE gives MWAAT's normal, exact on a cone: the cone's
+ * normal (cos t, sin t, 2) / sqrt(5). A quadric on its 4-ring (the same
+ * points) would go through them all tilted by 40 degrees. */
+static void adaptive_cone_rim(void** state)
+{
+	(void)state;
+	enum { K = 16 };
+	double pos[3 * (K + 1)] = {0, 0, 0.5}, out[3 * (K + 1)];
+	uint32_t idx[3 * K];
+	for (int k = 0; k < K; ++k) {
+		pos[3 + 3 * k] = cos(2 * PI * k / K), pos[4 + 3 * k] = sin(2 * PI * k / K);
+		idx[3 * k] = 0, idx[3 * k + 1] = 1 + (uint32_t)k, idx[3 * k + 2] = 1 + (uint32_t)(k + 1) % K;
+	}
+	assert_int_equal(tri(pos, K + 1, idx, 3 * K, vn_method_adaptive, 1, out), vn_result_success);
+	assert_vec(out, 0, 0, 1, 1e-15);
+	for (int k = 0; k < K; ++k)
+		assert_vec(out + 3 + 3 * k, cos(2 * PI * k / K) / sqrt(5), sin(2 * PI * k / K) / sqrt(5), 2 / sqrt(5), 1e-12);
+}
+
 /* Ring members near the cubic y = 0.5 x^2 + 0.3 x^3 (to 1e-4; coordinates
  * in units of h = 0.1): every Cholesky pivot of the jet's scaled normal
  * matrix is above 1e-7, yet its reciprocal condition is 6.6e-13 (numpy:
@@ -577,6 +643,8 @@ int main(void)
 	    cmocka_unit_test(adaptive_across_noise),
 	    cmocka_unit_test(threads_bit_identical),
 	    cmocka_unit_test(degenerate_rings),
+	    cmocka_unit_test(hubs_not_expanded),
+	    cmocka_unit_test(adaptive_cone_rim),
 	    cmocka_unit_test(fit_refuses_ill_conditioned),
 	    cmocka_unit_test(corners_follow_the_vertex_rule),
 	};

@@ -1349,6 +1349,29 @@ static void test_beyond_the_paper(void** state)
 	check_mesh_paths(&m, worst, 1);
 	mesh_free(&m);
 
+	/* Fans: a hub of 300 spokes raised over an interior vertex of a smooth
+	 * height field (its neighbours' wider rings do not expand it), and an
+	 * open cone of 20 (its rim's jets fail: ADAPTIVE takes MWAAT there). */
+	mesh_init(&m, "height field with a hub");
+	make_height_field(&m, 31, 20, 18, 0.1, 0.3);
+	const uint32_t hub = 9 * 21 + 10, first = (uint32_t)m.nv;
+	for (uint32_t k = 0; k < 300; k++) {
+		const double a = 2 * PI * k / 300, *c = m.pos + 3 * (size_t)hub;
+		mesh_vertex(&m, c[0] + 0.05 * cos(a), c[1] + 0.05 * sin(a), c[2] + 0.1);
+		mesh_triangle(&m, hub, first + k, first + (k + 1) % 300);
+	}
+	check_mesh_paths(&m, worst, 1);
+	mesh_free(&m);
+
+	mesh_init(&m, "open cone");
+	mesh_vertex(&m, 0, 0, 0.5);
+	for (uint32_t k = 0; k < 20; k++) {
+		mesh_vertex(&m, cos(2 * PI * k / 20), sin(2 * PI * k / 20), 0);
+		mesh_triangle(&m, 0, 1 + k, 1 + (k + 1) % 20);
+	}
+	check_mesh_paths(&m, worst, 1);
+	mesh_free(&m);
+
 	print_worst("beyond the paper", worst);
 }
 
