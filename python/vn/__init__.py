@@ -137,7 +137,12 @@ def _faces(faces):
     if isinstance(faces, tuple) and len(faces) == 2 and np.ndim(faces[0]) == 1 and np.ndim(faces[1]) == 1 \
             and len(faces[0]) != len(faces[1]):
         return faces[0], faces[1], None
-    f = np.asarray(faces)
+    try:
+        f = np.asarray(faces)
+    except ValueError:  # numpy refuses a ragged list
+        f = None
+    if f is None or (f.dtype == object and f.ndim == 1):
+        return _ragged(faces)
     if f.ndim != 2:
         raise Error("faces must be an (m, k) integer array or (indices, offsets), not of shape %s" % (f.shape,))
     if f.shape[1] == 3:
@@ -152,6 +157,17 @@ def _positions(positions):
     if p.ndim != 2 or p.shape[1] != 3:
         raise Error("positions must be an (n, 3) array, not of shape %s" % (p.shape,))
     return p
+
+
+def _ragged(faces):
+    """Faces of mixed sizes given one by one (e.g. a list of lists) as
+    (indices, offsets)."""
+    rows = [np.asarray(x) for x in faces]
+    if any(r.ndim != 1 for r in rows):
+        raise Error("faces of mixed sizes must each be a sequence of corner indices")
+    offsets = np.zeros(len(rows) + 1, dtype=np.int64)
+    np.cumsum([len(r) for r in rows], out=offsets[1:])
+    return np.concatenate(rows), offsets, None
 
 
 def vertex_normals(positions, faces=None, method="mwa", *, threads=0, out=None):
@@ -170,7 +186,8 @@ def vertex_normals(positions, faces=None, method="mwa", *, threads=0, out=None):
         triangles; (m, k) faces of k corners. Polygons of mixed sizes: the
         flat ``indices`` of every corner and ``offsets`` (m + 1 entries,
         face f is ``indices[offsets[f]:offsets[f + 1]]``); a tuple whose two
-        parts have equal lengths is read as two faces instead.
+        parts have equal lengths is read as two faces instead. Or one
+        sequence a face, e.g. ``[[0, 1, 2], [0, 2, 3, 4]]``.
     method : str, default "mwa"
         A name from `methods` (any case): "mwe", "mwa", "mwselr", "mwaat",
         "mwelr", "mwrelr" or "mewcsa".

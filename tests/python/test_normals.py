@@ -92,6 +92,16 @@ def test_sphere_as_quads_array_and_polygons_agree(sphere_quads):
                           vn.corner_normals(p, (np.ravel(rows), np.arange(len(rows) + 1) * 4)))
 
 
+def test_faces_of_mixed_sizes_one_by_one(sphere_quads):
+    # A list of lists (triangles at the poles, quads elsewhere) is read as
+    # (indices, offsets): the same bits.
+    p, (idx, off) = sphere_quads
+    assert len(set(np.diff(off))) == 2
+    faces = [idx[off[f]:off[f + 1]].tolist() for f in range(len(off) - 1)]
+    assert np.array_equal(vn.vertex_normals(p, faces, method="jet"), vn.vertex_normals(p, (idx, off), method="jet"))
+    assert np.array_equal(vn.corner_normals(p, faces, crease_angle=0.5), vn.corner_normals(p, (idx, off), crease_angle=0.5))
+
+
 def test_input_layouts_all_give_the_same_bits(torus):
     p, f = torus
     ref = vn.vertex_normals(p, f)
@@ -256,6 +266,9 @@ def test_empty_meshes():
     ((TETRA_P, [0, 1, 2]), {}, "faces must be an (m, k) integer array or (indices, offsets), not of shape (3,)"),
     ((TETRA_P, np.zeros((1, 3, 1), dtype=int)), {}, "not of shape (1, 3, 1)"),
     ((TETRA_P, [[0.0, 1.0, 2.0]]), {}, "faces must be integers, not float64"),
+    ((TETRA_P, [[0, 1, 2], [0, 1, 2, 3.5]]), {}, "faces must be integers, not float64"),
+    ((TETRA_P, [[0, 1, 2], [[0, 1], [2, 3]]]), {}, "faces of mixed sizes must each be a sequence of corner indices"),
+    ((TETRA_P, [[0, 1, 2], [0, 1, 5, 3]]), {}, "index out of range"),
     ((TETRA_P, ([0, 1, 2, 3], [0, 3])), {}, "face offsets must end at the number of corners (4)"),
     ((TETRA_P, ([0, 1, 2, 3, 1, 2], [0, 4, 3, 6])), {}, "vn_polygon_normals: invalid argument"),
     ((TETRA_P,), {}, "faces are missing"),
