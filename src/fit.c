@@ -735,10 +735,10 @@ static uint32_t gather(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
 		uint32_t b, k;
 		if (!j->usable[face_at(j, c, &b, &k)])
 			continue;
-		const uint32_t at = c - b;
-		for (uint32_t o = 1; o < k; ++o) {
-			if (k > RING_ALL_MAX && o != 1 && o != k - 1)
-				continue;
+		/* A large polygon: its two edge neighbours (o = 1, k - 1), without
+		 * a pass over its corners, which made a big cap quadratic. */
+		const uint32_t at = c - b, step = k > RING_ALL_MAX ? k - 2 : 1;
+		for (uint32_t o = 1; o < k; o += step) {
 			const uint32_t x = idx[b + (at + o) % k];
 			if (s->stamp[x] != s->tag && m < s->cap)
 				s->stamp[x] = s->tag, s->ring[m++] = x;

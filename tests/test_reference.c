@@ -1372,6 +1372,21 @@ static void test_beyond_the_paper(void** state)
 	check_mesh_paths(&m, worst, 1);
 	mesh_free(&m);
 
+	/* Closed by a 40-gon (more than RING_ALL_MAX corners: only its edge
+	 * neighbours join a ring), the rim jittered. */
+	mesh_init(&m, "cone with a 40-gon cap");
+	mesh_vertex(&m, 0, 0, 0.5);
+	uint32_t cap[40];
+	for (uint32_t k = 0; k < 40; k++) {
+		mesh_vertex(&m, cos(2 * PI * k / 40), sin(2 * PI * k / 40), 0);
+		mesh_triangle(&m, 0, 1 + k, 1 + (k + 1) % 40);
+		cap[k] = 40 - k;
+	}
+	mesh_jitter(&m, 33, 0.02);
+	mesh_face(&m, cap, 40);
+	check_mesh_paths(&m, worst, 1);
+	mesh_free(&m);
+
 	print_worst("beyond the paper", worst);
 }
 
