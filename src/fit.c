@@ -5,8 +5,9 @@
  *   1. ring: the vertices sharing a usable face with v (a triangle's other
  *      two corners; a polygon's other corners when it has at most
  *      RING_ALL_MAX, else its two edge neighbours); the 2-ring adds the
- *      rings of those but a hub's (RING_HUB_MAX). Unusable faces (the seven's degenerate faces: zero or
- *      non-finite area) add nothing, so a non-finite coordinate never enters.
+ *      rings of those but a hub's (RING_HUB_MAX). Unusable faces (the
+ *      seven's degenerate faces: zero or non-finite area) add nothing, so a
+ *      non-finite coordinate never enters.
  *   2. h = the mean distance from v to its 1-ring members; every coordinate
  *      is divided by h, so the system's entries are O(1) at any scale.
  *   3. fit (vn_fit_frame): in the frame (t1, t2, a), weighted least squares
@@ -866,10 +867,9 @@ static double effective_points(const double* q, uint32_t m)
 /* ADAPTIVE at the active lanes, after the 2-ring jet f (ok, residual res):
  * the jet where it is exact; else the quadric and the cubic on the 4-ring
  * with Gaussian weights, in the jet's frame. The wide fits only where the
- * jet succeeded: where it failed, the 2-ring
- * is too small or degenerate, and a wide fit would rest on far points (a
- * cone fan's rim vertex: the rim on a conic and the apex, which tilts the
- * quadric at will).
+ * jet succeeded: where it failed, the 2-ring is too small or degenerate,
+ * and a wide fit would rest on far points (a cone fan's rim vertex: the
+ * rim on a conic and the apex, which tilts the quadric at will).
  * pick[v] receives two outcomes, the jet or the quadric (the cubic where
  * the quadric failed) by the lower GCV score, and the jet or the cubic
  * (the quadric where the cubic failed) likewise, each the rough fallback

@@ -146,14 +146,14 @@ typedef enum vn_method {
 	                      w)^2 / sum w^2: the lower wins. Where the chosen
 	                      fit's e exceeds 0.06 (no polynomial describes the
 	                      neighbourhood: fractal or turbulent), or no fit
-	                      succeeds, MWAAT's normal; also where the jet
-	                      fails (too few or degenerate points), which the
-	                      wide fits are not tried for: on e.g. a boundary
-	                      vertex of a cone's fan, whose 4-ring is the rim
-	                      (on a conic) and the apex, a quadric through
-	                      them all tilts by whatever the apex asks (40
-	                      degrees), and MWAAT is exact (the best of the seven on
-	                      rough height fields). The 4-ring stops at the ring
+	                      succeeds, MWAAT's normal (the best of the seven
+	                      on rough height fields); MWAAT's too where the
+	                      jet fails (too few or degenerate points), for
+	                      which the wide fits are not tried: at e.g. a
+	                      boundary vertex of a cone's fan, whose 4-ring is
+	                      the rim (on a conic) and the apex, a quadric
+	                      through them all tilts as the apex asks (40
+	                      degrees), and MWAAT is exact. The 4-ring stops at the ring
 	                      capacity of JET's 2-rings (the largest vertex's
 	                      candidate count c: c (c + 1) members, nearest
 	                      rings first). The thresholds 1e-4 and 0.06 were
@@ -164,8 +164,8 @@ typedef enum vn_method {
 	 * its two edge neighbours); degenerate faces add nothing, so NaN never
 	 * enters. Wider rings do not expand through a member with more than
 	 * 256 ring members (a fan's hub), so that a fan of any size costs
-	 * linear time (its rim vertices' 2-rings would be the whole fan). The tangent frame of a unit axis a = (x, y, z) is Duff et
-	 * al. 2017's: with s the sign of z (-0 negative), A = -1 / (s + z) and
+	 * linear time (its rim vertices' 2-rings would be the whole fan).
+	 * The tangent frame of a unit axis a = (x, y, z) is Duff et al. 2017's: with s the sign of z (-0 negative), A = -1 / (s + z) and
 	 * B = x y A, t1 = (1 + s x^2 A, s B, -s x), t2 = (B, s + y^2 A, -y).
 	 * The normal does not depend on it,
 	 * but the conditioning test does: the system (columns 1, x, y, x^2, xy,
