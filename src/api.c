@@ -57,7 +57,7 @@ static const struct {
      "Cazals & Pouget 2003; O(h^3)"},
     {"adaptive",
      "the 2-ring jet, or a Gaussian-weighted 4-ring fit that averages noise out, by GCV score; "
-     "MWAAT where nothing fits: the choice when unsure",
+     "MWAAT where rough: the choice when unsure",
      "beyond Jin et al. 2005; Craven & Wahba 1979 (GCV)"},
 };
 

@@ -45,7 +45,8 @@
  * outcomes (the jet or the quadric, the jet or the cubic, by GCV score) and
  * the statistic of its cubic terms, and a last pass takes one outcome by
  * that statistic over the vertex's 1-ring (56 more bytes a vertex); its
- * fallback, MWAAT, is a second pass of the weighted kernels (24 more). */
+ * rough fallback, MWAAT, is a second pass of the weighted kernels (24
+ * more). Where the jet cannot be fitted it falls back as JET does. */
 #include "internal.h"
 #include "simd.h"
 
@@ -555,9 +556,11 @@ static int take(const fits* r, int first_ok, unsigned l, const double* seed, dou
 /* The fit in the seed's frame, then once more in the result's, for the
  * active lanes: ok[l] says whether n[l] was written (0 when the first fit
  * fails or the result strays from the seed); res[l] is the residual of the
- * fit written, computed only when res is not NULL. */
+ * fit written, computed only when res is not NULL; fitted[l], when not
+ * NULL, whether the first fit succeeded (ok[l] 0 with fitted[l] 1: the
+ * result strayed from the seed). */
 static void fit_twice(const double* q, const uint32_t m[LANES], const int act[LANES], const double* const seed[LANES],
-                      int cubic, int simd, double n[LANES][3], int ok[LANES], double res[LANES])
+                      int cubic, int simd, double n[LANES][3], int ok[LANES], double res[LANES], int fitted[LANES])
 {
 	fits f[2];
 	lanes a[3];
@@ -567,8 +570,11 @@ static void fit_twice(const double* q, const uint32_t m[LANES], const int act[LA
 	const fit_fn fit = fit_kernel(cubic, simd);
 	fit(q, m, act, a, f);
 	fit(q, m, f[0].ok, f[0].n, f + 1);
-	for (unsigned l = 0; l < LANES; ++l)
+	for (unsigned l = 0; l < LANES; ++l) {
 		ok[l] = take(f[1].ok[l] ? f + 1 : f, f[0].ok[l], l, seed[l], n[l], res ? res + l : NULL);
+		if (fitted)
+			fitted[l] = f[0].ok[l];
+	}
 }
 
 int vn_fit_frame(const double* p, uint32_t m, double h, double* scratch, const double a[3], int degree, double n[3],
@@ -874,11 +880,14 @@ static double effective_points(const double* q, uint32_t m)
  * the quadric failed) by the lower GCV score, and the jet or the cubic
  * (the quadric where the cubic failed) likewise, each the rough fallback
  * where its residual exceeds ADAPTIVE_FIT_MAX, then log T where both wide
- * fits succeeded (NaN elsewhere): phase_choose takes one. Vertices from
- * v1 on are another worker's. */
+ * fits succeeded (NaN elsewhere): phase_choose takes one. fall[l] is
+ * the fallback where no fit is taken: the rough one (MWAAT's) where the jet
+ * was fitted, JET's own where it could not be. Vertices from v1 on are
+ * another worker's. */
 static void adaptive_lanes(const fit_job* j, double* pts, const int act[LANES], const uint32_t m[LANES][4],
                            const double* const seed[LANES], const double f[LANES][3], const int ok[LANES],
-                           const double res[LANES], const uint32_t v0, const uint32_t v1)
+                           const double res[LANES], const double* const fall[LANES], const uint32_t v0,
+                           const uint32_t v1)
 {
 	int wide[LANES], any = 0;
 	double neff[LANES], sw[LANES], best[LANES];
@@ -893,7 +902,7 @@ static void adaptive_lanes(const fit_job* j, double* pts, const int act[LANES], 
 		double* out = j->pick + 7 * (size_t)(v0 + l);
 		const int jet = act[l] && ok[l];
 		/* Without a ring, or where no fit is taken: the fallback. */
-		memcpy(out, jet && res[l] <= ADAPTIVE_FIT_MAX ? f[l] : j->rough + 3 * (size_t)(v0 + l), 3 * sizeof(double));
+		memcpy(out, jet && res[l] <= ADAPTIVE_FIT_MAX ? f[l] : fall[l], 3 * sizeof(double));
 		memcpy(out + 3, out, 3 * sizeof(double));
 		out[6] = NAN;
 		best[l] = !jet ? DBL_MAX : res[l] <= ADAPTIVE_JET_EXACT ? 0.0 : gcv(res[l], effective_points(pts + l, m[l][1]), 10);
@@ -991,15 +1000,28 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 				s->q[PT * (size_t)i + d * LANES + l] = 0.0;
 	scale_batch(s->q, first, top, act, j->w.simd);
 	if (j->w.method == vn_method_quadric)
-		fit_twice(s->q, first, act, seed, 0, j->w.simd, n, ok, NULL);
+		fit_twice(s->q, first, act, seed, 0, j->w.simd, n, ok, NULL, NULL);
 	else if (j->w.method == vn_method_adaptive) { /* stored by phase_choose */
 		double f[LANES][3];
-		fit_twice(s->q, ring, act, seed, 1, j->w.simd, f, ok, res);
-		adaptive_lanes(j, s->q, act, (const uint32_t(*)[4])m, seed, (const double(*)[3])f, ok, res, v0, v1);
+		int fitted[LANES], unfit[LANES], again = 0;
+		fit_twice(s->q, ring, act, seed, 1, j->w.simd, f, ok, res, fitted);
+		/* Where the jet cannot be fitted (too few points, or degenerate):
+		 * JET's own fallback, the quadric on the 1-ring, else S (n holds
+		 * it); where it was fitted but strays from S, or S is zero: the
+		 * rough one. */
+		const double* fall[LANES];
+		for (unsigned l = 0; l < LANES; ++l) {
+			unfit[l] = act[l] && !fitted[l] && (seed[l][0] != 0.0 || seed[l][1] != 0.0 || seed[l][2] != 0.0);
+			again |= unfit[l];
+			fall[l] = unfit[l] ? n[l] : j->rough + 3 * (size_t)(v0 + l < v1 ? v0 + l : v0);
+		}
+		if (again)
+			fit_twice(s->q, first, unfit, seed, 0, j->w.simd, n, fitted, NULL, NULL);
+		adaptive_lanes(j, s->q, act, (const uint32_t(*)[4])m, seed, (const double(*)[3])f, ok, res, fall, v0, v1);
 		return;
 	} else {
 		double f[LANES][3];
-		fit_twice(s->q, ring, act, seed, 1, j->w.simd, f, ok, NULL);
+		fit_twice(s->q, ring, act, seed, 1, j->w.simd, f, ok, NULL, NULL);
 		int again = 0;
 		for (unsigned l = 0; l < LANES; ++l) {
 			if (ok[l])
@@ -1009,7 +1031,7 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 			again |= act[l];
 		}
 		if (again)
-			fit_twice(s->q, first, act, seed, 0, j->w.simd, n, ok, NULL);
+			fit_twice(s->q, first, act, seed, 0, j->w.simd, n, ok, NULL, NULL);
 	}
 	for (unsigned l = 0; l < LANES && v0 + l < v1; ++l) {
 		const double* r = n[l];

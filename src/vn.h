@@ -145,15 +145,18 @@ typedef enum vn_method {
 	                      or 10), n its effective number of points (sum
 	                      w)^2 / sum w^2: the lower wins. Where the chosen
 	                      fit's e exceeds 0.06 (no polynomial describes the
-	                      neighbourhood: fractal or turbulent), or no fit
-	                      succeeds, MWAAT's normal (the best of the seven
-	                      on rough height fields); MWAAT's too where the
-	                      jet fails (too few or degenerate points), for
-	                      which the wide fits are not tried: at e.g. a
-	                      boundary vertex of a cone's fan, whose 4-ring is
-	                      the rim (on a conic) and the apex, a quadric
+	                      neighbourhood: fractal or turbulent), or the jet
+	                      strays over 60 degrees from S, MWAAT's normal
+	                      (the best of the seven on rough height fields).
+	                      Where the jet cannot be fitted (fewer points than
+	                      unknowns, or ill-conditioned), JET's fallback:
+	                      the 1-ring quadric, else S (on an open
+	                      cylinder's strip S is exact, MWAAT 5 degrees
+	                      off); the wide fits are not tried there: at e.g.
+	                      a boundary vertex of a cone's fan, whose 4-ring
+	                      is the rim (on a conic) and the apex, a quadric
 	                      through them all tilts as the apex asks (40
-	                      degrees), and MWAAT is exact. The 4-ring stops at the ring
+	                      degrees). The 4-ring stops at the ring
 	                      capacity of JET's 2-rings (the largest vertex's
 	                      candidate count c: c (c + 1) members, nearest
 	                      rings first). The thresholds 1e-4 and 0.06 were

@@ -536,13 +536,16 @@ static int fit_in_frame(const vec* q, size_t m, vec axis, int degree, long doubl
 
 /* The fit in the seed's frame, then once more in the frame of its normal
  * (the first fit kept when the second is not trusted); 0 when the first is
- * not trusted or the result is more than 60 degrees from the seed. */
+ * not trusted or the result is more than 60 degrees from the seed.
+ * *fitted (when not NULL): whether the first was trusted. */
 static int fit_twice(const vec* q, size_t m, vec seed, int degree, long double h, long double gauss, fit_result* out,
-                     int* borderline)
+                     int* borderline, int* fitted)
 {
 	fit_result first, second = {.rows = 0};
 	int ok = fit_in_frame(q, m, seed, degree, h, gauss, 0, &first);
 	*borderline |= first.borderline;
+	if (fitted)
+		*fitted = ok;
 	if (!ok)
 		return 0;
 	/* The second frame is the first fit's normal: as uncertain as it. */
@@ -605,7 +608,7 @@ static int fit_once(const vec* q, size_t m, vec axis, vec s, int degree, long do
  * between them over the 1-ring. */
 typedef struct adaptive_result {
 	vec normal[2];      /* the quadric's outcome, the cubic's */
-	int path[2];        /* their ref_path_* (ref_path_seed: MWAAT) */
+	int path[2];        /* their ref_path_* */
 	long double rcond[2];
 	long double log_t;  /* NAN unless both wide fits were taken */
 	int borderline;     /* some decision within rounding of its threshold */
@@ -613,12 +616,12 @@ typedef struct adaptive_result {
 } adaptive_result;
 
 /* The last step of an outcome: the fit f on path `path` unless its
- * residual is above ADAPTIVE_FIT_MAX, then the fallback (normal left
- * unset: fit_normals writes MWAAT's). */
+ * residual is above ADAPTIVE_FIT_MAX, then the rough fallback (normal
+ * left unset: fit_normals writes MWAAT's). */
 static void outcome(const fit_result* f, int path, long double slack, adaptive_result* a, int k)
 {
-	a->borderline |= path != ref_path_seed && near(f->residual, ADAPTIVE_FIT_MAX, slack + fit_slack(f->rcond));
-	a->path[k] = path != ref_path_seed && f->residual <= ADAPTIVE_FIT_MAX ? path : ref_path_seed;
+	a->borderline |= near(f->residual, ADAPTIVE_FIT_MAX, slack + fit_slack(f->rcond));
+	a->path[k] = f->residual <= ADAPTIVE_FIT_MAX ? path : ref_path_rough;
 	a->normal[k] = f->normal;
 	a->rcond[k] = f->rcond;
 }
@@ -631,27 +634,36 @@ static void outcome(const fit_result* f, int path, long double slack, adaptive_r
  * or the quadric (the cubic if the quadric failed), whichever has the lower
  * GCV score, and the jet or the cubic (the quadric if the cubic failed)
  * likewise; each the fallback where its residual is above
- * ADAPTIVE_FIT_MAX. log T, T = |d|^2 / var(d): d the quadric's slopes
- * minus the cubic's, var(d) = sigma^2 (vs_cubic - vs_quadric), sigma^2 =
- * the cubic's sum w e^2 over (points - 10). */
+ * ADAPTIVE_FIT_MAX. Where the jet could not be fitted (not trusted in its
+ * first frame), JET's fallback: the quadric on the 1-ring, else S; where it
+ * was fitted but strays from S, the rough fallback. log T, T = |d|^2 /
+ * var(d): d the quadric's slopes minus the cubic's, var(d) = sigma^2
+ * (vs_cubic - vs_quadric), sigma^2 = the cubic's sum w e^2 over (points -
+ * 10). */
 static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m4, vec s, long double h, adaptive_result* a)
 {
-	fit_result jet, wq, wc;
-	int jet_ok = 0, q_ok = 0, c_ok = 0;
+	fit_result jet, wq = {.rows = 0}, wc;
+	int jet_ok = 0, fitted = 0, q_ok = 0, c_ok = 0;
 	long double best = INFINITY, slack = 0;
 	a->log_t = NAN;
 	a->borderline = a->t_borderline = 0;
-	if (fit_twice(q, m2, s, 3, h, 0, &jet, &a->borderline)) {
+	if (fit_twice(q, m2, s, 3, h, 0, &jet, &a->borderline, &fitted)) {
 		slack = fit_slack(jet.rcond);
 		jet_ok = 1;
 		a->borderline |= fabsl(jet.residual - ADAPTIVE_JET_EXACT) < BORDER + slack;
 		best = jet.residual <= ADAPTIVE_JET_EXACT ? 0 : gcv(jet.residual, effective_points(q, m2, h, 0), 10);
 	}
+	int fallback = fitted                                                  ? ref_path_rough
+	               : fit_twice(q, m1, s, 2, h, 0, &wq, &a->borderline, NULL) ? ref_path_quadric
+	                                                                         : ref_path_seed;
 	for (int k = 0; k < 2; k++) {
-		if (jet_ok)
+		if (jet_ok) {
 			outcome(&jet, ref_path_jet, 0, a, k);
-		else
-			a->path[k] = ref_path_seed;
+		} else {
+			a->path[k] = fallback;
+			a->normal[k] = wq.normal;
+			a->rcond[k] = wq.rcond;
+		}
 	}
 	if (!(jet_ok && best > 0 && m4 > m1))
 		return;
@@ -689,8 +701,8 @@ static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m4, vec s
  * |d|^2 / (|d|^2 + var) as d shrinks, far above the measured differences. */
 #define T_SLACK 1e-6L
 
-/* QUADRIC, JET and ADAPTIVE: the MWA normal S as seed, and as fallback but
- * for ADAPTIVE, whose fallback is MWAAT. */
+/* QUADRIC, JET and ADAPTIVE: the MWA normal S as seed and fallback;
+ * ADAPTIVE's rough fallback is MWAAT, also where S is zero. */
 static void fit_normals(int method, const tables* t, double* out, double* cond, unsigned char* path)
 {
 	size_t n = t->vertex_count;
@@ -718,12 +730,12 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		vec s = load(o);
 		if (ad)
 			ad[v].log_t = NAN;
-		if (rough) { /* ADAPTIVE: MWAAT wherever no fit is taken */
+		if (rough && vec_dot(s, s) == 0) { /* ADAPTIVE: MWAAT where S is zero */
 			memcpy(o, rough + 3 * v, 3 * sizeof *o);
 			cond[v] = rough[3 * n + v];
 		}
 		if (is_zero(o) || vec_dot(s, s) == 0) {
-			path[v] = is_zero(o) ? ref_path_zero : ref_path_seed;
+			path[v] = is_zero(o) ? ref_path_zero : ref_path_rough;
 			continue;
 		}
 		path[v] = ref_path_seed;
@@ -755,9 +767,9 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		int borderline = 0;
 		if (m1 && method == ref_adaptive)
 			adaptive_vertex(q, m1, m2, m4, s, h, ad + v); /* chosen below */
-		else if (m1 && method == ref_jet && fit_twice(q, m2, s, 3, h, 0, &f, &borderline)) {
+		else if (m1 && method == ref_jet && fit_twice(q, m2, s, 3, h, 0, &f, &borderline, NULL)) {
 			path[v] = ref_path_jet;
-		} else if (m1 && method != ref_adaptive && fit_twice(q, m1, s, 2, h, 0, &f, &borderline)) {
+		} else if (m1 && method != ref_adaptive && fit_twice(q, m1, s, 2, h, 0, &f, &borderline, NULL)) {
 			path[v] = ref_path_quadric;
 		}
 		if (path[v] != ref_path_seed) {
@@ -793,7 +805,10 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		int differ = a->path[0] != a->path[1] || vec_dot(a->normal[0], a->normal[1]) != vec_dot(a->normal[0], a->normal[0]);
 		border |= count && fabsl(sum / (long double)count - logl(ADAPTIVE_T)) < T_SLACK;
 		path[v] = (unsigned char)a->path[k];
-		if (path[v] != ref_path_seed) {
+		if (path[v] == ref_path_rough) {
+			memcpy(out + 3 * v, rough + 3 * v, 3 * sizeof *out);
+			cond[v] = rough[3 * n + v];
+		} else if (path[v] != ref_path_seed) {
 			o_set(out + 3 * v, a->normal[k]);
 			cond[v] = (double)a->rcond[k];
 		}

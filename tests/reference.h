@@ -34,12 +34,12 @@ enum {
 enum {
 	ref_path_zero = 0, /* the zero vector */
 	ref_path_weighted, /* the method's own sum: one of the seven */
-	ref_path_seed,     /* the fallback: MWA for QUADRIC and JET, MWAAT for
-	                      ADAPTIVE, MWSELR for SMEWCSA */
+	ref_path_seed,     /* the fallback: MWA for the fits, MWSELR for SMEWCSA */
 	ref_path_cotangent, /* SMEWCSA: the MEWCSA normal, its sign corrected */
 	ref_path_quadric,  /* the 1-ring quadric fit */
 	ref_path_jet,      /* the 2-ring cubic jet fit */
 	ref_path_wide,     /* ADAPTIVE: a 4-ring fit with Gaussian weights */
+	ref_path_rough,    /* ADAPTIVE's rough fallback: MWAAT */
 	/* Added to the path: a decision on the way (a pivot, the 60 degree or
 	 * 30 degree rule, ADAPTIVE's residual, SMEWCSA's flatness) was within
 	 * rounding of its threshold; another correct implementation may decide
