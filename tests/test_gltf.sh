@@ -148,6 +148,17 @@ check "--stats: nothing split" grep -q "^split vertices: *0$" "$T/stdout"
 # face) keep their face's normal; welded seams (equal input normals) do not.
 check "Box keeps its hard edges" $CHECK flat "$T/box.glb"
 
+# A double-sided surface as exporters write it (each side on its own copies,
+# the back's faces reversed and its normals negated): the sides are not
+# welded, and each keeps its own smooth normals (welded, their sums cancelled
+# to noise: front normals 87 degrees off).
+$CHECK twosided "$T/twosided.gltf"
+for m in mwa jet adaptive; do
+  run "$VNC" "$T/twosided.gltf" "$T/twosided-$m.glb" -m $m --stats
+  check "two-sided bowl ($m): the sides not welded" grep -q "^welded vertices: *0$" "$T/stdout"
+  check "two-sided bowl ($m): each side its own normals" $CHECK twosided-check "$T/twosided-$m.glb" 6
+done
+
 # Morph targets: base + NORMAL displacement is the scheme's normal of the
 # morphed positions, computed by vnconvert on an OFF of them (the cube's
 # copies are all hard edges: as split; the sphere: welded by position).

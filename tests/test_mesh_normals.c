@@ -287,6 +287,64 @@ static void test_seam_hard_edge(void** state)
 	}
 }
 
+/* A double-sided surface as exporters write it: each side on its own
+ * copies of the vertices, the back's faces reversed and its input normals
+ * negated. Welding would make every edge four faces and each sum cancel
+ * (noise: half the normals 87 degrees off before); the two sides are not
+ * welded, and each keeps its own normals. A flat 3 x 3 sheet in z = 0
+ * (triangles) and the split cube made a box seen from inside too
+ * (quads; each side welded at its hard edges as test_cube_hard_edges). */
+static void test_two_sided(void** state)
+{
+	(void)state;
+	double positions[48][3], normals[48][3];
+	uint32_t sizes[16], indices[96];
+	for (size_t v = 0; v < 9; ++v) {
+		const double p[3] = {(double)(v % 3), (double)(v / 3), 0}, up[3] = {0, 0, 1}, down[3] = {0, 0, -1};
+		memcpy(positions[v], p, sizeof p), memcpy(positions[9 + v], p, sizeof p);
+		memcpy(normals[v], up, sizeof up), memcpy(normals[9 + v], down, sizeof down);
+	}
+	for (uint32_t q = 0; q < 4; ++q) {
+		const uint32_t a = q % 2 + 3 * (q / 2), t[6] = {a, a + 1, a + 4, a, a + 4, a + 3};
+		for (int k = 0; k < 6; ++k)
+			indices[6 * q + k] = t[k], indices[24 + 6 * q + k] = 9 + t[5 - k];
+	}
+	for (size_t f = 0; f < 16; ++f)
+		sizes[f] = 3;
+	for (int method = 0; method < vn_method_count; ++method) {
+		if (method == vn_method_mewcsa)
+			continue; /* its boundary corners point along the surface */
+		vn_io_mesh m = make_mesh(&positions[0][0], 18, sizes, 16, indices, &normals[0][0]);
+		const vn_io_normals_options o = options((vn_method)method);
+		const vn_io_normals_stats st = compute(&m, &o);
+		assert_int_equal(st.welded_vertices, 0);
+		assert_int_equal(st.hard_edges, 0);
+		for (size_t i = 0; i < 18; ++i)
+			assert_normal(&m, i, 0, 0, i < 9 ? 1 : -1);
+		vn_io_mesh_free(&m);
+	}
+	vn_io_mesh outside = split_cube(0, 1);
+	memcpy(positions, outside.positions, 24 * sizeof positions[0]);
+	memcpy(positions + 24, outside.positions, 24 * sizeof positions[0]);
+	for (size_t i = 0; i < 24; ++i)
+		for (int d = 0; d < 3; ++d)
+			normals[i][d] = outside.normals[3 * i + d], normals[24 + i][d] = -outside.normals[3 * i + d];
+	for (uint32_t f = 0; f < 6; ++f)
+		for (uint32_t k = 0; k < 4; ++k)
+			indices[4 * f + k] = outside.indices[4 * f + k], indices[24 + 4 * f + k] = 24 + outside.indices[4 * f + 3 - k];
+	for (size_t f = 0; f < 12; ++f)
+		sizes[f] = 4;
+	vn_io_mesh_free(&outside);
+	vn_io_mesh m = make_mesh(&positions[0][0], 48, sizes, 12, indices, &normals[0][0]);
+	const vn_io_normals_options o = options(vn_method_mwa);
+	const vn_io_normals_stats st = compute(&m, &o);
+	assert_int_equal(st.welded_vertices, 32);
+	assert_int_equal(st.hard_edges, 24);
+	for (size_t i = 0; i < 48; ++i)
+		assert_normal(&m, i, normals[i][0], normals[i][1], normals[i][2]);
+	vn_io_mesh_free(&m);
+}
+
 /* A strip of four unit quads folded along y: the bends between them are
  * 20, 45 and 10 degrees. A crease angle splits the vertices of the bends
  * sharper than it, two a bend; the input is smooth (nothing welded). */
@@ -358,6 +416,7 @@ int main(void)
 	    cmocka_unit_test(test_cube_crease_split), cmocka_unit_test(test_seam_welded),
 	    cmocka_unit_test(test_seam_epsilon),      cmocka_unit_test(test_seam_hard_edge),
 	    cmocka_unit_test(test_folded_strip_crease), cmocka_unit_test(test_zero_normals),
+	    cmocka_unit_test(test_two_sided),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -118,6 +118,63 @@ size_t flag_hard_edges(plan& g, double angle)
 	return flagged;
 }
 
+/* Welded copies whose input normals are opposed are the two sides of a
+ * double-sided surface (a face and its reverse, each on its own copies, as
+ * exporters write them), not copies split along a seam: welded, every edge
+ * between them would have four faces and each vertex's sum would cancel
+ * to rounding noise. So each copy, in index order, joins the first side
+ * of its position (the copies welded so far) whose unit input normals'
+ * sum it is not opposed to, more than 120 degrees from it; else it starts
+ * one, with itself as representative (the lowest index of its side, as
+ * vertex_normals needs). A copy without a usable input normal joins the
+ * first side. A position has at most MAX_SIDES sides (a later copy opposed
+ * to them all joins the first): more than three directions cannot be
+ * pairwise that far apart, so only a crafted file would reach it. */
+void separate_sides(plan& g)
+{
+	constexpr size_t MAX_SIDES = 4;
+	struct side {
+		uint32_t rep, next;
+		double sum[3];
+	};
+	std::vector<uint8_t> merged(g.n, 0);
+	for (size_t i = 0; i < g.n; ++i)
+		if (g.remap[i] != i)
+			merged[g.remap[i]] = 1;
+	std::vector<side> sides;
+	std::vector<uint32_t> first(g.n, UINT32_MAX); /* a representative's first side */
+	for (uint32_t i = 0; i < g.n; ++i) {
+		const uint32_t r = g.remap[i];
+		if (!merged[r])
+			continue;
+		double x[3];
+		load(g.input_normals, i, x);
+		const double len = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+		for (double& c : x)
+			c = len > 0 && std::isfinite(len) ? c / len : 0;
+		uint32_t* link = &first[r];
+		size_t count = 0;
+		uint32_t k = first[r];
+		for (; k != UINT32_MAX; link = &sides[k].next, k = sides[k].next, ++count) {
+			const double* m = sides[k].sum;
+			const double d = x[0] * m[0] + x[1] * m[1] + x[2] * m[2];
+			if (d >= -0.5 * std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]))
+				break;
+		}
+		if (k == UINT32_MAX && count >= MAX_SIDES)
+			k = first[r];
+		if (k == UINT32_MAX) {
+			*link = (uint32_t)sides.size();
+			sides.push_back({i, UINT32_MAX, {x[0], x[1], x[2]}});
+			g.remap[i] = i;
+		} else {
+			for (int d = 0; d < 3; ++d)
+				sides[k].sum[d] += x[d];
+			g.remap[i] = sides[k].rep;
+		}
+	}
+}
+
 /* Split vertices for per-corner normals c: a corner whose normal differs
  * from the first one of its input vertex gets a new vertex, shared by the
  * vertex's corners with the same normal. */
@@ -168,6 +225,8 @@ vn_result make_plan(plan& g, const vn_positions& pos, const faces& f, const vn_p
 		const vn_result r = vn_weld_positions(g.remap.data(), &pos, s.weld_epsilon, &g.options);
 		if (r != vn_result_success)
 			return r;
+		if (input_normals.count)
+			separate_sides(g);
 		for (size_t i = 0; i < g.n; ++i)
 			g.welded_vertices += g.remap[i] != i;
 	}

@@ -72,7 +72,8 @@ static void usage(FILE* out)
 	fprintf(out,
 	        "Every conversion welds vertices at one position (glTF to glTF: within a primitive),\n"
 	        "so the copies a file splits along seams get one normal; copies whose input normals\n"
-	        "differ keep the hard edge between them:\n"
+	        "differ keep the hard edge between them, and opposed ones (the two sides of a\n"
+	        "double-sided surface) are not welded:\n"
 	        "      --no-weld          compute on the vertices as the file splits them (seams show)\n"
 	        "      --weld-epsilon E   weld vertices whose coordinates all differ by at most E\n"
 	        "                         (default 0: exactly equal positions only)\n"

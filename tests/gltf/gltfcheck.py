@@ -47,6 +47,14 @@
       Every uncompressed TRIANGLES primitive's NORMAL is within DEGREES of
       the normal VNCONVERT computes on an OFF of that primitive's own
       positions and triangles (so no primitive got another's data).
+  gltfcheck.py twosided FILE
+      Writes a double-sided bowl as exporters write one: the 7 x 7 grid
+      z = 0.3 (x^2 + y^2) over [-1, 1]^2, front copies 0..48 with the exact
+      normals, back copies 49..97 with the faces reversed and the normals
+      negated.
+  gltfcheck.py twosided-check FILE DEGREES
+      In FILE (that bowl converted), every front normal is within DEGREES of
+      the exact one and every back normal is its front copy's, negated.
   gltfcheck.py drcnormals JSON VNCONVERT METHOD DEGREES
       The same for a Draco mesh decoded by tests/draco/decode.mjs (its
       normals' directions: integer normals are not scaled by decoders).
@@ -645,6 +653,62 @@ def cmd_cylinder(path, segments=12):
     return write_gltf(path, doc, data)
 
 
+def bowl():
+    """The front of the double-sided bowl: positions, exact normals, triangles."""
+    pos, nor, idx = [], [], []
+    for j in range(7):
+        for i in range(7):
+            x, y = i / 3 - 1, j / 3 - 1
+            pos.append((x, y, 0.3 * (x * x + y * y)))
+            nor.append(unit((-0.6 * x, -0.6 * y, 1.0)))
+    for j in range(6):
+        for i in range(6):
+            a = 7 * j + i
+            idx += [a, a + 1, a + 8, a, a + 8, a + 7]
+    return pos, nor, idx
+
+
+def cmd_twosided(path):
+    pos, nor, idx = bowl()
+    n = len(pos)
+    pos2 = pos + pos
+    nor2 = nor + [tuple(-c for c in v) for v in nor]
+    idx2 = idx + [n + i for i in reversed(idx)]
+    data = b"".join(struct.pack("<3f", *p) for p in pos2)
+    data += b"".join(struct.pack("<3f", *v) for v in nor2)
+    data += struct.pack("<%dH" % len(idx2), *idx2)
+    f32 = [struct.unpack("<3f", struct.pack("<3f", *p)) for p in pos2]
+    doc = {
+        "asset": {"version": "2.0", "generator": "vn tests"},
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "name": "two-sided bowl"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2}]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 2 * n, "type": "VEC3",
+             "min": [min(p[i] for p in f32) for i in range(3)], "max": [max(p[i] for p in f32) for i in range(3)]},
+            {"bufferView": 1, "componentType": 5126, "count": 2 * n, "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5123, "count": len(idx2), "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 24 * n, "target": 34962},
+                        {"buffer": 0, "byteOffset": 24 * n, "byteLength": 24 * n, "target": 34962},
+                        {"buffer": 0, "byteOffset": 48 * n, "byteLength": 2 * len(idx2), "target": 34963}],
+    }
+    return write_gltf(path, doc, data)
+
+
+def cmd_twosided_check(path, degrees):
+    _, doc, buf = load(path)
+    prim = doc["meshes"][0]["primitives"][0]
+    normals = accessor_values(doc, buf, prim["attributes"]["NORMAL"])
+    _, exact, _ = bowl()
+    n, bad = len(exact), 0
+    for i in range(n):
+        front, back = normals[i], normals[n + i]
+        angle = math.degrees(math.acos(max(-1.0, min(1.0, sum(a * b for a, b in zip(unit(front), exact[i]))))))
+        if angle > degrees or not close(back, tuple(-c for c in front), 1e-7):
+            print("%s: vertex %d: front %s (%.3g degrees from the exact normal), back %s" % (path, i, front, angle, back))
+            bad = 1
+    return bad
+
+
 def cmd_drc(path, stem):
     _, doc, buf = load(path)
     k = 0
@@ -860,8 +924,11 @@ def main(argv):
         return cmd_crease(argv[2], argv[3], int(argv[4]), argv[5], argv[6])
     if len(argv) == 6 and argv[1] == "morph" and argv[5] in ("weld", "split"):
         return cmd_morph(argv[2], argv[3], argv[4], argv[5] == "weld")
-    if len(argv) == 3 and argv[1] in ("flat", "morphsphere", "cylinder"):
-        return {"flat": cmd_flat, "morphsphere": cmd_morphsphere, "cylinder": cmd_cylinder}[argv[1]](argv[2])
+    if len(argv) == 3 and argv[1] in ("flat", "morphsphere", "cylinder", "twosided"):
+        return {"flat": cmd_flat, "morphsphere": cmd_morphsphere, "cylinder": cmd_cylinder,
+                "twosided": cmd_twosided}[argv[1]](argv[2])
+    if len(argv) == 4 and argv[1] == "twosided-check":
+        return cmd_twosided_check(argv[2], float(argv[3]))
     if len(argv) == 3 and argv[1] in ("scattered", "packed", "bounds"):
         return {"scattered": cmd_scattered, "packed": cmd_packed, "bounds": cmd_bounds}[argv[1]](argv[2])
     if len(argv) == 4 and argv[1] == "prims":
