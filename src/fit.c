@@ -1003,20 +1003,20 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 		fit_twice(s->q, first, act, seed, 0, j->w.simd, n, ok, NULL, NULL);
 	else if (j->w.method == vn_method_adaptive) { /* stored by phase_choose */
 		double f[LANES][3];
-		int fitted[LANES], unfit[LANES], again = 0;
+		int fitted[LANES], unfit[LANES], quadric_ok[LANES], again = 0;
 		fit_twice(s->q, ring, act, seed, 1, j->w.simd, f, ok, res, fitted);
 		/* Where the jet cannot be fitted (too few points, or degenerate):
 		 * JET's own fallback, the quadric on the 1-ring, else S (n holds
-		 * it); where it was fitted but strays from S, or S is zero: the
-		 * rough one. */
+		 * it); where it was fitted but strays from S, or without a ring
+		 * (S zero: gather_vertex gathers nothing): the rough one. */
 		const double* fall[LANES];
 		for (unsigned l = 0; l < LANES; ++l) {
-			unfit[l] = act[l] && !fitted[l] && (seed[l][0] != 0.0 || seed[l][1] != 0.0 || seed[l][2] != 0.0);
+			unfit[l] = act[l] && !fitted[l];
 			again |= unfit[l];
 			fall[l] = unfit[l] ? n[l] : j->rough + 3 * (size_t)(v0 + l < v1 ? v0 + l : v0);
 		}
 		if (again)
-			fit_twice(s->q, first, unfit, seed, 0, j->w.simd, n, fitted, NULL, NULL);
+			fit_twice(s->q, first, unfit, seed, 0, j->w.simd, n, quadric_ok, NULL, NULL);
 		adaptive_lanes(j, s->q, act, (const uint32_t(*)[4])m, seed, (const double(*)[3])f, ok, res, fall, v0, v1);
 		return;
 	} else {

@@ -70,6 +70,16 @@ vn_result corner_normals(const plan& g, const vn_positions& q, T* c, vn_stats* s
 	                                       stats);
 }
 
+/* Per vertex: whether it represents copies welding merged into it. */
+std::vector<uint8_t> merged_representatives(const plan& g)
+{
+	std::vector<uint8_t> merged(g.n, 0);
+	for (size_t i = 0; i < g.n; ++i)
+		if (g.remap[i] != i)
+			merged[g.remap[i]] = 1;
+	return merged;
+}
+
 /* Flags the corners whose edge joins welded copies with input normals more
  * than `angle` apart at either end; returns how many edges that makes (an
  * edge is flagged from both sides). */
@@ -92,10 +102,7 @@ size_t flag_hard_edges(plan& g, double angle)
 	/* Only an edge with an end where welding merged copies can join copies
 	 * with different input normals: the others need no search (on a file
 	 * without split vertices, that is every edge). */
-	std::vector<uint8_t> merged(g.n, 0);
-	for (size_t i = 0; i < g.n; ++i)
-		if (g.remap[i] != i)
-			merged[g.remap[i]] = 1;
+	const std::vector<uint8_t> merged = merged_representatives(g);
 	auto candidate = [&](size_t k) { return merged[w[k]] || merged[w[next(k)]]; };
 	std::vector<std::pair<uint64_t, uint32_t>> edges;
 	for (size_t k = 0; k < g.f.corner_count; ++k)
@@ -137,10 +144,7 @@ void separate_sides(plan& g)
 		uint32_t rep, next;
 		double sum[3];
 	};
-	std::vector<uint8_t> merged(g.n, 0);
-	for (size_t i = 0; i < g.n; ++i)
-		if (g.remap[i] != i)
-			merged[g.remap[i]] = 1;
+	const std::vector<uint8_t> merged = merged_representatives(g);
 	std::vector<side> sides;
 	std::vector<uint32_t> first(g.n, UINT32_MAX); /* a representative's first side */
 	for (uint32_t i = 0; i < g.n; ++i) {
