@@ -158,6 +158,13 @@ for m in mwa jet adaptive; do
   check "two-sided bowl ($m): the sides not welded" grep -q "^welded vertices: *0$" "$T/stdout"
   check "two-sided bowl ($m): each side its own normals" $CHECK twosided-check "$T/twosided-$m.glb" 6
 done
+# The same from Blender's exporter (tests/data/gltf/blender): each side welds
+# its own seam and pole copies (38), and MWA gives back Blender's own
+# angle-weighted normals, to float rounding, on both sides.
+DOME=$HERE/data/gltf/blender/two-sided-dome.glb
+run "$VNC" "$DOME" "$T/dome.glb" -m mwa --stats
+check "Blender's two-sided dome: each side welds its own seams" grep -q "^welded vertices: *38$" "$T/stdout"
+check "Blender's two-sided dome: Blender's normals on both sides" $CHECK samenormals "$DOME" "$T/dome.glb" 0.1
 
 # Morph targets: base + NORMAL displacement is the scheme's normal of the
 # morphed positions, computed by vnconvert on an OFF of them (the cube's

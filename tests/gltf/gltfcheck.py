@@ -55,6 +55,9 @@
   gltfcheck.py twosided-check FILE DEGREES
       In FILE (that bowl converted), every front normal is within DEGREES of
       the exact one and every back normal is its front copy's, negated.
+  gltfcheck.py samenormals IN OUT DEGREES
+      Every vertex's NORMAL in OUT is within DEGREES of its NORMAL in IN,
+      primitive by primitive (OUT converted from IN without splitting).
   gltfcheck.py drcnormals JSON VNCONVERT METHOD DEGREES
       The same for a Draco mesh decoded by tests/draco/decode.mjs (its
       normals' directions: integer normals are not scaled by decoders).
@@ -709,6 +712,26 @@ def cmd_twosided_check(path, degrees):
     return bad
 
 
+def cmd_samenormals(a, b, degrees):
+    _, doc_a, buf_a = load(a)
+    _, doc_b, buf_b = load(b)
+    bad = 0
+    for (m, p, pa), (_, _, pb) in zip(primitives(doc_a), primitives(doc_b)):
+        if "NORMAL" not in pa["attributes"]:
+            continue
+        na = accessor_values(doc_a, buf_a, pa["attributes"]["NORMAL"])
+        nb = accessor_values(doc_b, buf_b, pb["attributes"]["NORMAL"])
+        for i, (x, y) in enumerate(zip(na, nb)):
+            angle = math.degrees(math.acos(max(-1.0, min(1.0, sum(u * v for u, v in zip(unit(x), unit(y)))))))
+            if angle > degrees:
+                print("%s: meshes[%d].primitives[%d] vertex %d: %s, %.3g degrees from %s's %s" % (b, m, p, i, y, angle, a, x))
+                bad = 1
+        if len(na) != len(nb):
+            print("%s: meshes[%d].primitives[%d] has %d normals, %s %d" % (b, m, p, len(nb), a, len(na)))
+            bad = 1
+    return bad
+
+
 def cmd_drc(path, stem):
     _, doc, buf = load(path)
     k = 0
@@ -927,6 +950,8 @@ def main(argv):
     if len(argv) == 3 and argv[1] in ("flat", "morphsphere", "cylinder", "twosided"):
         return {"flat": cmd_flat, "morphsphere": cmd_morphsphere, "cylinder": cmd_cylinder,
                 "twosided": cmd_twosided}[argv[1]](argv[2])
+    if len(argv) == 5 and argv[1] == "samenormals":
+        return cmd_samenormals(argv[2], argv[3], float(argv[4]))
     if len(argv) == 4 and argv[1] == "twosided-check":
         return cmd_twosided_check(argv[2], float(argv[3]))
     if len(argv) == 3 and argv[1] in ("scattered", "packed", "bounds"):
