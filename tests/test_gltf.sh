@@ -158,6 +158,16 @@ for m in mwa jet adaptive; do
   check "two-sided bowl ($m): the sides not welded" grep -q "^welded vertices: *0$" "$T/stdout"
   check "two-sided bowl ($m): each side its own normals" $CHECK twosided-check "$T/twosided-$m.glb" 6
 done
+# Both sides on the same vertices (each face and its reverse; no normals, so
+# nothing else tells them apart): summed together they cancelled to noise.
+# The sides are computed apart and every vertex is split between them, its
+# TEXCOORD_0 with it.
+$CHECK twosided-shared "$T/twosided-shared.gltf"
+for m in mwa adaptive; do
+  run "$VNC" "$T/twosided-shared.gltf" "$T/twosided-shared-$m.glb" -m $m --stats
+  check "two-sided bowl on shared vertices ($m): 49 split" grep -q "^split vertices: *49$" "$T/stdout"
+  check "two-sided bowl on shared vertices ($m): each side its own normals" $CHECK twosided-shared-check "$T/twosided-shared-$m.glb" 6
+done
 # The same from Blender's exporter (tests/data/gltf/blender): each side welds
 # its own seam and pole copies (38), and MWA gives back Blender's own
 # angle-weighted normals, to float rounding, on both sides.

@@ -345,6 +345,92 @@ static void test_two_sided(void** state)
 	vn_io_mesh_free(&m);
 }
 
+/* The flat 3 x 3 sheet of test_two_sided with both sides on the same 9
+ * vertices (every face followed, 8 faces later, by its reverse) or on 18
+ * without input normals (welded into 9): each face and its reverse summed
+ * at one vertex cancelled to rounding noise (+-z or in the plane). The
+ * backs are computed apart: every corner of a front face gets (0, 0, 1),
+ * of a back face (0, 0, -1), and a vertex both sides use is split. quads:
+ * the sheet as 4 quads a side, with a crease angle. */
+static void two_sided_sheet(int shared, int quads, vn_method method)
+{
+	double positions[18][3];
+	uint32_t sizes[16], indices[48];
+	const uint32_t faces = quads ? 8 : 16, corners = quads ? 32 : 48, per = quads ? 4 : 3, cell = quads ? 4 : 6;
+	for (size_t v = 0; v < 18; ++v) {
+		const double p[3] = {(double)(v % 9 % 3), (double)(v % 9 / 3), 0};
+		memcpy(positions[v], p, sizeof p);
+	}
+	for (uint32_t q = 0; q < 4; ++q) {
+		const uint32_t a = q % 2 + 3 * (q / 2), t[6] = {a, a + 1, a + 4, a, a + 4, a + 3}, r[4] = {a, a + 1, a + 4, a + 3};
+		for (uint32_t k = 0; k < cell; ++k) {
+			indices[cell * q + k] = quads ? r[k] : t[k];
+			indices[corners / 2 + cell * q + k] = (shared ? 0 : 9) + (quads ? r[3 - k] : t[5 - k]);
+		}
+	}
+	for (size_t f = 0; f < faces; ++f)
+		sizes[f] = per;
+	vn_io_mesh m = make_mesh(&positions[0][0], shared ? 9 : 18, sizes, faces, indices, NULL);
+	vn_io_normals_options o = options(method);
+	if (quads)
+		o.crease = 1, o.crease_angle = 30 * PI / 180;
+	const vn_io_normals_stats st = compute(&m, &o);
+	assert_int_equal(st.welded_vertices, shared ? 0 : 9);
+	assert_int_equal(st.split_vertices, shared ? 9 : 0);
+	assert_int_equal(st.zero_normals, 0);
+	assert_int_equal(m.vertex_count, 18);
+	for (uint32_t k = 0; k < corners; ++k)
+		assert_normal(&m, m.indices[k], 0, 0, k < corners / 2 ? 1 : -1);
+	vn_io_mesh_free(&m);
+}
+
+static void test_two_sided_shared(void** state)
+{
+	(void)state;
+	for (int method = 0; method < vn_method_count; ++method)
+		if (method != vn_method_mewcsa) { /* its boundary corners point along the surface */
+			two_sided_sheet(1, 0, (vn_method)method);
+			two_sided_sheet(0, 0, (vn_method)method);
+		}
+	two_sided_sheet(1, 1, vn_method_mwa);
+	two_sided_sheet(0, 1, vn_method_mwa);
+}
+
+/* Two cubes sharing a wall (x = 1), each closed and facing out, so the wall
+ * is a face and its reverse on the same vertices. Its vertices also have
+ * faces without a reverse: nothing is split there, the pair cancels and
+ * every normal is the one without the wall (to rounding). */
+static void test_shared_wall(void** state)
+{
+	(void)state;
+	double positions[12][3];
+	for (size_t v = 0; v < 12; ++v) {
+		const double p[3] = {-1.0 + 2.0 * (double)(v / 4), v % 4 == 1 || v % 4 == 2 ? 1.0 : -1.0, v % 4 >= 2 ? 1.0 : -1.0};
+		memcpy(positions[v], p, sizeof p);
+	}
+	/* Layers at x = -1 (0-3), 1 (4-7), 3 (8-11), each (y, z) = (-1, -1),
+	 * (1, -1), (1, 1), (-1, 1); the walls last. */
+	const uint32_t quads[12][4] = {{0, 3, 2, 1}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7},
+	                               {4, 5, 9, 8}, {5, 6, 10, 9}, {6, 7, 11, 10}, {7, 4, 8, 11}, {8, 9, 10, 11},
+	                               {4, 5, 6, 7}, {4, 7, 6, 5}};
+	const uint32_t sizes[12] = {4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4};
+	for (int method = 0; method < vn_method_count; ++method) {
+		vn_io_mesh with = make_mesh(&positions[0][0], 12, sizes, 12, &quads[0][0], NULL);
+		vn_io_mesh without = make_mesh(&positions[0][0], 12, sizes, 10, &quads[0][0], NULL);
+		const vn_io_normals_options o = options((vn_method)method);
+		const vn_io_normals_stats st = compute(&with, &o);
+		compute(&without, &o);
+		assert_int_equal(st.split_vertices, 0);
+		assert_int_equal(with.vertex_count, 12);
+		for (size_t i = 0; i < 36; ++i)
+			if (fabs(with.normals[i] - without.normals[i]) > 1e-12)
+				fail_msg("%s, vertex %zu: %.17g, without the wall %.17g", vn_method_name((vn_method)method), i / 3,
+				         with.normals[i], without.normals[i]);
+		vn_io_mesh_free(&with);
+		vn_io_mesh_free(&without);
+	}
+}
+
 /* A strip of four unit quads folded along y: the bends between them are
  * 20, 45 and 10 degrees. A crease angle splits the vertices of the bends
  * sharper than it, two a bend; the input is smooth (nothing welded). */
@@ -416,7 +502,8 @@ int main(void)
 	    cmocka_unit_test(test_cube_crease_split), cmocka_unit_test(test_seam_welded),
 	    cmocka_unit_test(test_seam_epsilon),      cmocka_unit_test(test_seam_hard_edge),
 	    cmocka_unit_test(test_folded_strip_crease), cmocka_unit_test(test_zero_normals),
-	    cmocka_unit_test(test_two_sided),
+	    cmocka_unit_test(test_two_sided),         cmocka_unit_test(test_two_sided_shared),
+	    cmocka_unit_test(test_shared_wall),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -70,14 +70,31 @@ vn_result corner_normals(const plan& g, const vn_positions& q, T* c, vn_stats* s
 	                                       stats);
 }
 
-/* Per vertex: whether it represents copies welding merged into it. */
+/* Per computed vertex: whether it represents copies welding merged into
+ * it (a back: whether its front does). */
 std::vector<uint8_t> merged_representatives(const plan& g)
 {
-	std::vector<uint8_t> merged(g.n, 0);
+	std::vector<uint8_t> merged(g.computed(), 0);
 	for (size_t i = 0; i < g.n; ++i)
 		if (g.remap[i] != i)
 			merged[g.remap[i]] = 1;
+	for (size_t k = 0; k < g.back_source.size(); ++k)
+		merged[g.n + k] = merged[g.back_source[k]];
 	return merged;
+}
+
+/* Positions q (q.count == g.n) for the computed vertices: q itself, or with
+ * each back's front position appended (into store). */
+vn_positions computed_positions(const plan& g, const vn_positions& q, std::vector<double>& store)
+{
+	if (g.back_source.empty())
+		return q;
+	store.resize(3 * g.computed());
+	for (size_t i = 0; i < g.n; ++i)
+		load(q, i, &store[3 * i]);
+	for (size_t k = 0; k < g.back_source.size(); ++k)
+		std::copy_n(&store[3 * g.back_source[k]], 3, &store[3 * (g.n + k)]);
+	return {store.data(), g.computed(), 0, vn_scalar_float64};
 }
 
 /* Flags the corners whose edge joins welded copies with input normals more
@@ -179,6 +196,164 @@ void separate_sides(plan& g)
 	}
 }
 
+/* Whether the k vertices at v repeat one (scratch: a work vector). */
+bool repeats(const uint32_t* v, size_t k, std::vector<uint32_t>& scratch)
+{
+	if (k <= 8) {
+		for (size_t i = 1; i < k; ++i)
+			for (size_t j = 0; j < i; ++j)
+				if (v[i] == v[j])
+					return true;
+		return false;
+	}
+	scratch.assign(v, v + k);
+	std::sort(scratch.begin(), scratch.end());
+	return std::adjacent_find(scratch.begin(), scratch.end()) != scratch.end();
+}
+
+/* A face and its reverse on the same (welded) vertices are the two sides of
+ * a sheet whose copies were shared or welded: summed at one vertex, they
+ * cancel to rounding noise. A vertex every one of whose faces (but those
+ * repeating a vertex) has its reverse among them is two-sided: its faces
+ * facing away from its first face with a nonzero normal (Newell's) are
+ * moved to a back, a computed vertex of its own (n + k). A vertex where
+ * some face has no reverse (a wall two closed cells share, on their
+ * boundary) is left as it is: there the pairs cancel and the others give
+ * the normal. Faces pair by their vertex cycles, compared among the faces
+ * of the same lowest vertex. */
+void separate_two_sided(plan& g, const vn_positions& pos)
+{
+	const size_t nf = g.f.offsets ? g.f.face_count : g.f.corner_count / 3;
+	auto begin = [&](size_t f) -> size_t { return g.f.offsets ? g.f.offsets[f] : 3 * f; };
+	auto end = [&](size_t f) -> size_t { return g.f.offsets ? g.f.offsets[f + 1] : 3 * f + 3; };
+	const uint32_t* w = g.welded;
+	/* Each face's cycle starts at its lowest vertex, corner `at`, and goes
+	 * towards the lower of that corner's neighbours: side 1 in the face's
+	 * own order, 2 against it, 0 for a face with a repeated vertex or under
+	 * 3 corners (it pairs with nothing). */
+	std::vector<uint32_t> at(nf, 0);
+	std::vector<uint8_t> side(nf, 0);
+	std::vector<uint32_t> start(g.n + 1, 0), sorted; /* faces by lowest vertex (counting sort) */
+	for (size_t f = 0; f < nf; ++f) {
+		const size_t b = begin(f), k = end(f) - b;
+		if (k < 3 || repeats(w + b, k, sorted))
+			continue;
+		const size_t m = (size_t)(std::min_element(w + b, w + b + k) - (w + b));
+		at[f] = (uint32_t)m;
+		side[f] = w[b + (m + 1 == k ? 0 : m + 1)] < w[b + (m ? m - 1 : k - 1)] ? 1 : 2;
+		++start[w[b + m] + 1];
+	}
+	for (size_t v = 0; v < g.n; ++v)
+		start[v + 1] += start[v];
+	std::vector<uint32_t> by_lowest(start[g.n]), fill(start.begin(), start.end() - 1);
+	for (size_t f = 0; f < nf; ++f)
+		if (side[f])
+			by_lowest[fill[w[begin(f) + at[f]]]++] = (uint32_t)f;
+	std::vector<uint32_t>().swap(fill);
+	/* Vertex i of face f's cycle. */
+	auto cycle = [&](size_t f, size_t i) {
+		const size_t b = begin(f), k = end(f) - b, j = side[f] == 1 ? at[f] + i : at[f] + k - i;
+		return w[b + (j < k ? j : j - k)];
+	};
+	/* Faces ordered by cycle (size, then vertices); -1, 0, 1. */
+	auto compare = [&](uint32_t a, uint32_t c) {
+		const size_t ka = end(a) - begin(a), kc = end(c) - begin(c);
+		if (ka != kc)
+			return ka < kc ? -1 : 1;
+		for (size_t i = 1; i < ka; ++i)
+			if (cycle(a, i) != cycle(c, i))
+				return cycle(a, i) < cycle(c, i) ? -1 : 1;
+		return 0;
+	};
+	/* Sorted by cycle, the faces of one lowest vertex come in runs of one
+	 * cycle: a run with both sides is paired. */
+	std::vector<uint8_t> paired(nf, 0);
+	bool any = false;
+	for (size_t v = 0; v < g.n; ++v) {
+		uint32_t* b = by_lowest.data() + start[v];
+		uint32_t* e = by_lowest.data() + start[v + 1];
+		if (e - b < 2)
+			continue;
+		if (e - b > 2) /* two need no sorting */
+			std::sort(b, e, [&](uint32_t a, uint32_t c) { return compare(a, c) < 0; });
+		for (uint32_t* r = b; r < e;) {
+			uint32_t* t = r + 1;
+			uint8_t sides = side[*r];
+			for (; t < e && compare(*r, *t) == 0; ++t)
+				sides |= side[*t];
+			if (sides == 3)
+				for (any = true; r < t; ++r)
+					paired[*r] = 1;
+			r = t;
+		}
+	}
+	if (!any)
+		return;
+	/* Two-sided vertices: a paired face and no unpaired one. */
+	std::vector<uint8_t> state(g.n, 0); /* 1: a paired face; 2: an unpaired one */
+	for (size_t f = 0; f < nf; ++f)
+		if (side[f])
+			for (size_t c = begin(f); c < end(f); ++c)
+				state[w[c]] |= paired[f] ? 1 : 2;
+	std::vector<double> first(3 * g.n, 0.0);
+	std::vector<uint32_t> back(g.n, UINT32_MAX);
+	std::vector<uint32_t>& out = g.welded_corners;
+	if (out.empty())
+		out.assign(w, w + g.f.corner_count);
+	for (size_t f = 0; f < nf; ++f) {
+		if (!paired[f])
+			continue;
+		double n[3] = {0, 0, 0}, p0[3], a[3], c[3];
+		load(pos, w[begin(f)], p0);
+		for (size_t i = begin(f) + 1; i + 1 < end(f); ++i) {
+			load(pos, w[i], a);
+			load(pos, w[i + 1], c);
+			for (int d = 0; d < 3; ++d)
+				a[d] -= p0[d], c[d] -= p0[d];
+			n[0] += a[1] * c[2] - a[2] * c[1], n[1] += a[2] * c[0] - a[0] * c[2], n[2] += a[0] * c[1] - a[1] * c[0];
+		}
+		for (size_t i = begin(f); i < end(f); ++i) {
+			const uint32_t v = w[i];
+			if (state[v] != 1)
+				continue;
+			double* r = &first[3 * v];
+			if (r[0] == 0 && r[1] == 0 && r[2] == 0)
+				std::copy_n(n, 3, r);
+			if (n[0] * r[0] + n[1] * r[1] + n[2] * r[2] >= 0)
+				continue;
+			if (back[v] == UINT32_MAX) {
+				back[v] = (uint32_t)(g.n + g.back_source.size());
+				g.back_source.push_back(v);
+			}
+			out[i] = back[v];
+		}
+	}
+	g.welded = out.data();
+}
+
+/* Output vertices for the backs: a corner on another computed vertex than
+ * the first corner of its input vertex gets a new output vertex (one per
+ * input vertex: its corners are on its front or on that front's back). */
+void split_back_corners(plan& g)
+{
+	std::vector<uint32_t> first(g.n, UINT32_MAX), extra(g.n, UINT32_MAX);
+	g.corner_output.assign(g.f.corner_count, 0);
+	for (size_t k = 0; k < g.f.corner_count; ++k) {
+		const uint32_t i = g.f.corners[k];
+		if (first[i] == UINT32_MAX)
+			first[i] = g.welded[k];
+		if (g.welded[k] == first[i]) {
+			g.corner_output[k] = i;
+			continue;
+		}
+		if (extra[i] == UINT32_MAX) {
+			extra[i] = (uint32_t)(g.n + g.extra_source.size());
+			g.extra_source.push_back(i);
+		}
+		g.corner_output[k] = extra[i];
+	}
+}
+
 /* Split vertices for per-corner normals c: a corner whose normal differs
  * from the first one of its input vertex gets a new vertex, shared by the
  * vertex's corners with the same normal. */
@@ -241,6 +416,7 @@ vn_result make_plan(plan& g, const vn_positions& pos, const faces& f, const vn_p
 			g.welded_corners[k] = g.remap[f.corners[k]];
 		g.welded = g.welded_corners.data();
 	}
+	separate_two_sided(g, pos);
 	/* Hard edges join welded copies: none without welding. */
 	g.hard_edges = g.welded_vertices ? flag_hard_edges(g, s.crease ? s.crease_angle : default_hard_edge_angle) : 0;
 	if (!g.hard_edges)
@@ -248,11 +424,15 @@ vn_result make_plan(plan& g, const vn_positions& pos, const faces& f, const vn_p
 	g.corner_normals = s.crease || !g.sharp.empty();
 	if (s.crease) {
 		g.crease = s.crease_angle;
+		g.crease_split = true;
 		c.resize(3 * f.corner_count);
-		const vn_result r = corner_normals(g, pos, c.data(), stats);
+		std::vector<double> store;
+		const vn_result r = corner_normals(g, computed_positions(g, pos, store), c.data(), stats);
 		if (r != vn_result_success)
 			return r;
 		split_corners(g, c);
+	} else if (!g.back_source.empty()) {
+		split_back_corners(g);
 	}
 	return vn_result_success;
 }
@@ -262,41 +442,57 @@ vn_result normals(const plan& g, const vn_positions& q, std::vector<T>& out, con
                   vn_stats* stats)
 {
 	out.assign(3 * g.outputs(), 0);
-	if (!g.corner_normals)
-		return vertex_normals(g, q, out.data(), stats);
+	std::vector<double> store;
+	const vn_positions p = computed_positions(g, q, store);
+	if (!g.corner_normals && g.back_source.empty())
+		return vertex_normals(g, p, out.data(), stats);
+	std::vector<T> v;
+	auto smooth = [&]() {
+		v.resize(3 * g.computed());
+		return vertex_normals(g, p, v.data(), stats);
+	};
+	if (!g.corner_normals) { /* two-sided: each corner its side's normal */
+		const vn_result r = smooth();
+		if (r != vn_result_success)
+			return r;
+		std::copy_n(v.begin(), 3 * g.n, out.begin());
+		for (size_t k = 0; k < g.f.corner_count; ++k)
+			std::copy_n(&v[3 * g.welded[k]], 3, &out[3 * g.corner_output[k]]);
+		return vn_result_success;
+	}
 	std::vector<T> own;
 	if (!computed) {
 		own.resize(3 * g.f.corner_count);
-		const vn_result r = corner_normals(g, q, own.data(), stats);
+		const vn_result r = corner_normals(g, p, own.data(), stats);
 		if (r != vn_result_success)
 			return r;
 		stats = nullptr;
 	}
 	const std::vector<T>& c = computed ? *computed : own;
-	if (!g.corner_output.empty()) {
+	if (g.crease_split) {
 		for (size_t k = 0; k < g.f.corner_count; ++k)
 			std::copy_n(&c[3 * k], 3, &out[3 * g.corner_output[k]]);
 		return vn_result_success;
 	}
-	/* No splitting: a vertex whose corners disagree (its fans are not
-	 * separated in the file) gets the smooth normal. */
-	std::vector<uint32_t> seen(g.n, UINT32_MAX);
-	std::vector<uint8_t> conflict(g.n, 0);
+	/* Hard edges, no crease: a vertex whose corners disagree (its fans are
+	 * not separated in the file) gets the smooth normal. */
+	const uint32_t* oc = g.corner_output.empty() ? g.f.corners : g.corner_output.data();
+	std::vector<uint32_t> seen(g.outputs(), UINT32_MAX);
+	std::vector<uint8_t> conflict(g.outputs(), 0);
 	for (size_t k = 0; k < g.f.corner_count; ++k) {
-		const uint32_t i = g.f.corners[k];
+		const uint32_t i = oc[k];
 		if (seen[i] == UINT32_MAX)
 			seen[i] = (uint32_t)k, std::copy_n(&c[3 * k], 3, &out[3 * i]);
 		else if (!std::equal(&c[3 * k], &c[3 * k] + 3, &c[3 * seen[i]]))
 			conflict[i] = 1;
 	}
 	if (std::find(conflict.begin(), conflict.end(), 1) != conflict.end()) {
-		std::vector<T> v(3 * g.n);
-		const vn_result r = vertex_normals(g, q, v.data(), stats);
+		const vn_result r = smooth();
 		if (r != vn_result_success)
 			return r;
-		for (size_t i = 0; i < g.n; ++i)
+		for (size_t i = 0; i < g.outputs(); ++i)
 			if (conflict[i])
-				std::copy_n(&v[3 * i], 3, &out[3 * i]);
+				std::copy_n(&v[3 * g.welded[seen[i]]], 3, &out[3 * i]);
 	}
 	return vn_result_success;
 }

@@ -4,8 +4,10 @@
  * vn_io_mesh (mesh_normals.cpp) alike. Vertices are welded by position,
  * edges between welded copies whose input normals differ stay hard,
  * --crease-angle adds hard edges and splits the vertices whose corners
- * need different normals; the result is one normal per output vertex
- * (the input's, then the split ones). Triangles, or polygons through face
+ * need different normals; a face and its reverse on the same vertices
+ * (a two-sided sheet) are computed apart and the vertices split between
+ * them; the result is one normal per output vertex (the input's, then the
+ * split ones). Triangles, or polygons through face
  * offsets, on plain arrays; normals as float or double (T).
  */
 #ifndef VN_IO_SPLIT_NORMALS_H
@@ -62,7 +64,7 @@ struct plan {
 	size_t n = 0;                       /* input vertices */
 	faces f;                            /* on input vertices */
 	std::vector<uint32_t> remap;        /* input vertex -> welded representative */
-	const uint32_t* welded = nullptr;   /* corners on welded vertices */
+	const uint32_t* welded = nullptr;   /* corners on welded vertices (and backs, from n on) */
 	std::vector<uint32_t> welded_corners; /* what `welded` points at, when welding merged vertices */
 	vn_positions input_normals = {nullptr, 0, 0, vn_scalar_float64}; /* count 0, or one per input vertex */
 	bool corner_normals = false;        /* per-corner normals (hard edges or a crease angle) */
@@ -70,11 +72,15 @@ struct plan {
 	std::vector<uint8_t> sharp;         /* per corner: edges whose input normals differ */
 	std::vector<uint32_t> corner_output; /* per corner: output vertex, when splitting */
 	std::vector<uint32_t> extra_source; /* output vertex n + k -> input vertex */
+	std::vector<uint32_t> back_source;  /* welded vertex n + k (a two-sided vertex's back) -> its front */
+	bool crease_split = false;          /* corner_output follows the corner normals at a crease angle */
 	vn_method method = vn_method_mwa;
 	vn_options options{};
 	size_t welded_vertices = 0, hard_edges = 0;
 
 	size_t outputs() const { return n + extra_source.size(); }
+	/* The vertices the normals are computed on: the input's, then the backs. */
+	size_t computed() const { return n + back_source.size(); }
 	/* The input vertex output vertex k copies. */
 	size_t source(size_t k) const { return k < n ? k : extra_source[k - n]; }
 	/* The faces on the output vertices: corner_output when split, else the input's. */

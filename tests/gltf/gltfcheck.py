@@ -55,6 +55,14 @@
   gltfcheck.py twosided-check FILE DEGREES
       In FILE (that bowl converted), every front normal is within DEGREES of
       the exact one and every back normal is its front copy's, negated.
+  gltfcheck.py twosided-shared FILE
+      The same bowl with both sides on the same 49 vertices (the back's
+      faces reversed on them), no NORMAL, TEXCOORD_0 = (x, y).
+  gltfcheck.py twosided-shared-check FILE DEGREES
+      In FILE (that bowl converted): 98 vertices, each with its own
+      position's TEXCOORD_0; every corner of a front face has a normal
+      within DEGREES of the exact one, every corner of a back face the
+      front's at its position, negated.
   gltfcheck.py samenormals IN OUT DEGREES
       Every vertex's NORMAL in OUT is within DEGREES of its NORMAL in IN,
       primitive by primitive (OUT converted from IN without splitting).
@@ -697,6 +705,65 @@ def cmd_twosided(path):
     return write_gltf(path, doc, data)
 
 
+def cmd_twosided_shared(path):
+    pos, _, idx = bowl()
+    idx2 = idx + list(reversed(idx))
+    data = b"".join(struct.pack("<3f", *p) for p in pos)
+    data += b"".join(struct.pack("<2f", p[0], p[1]) for p in pos)
+    data += struct.pack("<%dH" % len(idx2), *idx2)
+    f32 = [struct.unpack("<3f", struct.pack("<3f", *p)) for p in pos]
+    n = len(pos)
+    doc = {
+        "asset": {"version": "2.0", "generator": "vn tests"},
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "name": "two-sided bowl, shared vertices"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2}]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": n, "type": "VEC3",
+             "min": [min(p[i] for p in f32) for i in range(3)], "max": [max(p[i] for p in f32) for i in range(3)]},
+            {"bufferView": 1, "componentType": 5126, "count": n, "type": "VEC2"},
+            {"bufferView": 2, "componentType": 5123, "count": len(idx2), "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 12 * n, "target": 34962},
+                        {"buffer": 0, "byteOffset": 12 * n, "byteLength": 8 * n, "target": 34962},
+                        {"buffer": 0, "byteOffset": 20 * n, "byteLength": 2 * len(idx2), "target": 34963}],
+    }
+    return write_gltf(path, doc, data)
+
+
+def cmd_twosided_shared_check(path, degrees):
+    _, doc, buf = load(path)
+    prim = doc["meshes"][0]["primitives"][0]
+    pos = accessor_values(doc, buf, prim["attributes"]["POSITION"])
+    normals = accessor_values(doc, buf, prim["attributes"]["NORMAL"])
+    uv = accessor_values(doc, buf, prim["attributes"]["TEXCOORD_0"])
+    idx = [i for (i,) in accessor_values(doc, buf, prim["indices"])]
+    bad = 0
+    if len(pos) != 98:
+        print("%s: %d vertices, not 98 (each vertex split between the sides)" % (path, len(pos)))
+        bad = 1
+    for i, (p, t) in enumerate(zip(pos, uv)):
+        if not close(t, p[:2], 1e-6):
+            print("%s: vertex %d at %s has TEXCOORD_0 %s" % (path, i, p, t))
+            bad = 1
+    half = len(idx) // 2
+    front = {}
+    for k in range(half):
+        v = idx[k]
+        x, y, _ = pos[v]
+        exact = unit((-0.6 * x, -0.6 * y, 1.0))
+        angle = math.degrees(math.acos(max(-1.0, min(1.0, sum(a * b for a, b in zip(unit(normals[v]), exact))))))
+        front[tuple(pos[v])] = normals[v]
+        if angle > degrees:
+            print("%s: front corner %d (vertex %d): %s, %.3g degrees from the exact normal" % (path, k, v, normals[v], angle))
+            bad = 1
+    for k in range(half, len(idx)):
+        v = idx[k]
+        f = front.get(tuple(pos[v]))
+        if f is None or not close(normals[v], tuple(-c for c in f), 1e-7):
+            print("%s: back corner %d (vertex %d): %s, the front's there %s" % (path, k, v, normals[v], f))
+            bad = 1
+    return bad
+
+
 def cmd_twosided_check(path, degrees):
     _, doc, buf = load(path)
     prim = doc["meshes"][0]["primitives"][0]
@@ -947,13 +1014,14 @@ def main(argv):
         return cmd_crease(argv[2], argv[3], int(argv[4]), argv[5], argv[6])
     if len(argv) == 6 and argv[1] == "morph" and argv[5] in ("weld", "split"):
         return cmd_morph(argv[2], argv[3], argv[4], argv[5] == "weld")
-    if len(argv) == 3 and argv[1] in ("flat", "morphsphere", "cylinder", "twosided"):
+    if len(argv) == 3 and argv[1] in ("flat", "morphsphere", "cylinder", "twosided", "twosided-shared"):
         return {"flat": cmd_flat, "morphsphere": cmd_morphsphere, "cylinder": cmd_cylinder,
-                "twosided": cmd_twosided}[argv[1]](argv[2])
+                "twosided": cmd_twosided, "twosided-shared": cmd_twosided_shared}[argv[1]](argv[2])
     if len(argv) == 5 and argv[1] == "samenormals":
         return cmd_samenormals(argv[2], argv[3], float(argv[4]))
-    if len(argv) == 4 and argv[1] == "twosided-check":
-        return cmd_twosided_check(argv[2], float(argv[3]))
+    if len(argv) == 4 and argv[1] in ("twosided-check", "twosided-shared-check"):
+        return {"twosided-check": cmd_twosided_check,
+                "twosided-shared-check": cmd_twosided_shared_check}[argv[1]](argv[2], float(argv[3]))
     if len(argv) == 3 and argv[1] in ("scattered", "packed", "bounds"):
         return {"scattered": cmd_scattered, "packed": cmd_packed, "bounds": cmd_bounds}[argv[1]](argv[2])
     if len(argv) == 4 and argv[1] == "prims":
