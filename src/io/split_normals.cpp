@@ -211,6 +211,43 @@ bool repeats(const uint32_t* v, size_t k, std::vector<uint32_t>& scratch)
 	return std::adjacent_find(scratch.begin(), scratch.end()) != scratch.end();
 }
 
+/* A hash of the directed edge a -> b, not symmetric (nor linear: a linear
+ * one would telescope around every face). */
+inline uint64_t edge_hash(uint32_t a, uint32_t b)
+{
+	uint64_t x = (uint64_t)a << 32 | b;
+	x = (x ^ x >> 31) * 0x7fb5d329728ea185ull;
+	x = (x ^ x >> 27) * 0x81dadef4bc2dd44dull;
+	return x ^ x >> 33;
+}
+
+/* Whether some vertex may be two-sided (separate_two_sided), in one pass:
+ * a face's sum of h(a, b) - h(b, a) over its edges a -> b changes sign with
+ * its orientation, so at a vertex whose faces all have their reverses
+ * there the sums cancel exactly (mod 2^64); elsewhere they cancel only by
+ * accident (then separate_two_sided looks, and finds nothing). */
+template <typename B, typename E>
+bool maybe_two_sided(const plan& g, size_t nf, B begin, E end, std::vector<uint32_t>& scratch)
+{
+	std::vector<uint64_t> sum(g.n, 0);
+	std::vector<uint8_t> used(g.n, 0);
+	const uint32_t* w = g.welded;
+	for (size_t f = 0; f < nf; ++f) {
+		const size_t b = begin(f), k = end(f) - b;
+		if (k < 3 || repeats(w + b, k, scratch))
+			continue;
+		uint64_t h = 0;
+		for (size_t i = 0, j = k - 1; i < k; j = i++)
+			h += edge_hash(w[b + j], w[b + i]) - edge_hash(w[b + i], w[b + j]);
+		for (size_t i = 0; i < k; ++i)
+			sum[w[b + i]] += h, used[w[b + i]] = 1;
+	}
+	for (size_t v = 0; v < g.n; ++v)
+		if (used[v] && sum[v] == 0)
+			return true;
+	return false;
+}
+
 /* A face and its reverse on the same (welded) vertices are the two sides of
  * a sheet whose copies were shared or welded: summed at one vertex, they
  * cancel to rounding noise. A vertex every one of whose faces (but those
@@ -227,13 +264,16 @@ void separate_two_sided(plan& g, const vn_positions& pos)
 	auto begin = [&](size_t f) -> size_t { return g.f.offsets ? g.f.offsets[f] : 3 * f; };
 	auto end = [&](size_t f) -> size_t { return g.f.offsets ? g.f.offsets[f + 1] : 3 * f + 3; };
 	const uint32_t* w = g.welded;
+	std::vector<uint32_t> sorted;
+	if (!maybe_two_sided(g, nf, begin, end, sorted))
+		return;
 	/* Each face's cycle starts at its lowest vertex, corner `at`, and goes
 	 * towards the lower of that corner's neighbours: side 1 in the face's
 	 * own order, 2 against it, 0 for a face with a repeated vertex or under
 	 * 3 corners (it pairs with nothing). */
 	std::vector<uint32_t> at(nf, 0);
 	std::vector<uint8_t> side(nf, 0);
-	std::vector<uint32_t> start(g.n + 1, 0), sorted; /* faces by lowest vertex (counting sort) */
+	std::vector<uint32_t> start(g.n + 1, 0); /* faces by lowest vertex (counting sort) */
 	for (size_t f = 0; f < nf; ++f) {
 		const size_t b = begin(f), k = end(f) - b;
 		if (k < 3 || repeats(w + b, k, sorted))
