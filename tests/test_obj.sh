@@ -175,5 +175,12 @@ bad short 'v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "short.obj:1: vertex 1 has 2 numb
 bad word 'v 0 0 x\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "word.obj:1: vertex 1: 'x' is not a number"
 bad big "${tri}vn 0 0 1e40\nf 1//1 2//1 3//1\n" "big.obj:4: normal 1 has the number '1e40', which is not finite"
 bad glued "${tri}f 1 2 3/1/2-4\n" "glued.obj:4: face corner 3 refers to texture coordinate 1"
+# Draco stops reading a number at the first character not part of it: these
+# read as 3, 0, 1.5 and 3.1 (and a triangle 1 2 3) where they are refused.
+bad comma 'v 0 0 0\nv 1 0 0\nv 0 1 3,5\nf 1 2 3\n' "comma.obj:3: vertex 3: '3,5' is not a number"
+bad hex 'v 0 0 0\nv 0x10 0 0\nv 0 1 0\nf 1 2 3\n' "hex.obj:2: vertex 2: '0x10' is not a number"
+bad dots "${tri}vt 1.5.2 0\nf 1/1 2/1 3/1\n" "dots.obj:4: texture coordinate 1: '1.5.2' is not a number"
+bad plus_e "v 0 0 3.1+e2\nv 1 0 0\nv 0 1 0\nf 1 2 3\n" "plus_e.obj:1: vertex 1: '3.1+e2' is not a number"
+bad tail "${tri}f 1 2 3x4\n" "tail.obj:4: face corner 3, '3x4', is not v, v/vt, v/vt/vn or v//vn"
 bad empty "" "empty.obj: no vertices (v) and no faces (f)"
 finish

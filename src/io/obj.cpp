@@ -231,7 +231,9 @@ struct scanner {
 				            needed[kind]);
 			const char* start = q;
 			float v;
-			if (!parse_float(q, &v))
+			/* Draco stops at the first character that is not part of a
+			 * number: "3,5" (a decimal comma) would read as 3. */
+			if (!parse_float(q, &v) || (q < line_end && !space(*q) && *q != '#'))
 				return fail(vn_io_error_parse, "%s %" PRId64 ": '%.*s' is not a number", kinds[kind], index,
 				            token_length(start), start);
 			if (!std::isfinite(v))
@@ -306,6 +308,10 @@ struct scanner {
 			for (int k = 0; k < 3; k++)
 				if (!check_index(index[k], k, corners + 1))
 					return false;
+			if (c < line_end && !space(*c)) /* "3x4": Draco would read 3 */
+				return fail(vn_io_error_parse,
+				            "face corner %d, '%.*s', is not v, v/vt, v/vt/vn or v//vn with indices from 1 (or -1) to 2147483647",
+				            corners + 1, token_length(start), start);
 			if (long_face_)
 				long_faces.back().corners.push_back(index);
 			for (char* slash = q + (c - q); slash > q && slash[-1] == '/'; *--slash = ' ')
