@@ -348,7 +348,8 @@ VN_INLINE int vn_face_normal(const vn_work* w, const uint32_t* face, uint32_t k,
 }
 
 /* A polygon corner's E = prev - cur and E' = next - cur; false when either has
- * zero length (a repeated index), so the corner contributes nothing. */
+ * zero length (another vertex at the same point), so the corner contributes
+ * nothing. */
 VN_INLINE int vn_corner_edges(const double prev[3], const double cur[3], const double next[3], double e[3],
                               double e2[3])
 {
@@ -397,7 +398,11 @@ VN_INLINE int vn_owned(uint32_t i, vn_range r)
 typedef void (*vn_corner_fn)(vn_method method, double* acc, const double n[3], const double e[3], const double e2[3]);
 
 /* The polygon walk both families share: faces in index order, Newell normal,
- * then every owned corner with a rolling window prev, cur, next. */
+ * then every owned corner with a rolling window prev, cur, next. Corners in
+ * a row with one index ("a b b c", as files write a triangle in a quad) are
+ * one corner of the face, the last of them: its edges go to the nearest
+ * corners with other indices, and it contributes once. The walk starts at a
+ * corner whose previous one has another index, so no row wraps around. */
 VN_INLINE void vn_polygons(const vn_work* w, vn_range range, vn_range_stats* st, vn_corner_fn corner)
 {
 	const uint32_t* off = w->offsets;
@@ -427,11 +432,17 @@ VN_INLINE void vn_polygons(const vn_work* w, vn_range range, vn_range_stats* st,
 		}
 		if (fn)
 			memcpy(fn + 3 * f, n, sizeof(n));
+		uint32_t s = 0; /* a usable face has two indices at least */
+		while (face[s] == face[s ? s - 1 : k - 1])
+			++s;
 		double prev[3], cur[3], next[3], e[3], e2[3];
-		vn_load(w, w->type, face[k - 1], prev);
-		vn_load(w, w->type, face[0], cur);
-		for (uint32_t c = 0; c < k; ++c) {
-			vn_load(w, w->type, face[c + 1 == k ? 0 : c + 1], next);
+		vn_load(w, w->type, face[s ? s - 1 : k - 1], prev);
+		vn_load(w, w->type, face[s], cur);
+		for (uint32_t i = 0, c = s; i < k; ++i, c = c + 1 == k ? 0 : c + 1) {
+			const uint32_t after = c + 1 == k ? 0 : c + 1;
+			if (face[after] == face[c])
+				continue; /* the row goes on: its last corner contributes */
+			vn_load(w, w->type, face[after], next);
 			if (vn_owned(face[c], range) && vn_corner_edges(prev, cur, next, e, e2))
 				corner(w->method, fn ? w->acc + 3 * ((size_t)off[f] + c) : w->acc + 4 * (size_t)face[c], n, e, e2);
 			memcpy(prev, cur, sizeof(cur));

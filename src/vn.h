@@ -326,9 +326,12 @@ VN_API vn_result vn_triangle_normals(const vn_vectors* normals, const vn_positio
  * Face f has the corners indices[face_offsets[f]] .. indices[face_offsets[f+1] - 1]
  * in order; face_offsets has face_count + 1 non-decreasing entries, the last
  * the number of indices. Faces of any size; a face with fewer than 3 corners
- * is degenerate. N_f is Newell's normal. A corner whose E or E' has zero
- * length (a repeated index) contributes nothing; otherwise as
- * vn_triangle_normals, with which it agrees on triangles.
+ * is degenerate. N_f is Newell's normal. Corners in a row with one index
+ * (a triangle written as the quad a b b c) are one corner of the face: its
+ * E and E' go to the nearest corners with other indices, and it contributes
+ * once. A corner whose E or E' has zero length (another vertex at the same
+ * point) contributes nothing; otherwise as vn_triangle_normals, with which
+ * it agrees on triangles.
  */
 VN_API vn_result vn_polygon_normals(const vn_vectors* normals, const vn_positions* positions,
                                     const uint32_t* indices, const uint32_t* face_offsets, size_t face_count,
@@ -397,7 +400,7 @@ VN_API vn_result vn_corner_normals(const vn_vectors* normals, const vn_positions
  * takes part in no edge, and its corners get their vertex's normal over all
  * its other faces (vn_polygon_normals' normal), or zero. An edge i -> i of
  * a repeated index has zero length and joins its two corners (one corner of
- * the face; they contribute nothing, as in vn_polygon_normals). Every index
+ * the face, which contributes once, as in vn_polygon_normals). Every index
  * is checked before anything is written; a negative or NaN crease_angle,
  * NULL face_offsets or decreasing offsets are invalid_argument.
  * options->face_strength (one per face) gives Blender's Face Influence

@@ -198,11 +198,19 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
 			size_t begin = t->face_offsets[f];
 			size_t k = t->face_offsets[f + 1] - begin;
 			size_t i = c - begin;
-			uint32_t prev = t->indices[begin + (i + k - 1) % k];
+			/* Corners in a row with index v are one corner: the last of
+			 * them counts, with the nearest other indices around the row. */
+			if (t->indices[begin + (i + 1) % k] == v)
+				continue;
+			size_t before = 1;
+			while (before < k && t->indices[begin + (i + k - before) % k] == v)
+				before++;
+			uint32_t prev = t->indices[begin + (i + k - before) % k];
 			uint32_t next = t->indices[begin + (i + 1) % k];
 			vec e0 = vec_sub(position(t->positions, prev), p);
 			vec e1 = vec_sub(position(t->positions, next), p);
-			/* A repeated corner (zero-length edge) has no angle: skip it. */
+			/* A corner with a zero-length edge (another vertex at the same
+			 * point) has no angle: skip it. */
 			if (vec_length(e0) == 0 || vec_length(e1) == 0)
 				continue;
 			vec w = corner_contribution(method, t->normals[f], e0, e1);
