@@ -188,9 +188,9 @@ def vertex_normals(positions, faces=None, method="mwa", *, threads=0, out=None):
         face f is ``indices[offsets[f]:offsets[f + 1]]``); a tuple whose two
         parts have equal lengths is read as two faces instead. Or one
         sequence a face, e.g. ``[[0, 1, 2], [0, 2, 3, 4]]``.
-    method : str, default "mwa"
-        A name from `methods` (any case): "mwe", "mwa", "mwselr", "mwaat",
-        "mwelr", "mwrelr" or "mewcsa".
+    method : str or Method, default "mwa"
+        A name from `methods` (any case), e.g. "mwselr" or "adaptive", or
+        an entry of `methods`.
     threads : int, default 0
         Worker threads; 0 uses one per core, 1 the calling thread only.
         The result does not depend on it, bit for bit.
@@ -364,8 +364,8 @@ class Plan:
             float32 and float64 arrays are read in place, rows with any byte
             stride (an interleaved vertex buffer's position columns too);
             anything else is converted once to float64.
-        method : str, default "mwa"
-            A name from `methods` (any case).
+        method : str or Method, default "mwa"
+            A name from `methods` (any case), or an entry of it.
         out : (vertex_count, 3) float32 or float64 ndarray, optional
             Written in place (rows with any byte stride) and returned.
 
@@ -463,8 +463,8 @@ def convert(src, dst=None, method="mwa", *, out_dir=None, recursive=False, overw
     dst : str or os.PathLike
         Written atomically: on failure it is left as it was. Not given
         with `out_dir`.
-    method : str, default "mwa"
-        A name from `methods` (any case).
+    method : str or Method, default "mwa"
+        A name from `methods` (any case), or an entry of it.
     out_dir : str or os.PathLike, optional
         A batch: each file of `src` goes to ``OUT_DIR/STEM.EXT`` (EXT:
         `format`'s, else the input's own), as vnconvert plans it, checked

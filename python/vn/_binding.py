@@ -190,10 +190,12 @@ class Library:
             raise Error("%s: %s" % (what, self._lib.vn_result_string(r).decode()))
 
     def method_index(self, name):
-        """The vn_method of a name (any case), or of an index already."""
+        """The vn_method of a name (any case), of an entry of vn.methods(), or of an index already."""
+        if isinstance(getattr(name, "name", None), str):  # a vn.Method
+            name = name.name
         if not isinstance(name, str):
             if not isinstance(name, (int, np.integer)) or not 0 <= name < len(self.methods):
-                self._check(3, "method %r" % name)  # vn_result_unknown_method
+                self._check(3, "method %r" % (name,))  # vn_result_unknown_method
             return int(name)
         out = ctypes.c_int()
         self._check(self._lib.vn_method_from_name(name.encode(), ctypes.byref(out)), "method %r" % name)

@@ -135,6 +135,8 @@ class IoLibrary:
         as True (False leaves it out), a value as its str(); None is the
         default. stats=True fills Report.stats (vnconvert --stats)."""
         o, error = _ConvertOptions(), _Error()
+        if isinstance(getattr(method, "name", None), str):  # a vn.Method
+            method = method.name
         flags = [("method", method)] + list(options.items())
         for key, value in flags:
             if key == "stats":

@@ -155,6 +155,13 @@ def test_errors_are_vnconverts(tmp_path, monkeypatch, src, dst, options, argv):
     assert sorted(os.listdir(tmp_path)) == []
 
 
+def test_method_given_as_an_entry_of_methods(tmp_path):
+    mwselr = [m for m in vn.methods() if m.name == "mwselr"][0]
+    vn.convert(TORUS, tmp_path / "a.off", mwselr)
+    vn.convert(TORUS, tmp_path / "b.off", "mwselr")
+    assert (tmp_path / "a.off").read_bytes() == (tmp_path / "b.off").read_bytes()
+
+
 def test_bad_method(tmp_path):
     with pytest.raises(vn.Error, match=r"^--method is one of mwe, mwa, .*, not 'zz' \(see --list-methods\)$"):
         vn.convert(TORUS, tmp_path / "t.glb", "zz")

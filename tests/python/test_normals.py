@@ -31,6 +31,13 @@ def test_methods_listed_in_vnconvert_order():
     assert all(m.description and m.reference for m in ms)
 
 
+def test_method_given_as_an_entry_of_methods():
+    # vn.methods() lists Method tuples: one passes as its name.
+    for m in vn.methods():
+        np.testing.assert_array_equal(vn.vertex_normals(TETRA_P, TETRA_F, m),
+                                      vn.vertex_normals(TETRA_P, TETRA_F, m.name))
+
+
 @pytest.mark.parametrize("method", METHODS)
 def test_tetrahedron_corner_by_hand(method):
     # Three faces of equal angle (90 degrees), area and edges at the origin:
@@ -260,6 +267,7 @@ def test_empty_meshes():
     ((TETRA_P, np.array([[0, -2 ** 63, 1]], dtype=np.int64)), {}, "faces: index out of range (-9223372036854775808)"),
     ((TETRA_P, [[0, 1, 2]], "mwq"), {}, "method 'mwq': unknown method"),
     ((TETRA_P, [[0, 1, 2]], 11), {}, "method 11: unknown method"),
+    ((TETRA_P, [[0, 1, 2]], (1, 2)), {}, "method (1, 2): unknown method"),
     ((TETRA_P[:, :2], [[0, 1, 2]]), {}, "positions must be an (n, 3) array, not of shape (4, 2)"),
     ((TETRA_P.ravel(), [[0, 1, 2]]), {}, "positions must be an (n, 3) array, not of shape (12,)"),
     ((np.array([["a", "b", "c"]]), [[0, 0, 0]]), {}, "positions must be numbers, not <U1"),
