@@ -92,6 +92,12 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1/ 2/2/ 
 run "$VNC" "$T/slash.obj" "$T/slash-out.obj" --stats -q
 check "v/vt/ and v//: 2 faces" [ "$rc $(stat faces)" = "0 2" ]
 check "v/vt/ and v//: texture coordinates kept" [ "$(grep '^f' "$T/slash-out.obj" | head -1)" = "f 1/1/1 2/2/1 3/3/1" ]
+# A face without vt beside faces with them stays without (Draco fills its
+# corners with the first vt, which was written for them before).
+check "v//: no texture coordinate made up" [ "$(grep '^f' "$T/slash-out.obj" | tail -1)" = "f 2//1 4//1 3//1" ]
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0.5 0.25\nvt 0.7 0.7\nf 1 2 3\nf 2/2 4/2 3/2\n' >"$T/mixed.obj"
+run "$VNC" "$T/mixed.obj" "$T/mixed-out.obj"
+check "f v beside f v/vt: as they were, one vt line" [ "$(grep -E '^(f|vt)' "$T/mixed-out.obj" | tr '\n' ,)" = "vt 0.7 0.7,f 1//1 2//1 3//1,f 2/1/1 4/1/1 3/1/1," ]
 printf 'usemtl \nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\no \nv 2 2 0\nf 1 2 \\\r\n 4 3 \\\n\n\nf 1 2 5\nf 3 5\n' >"$T/joined.obj"
 run "$VNC" "$T/joined.obj" "$T/joined-out.obj" --stats
 check "continued face, empty usemtl and o: 5 vertices, 2 faces" [ "$rc $(stat vertices) $(stat faces)" = "0 5 2" ]

@@ -71,6 +71,7 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 		free(sets[k]->names);
 		free(sets[k]->of_face);
 	}
+	free(mesh->face_untextured);
 	free(mesh->material_library);
 	free(mesh->material_folder);
 	free(mesh->warnings);

@@ -82,8 +82,10 @@ struct scanner {
 	size_t first_short_face = 0;
 	int64_t first_material = -1, first_object = -1; /* triangles before the first usemtl and o */
 	std::string library;
-	/* Corners of each face, in order (the checking pass). */
+	/* Corners of each face, in order, and whether one has a vt (the
+	 * checking pass). */
 	std::vector<uint32_t> face_corners;
+	std::vector<unsigned char> face_textured;
 	/* Faces of more than max_corners corners: where their f line is, and
 	 * their corners as Draco parses them. */
 	struct long_face {
@@ -293,6 +295,7 @@ struct scanner {
 			long_faces.push_back({size_t(f - begin), size_t(line_end - begin), {}});
 		const char* c = q;
 		int corners = 0;
+		bool textured = false;
 		for (; corners <= entries; corners++) {
 			while (c < line_end && (*c == ' ' || *c == '\t'))
 				c++;
@@ -308,6 +311,7 @@ struct scanner {
 			for (int k = 0; k < 3; k++)
 				if (!check_index(index[k], k, corners + 1))
 					return false;
+			textured = textured || index[1] != 0;
 			if (c < line_end && !space(*c)) /* "3x4": Draco would read 3 */
 				return fail(vn_io_error_parse,
 				            "face corner %d, '%.*s', is not v, v/vt, v/vt/vn or v//vn with indices from 1 (or -1) to 2147483647",
@@ -320,6 +324,7 @@ struct scanner {
 		if (corners != entries)
 			return fail(vn_io_error_parse, "a face has %d entries, but they read as %d corners", entries, corners);
 		face_corners.push_back(uint32_t(entries));
+		face_textured.push_back(textured);
 		return true;
 	}
 
@@ -427,6 +432,7 @@ struct scanner {
 		triangles = polylines = 0;
 		first_material = first_object = -1;
 		face_corners.clear();
+		face_textured.clear();
 		long_faces.clear();
 		line = 1;
 		for (char* p = begin;;) {
@@ -539,6 +545,20 @@ vn_io_result out_of_memory(const char* name, vn_io_error* error)
 	return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 }
 
+/* mesh->face_untextured where some face has no vt (the file has vt);
+ * false when out of memory. */
+bool untextured_faces(const scanner& s, vn_io_mesh* mesh)
+{
+	if (std::find(s.face_textured.begin(), s.face_textured.end(), 0) == s.face_textured.end())
+		return true;
+	mesh->face_untextured = static_cast<unsigned char*>(std::malloc(s.face_textured.size()));
+	if (!mesh->face_untextured)
+		return false;
+	for (size_t f = 0; f < s.face_textured.size(); f++)
+		mesh->face_untextured[f] = !s.face_textured[f];
+	return true;
+}
+
 /* Draco's mesh into *mesh: a vertex per (v, vt, vn), polygons as the file
  * had them. */
 vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
@@ -600,6 +620,7 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	if (!(mesh->positions = copy_out(positions)) || !(mesh->face_offsets = copy_out(offsets)) ||
 	    !(mesh->indices = copy_out(indices)) || (nrm && !(mesh->normals = copy_out(normals))) ||
 	    (tex && !(mesh->texcoords = copy_out(texcoords))) ||
+	    (tex && !untextured_faces(s, mesh)) ||
 	    !face_names(m, "material", first_triangle, s.first_material, &mesh->materials) ||
 	    !face_names(m, "sub_obj", first_triangle, s.first_object, &mesh->objects) ||
 	    (!s.library.empty() && !(mesh->material_library = copy_string(s.library))))
@@ -822,9 +843,11 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 		                  "point cloud",
 		                  path);
 	const size_t n = mesh->vertex_count;
-	std::vector<char> used(n, 0);
-	for (uint32_t c = 0; c < mesh->face_offsets[mesh->face_count]; c++)
-		used[mesh->indices[c]] = 1;
+	std::vector<char> used(n, 0), textured(n, 0); /* used by a face; by one written with vt */
+	auto untextured = [&](size_t f) { return mesh->face_untextured && mesh->face_untextured[f]; };
+	for (size_t f = 0; f < mesh->face_count; f++)
+		for (uint32_t c = mesh->face_offsets[f]; c < mesh->face_offsets[f + 1]; c++)
+			used[mesh->indices[c]] = 1, textured[mesh->indices[c]] |= !untextured(f);
 	vn_io_text_out w = {out, 0, 0};
 	if (mesh->material_library) {
 		vn_io_put(&w, "mtllib ");
@@ -855,7 +878,7 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 	for (size_t i = 0; mesh->texcoords && i < n && !w.failed; i++) {
 		const float* t = mesh->texcoords + 2 * i;
 		bool fresh;
-		if (!used[i] || (vt[i] = texcoords.of({bits(t[0]), bits(t[1])}, &fresh), !fresh))
+		if (!textured[i] || (vt[i] = texcoords.of({bits(t[0]), bits(t[1])}, &fresh), !fresh))
 			continue;
 		vn_io_put(&w, "vt");
 		vn_io_put_float(&w, t[0]);
@@ -880,11 +903,12 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 		for (uint32_t c = mesh->face_offsets[f]; c < mesh->face_offsets[f + 1]; c++) {
 			const uint32_t i = mesh->indices[c];
 			char corner[48];
+			const bool tex = mesh->texcoords && !untextured(f);
 			int k = std::snprintf(corner, sizeof corner, " %" PRIu32, v[i]);
-			if (mesh->texcoords)
+			if (tex)
 				k += std::snprintf(corner + k, sizeof corner - size_t(k), "/%" PRIu32, vt[i]);
 			if (mesh->normals)
-				std::snprintf(corner + k, sizeof corner - size_t(k), "%s%" PRIu32, mesh->texcoords ? "/" : "//", vn[i]);
+				std::snprintf(corner + k, sizeof corner - size_t(k), "%s%" PRIu32, tex ? "/" : "//", vn[i]);
 			vn_io_put(&w, corner);
 		}
 		vn_io_put(&w, "\n");

@@ -118,6 +118,11 @@ typedef struct vn_io_mesh {
 	 * valid through vn. */
 	vn_io_face_names materials;
 	vn_io_face_names objects;
+	/* NULL, or per face: 1 where the file gave none of its corners a texture
+	 * coordinate though others have them (an OBJ "f 1//1 2//2 3//3" beside
+	 * textured faces; the texcoords of its vertices are the first vt, as
+	 * Draco fills them); only the OBJ writer keeps it, writing no vt there. */
+	unsigned char* face_untextured;
 	char* material_library;
 	/* The folder of the file read (absolute, links resolved: realpath), that
 	 * material_library's relative names are relative to; NULL when read from
