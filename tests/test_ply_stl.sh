@@ -80,6 +80,43 @@ run "$VNC" "$T/big.ply" "$T/big_out.ply" -q
 run "$VNC" "$PLY/test_pos_color.ply" "$T/little_out.ply" -q
 check "big endian PLY: same output as little endian" cmp -s "$T/big_out.ply" "$T/little_out.ply"
 
+# ---- tristrips (Stanford's and MeshLab's older files: no face element): two
+# strips, the second after a -1 and ending in a repeated index (a triangle
+# without surface, left out, as strips are joined); every other triangle
+# turned, so that all face the same way (-z: a 2 x 2 grid of unit squares).
+# Also in binary big endian.
+cat >"$T/strips.ply" <<'PLYEOF'
+ply
+format ascii 1.0
+element vertex 9
+property float x
+property float y
+property float z
+element tristrips 1
+property list int int vertex_indices
+end_header
+0 0 0
+1 0 0
+2 0 0
+0 1 0
+1 1 0
+2 1 0
+0 2 0
+1 2 0
+2 2 0
+14 0 3 1 4 2 5 -1 3 6 4 7 5 8 8
+PLYEOF
+run "$VNC" "$T/strips.ply" "$T/strips.off" --stats
+check "tristrips: 8 triangles, none degenerate" [ "$rc $(echo "$out" | grep -cE '^(faces: +8 \(triangles\)|degenerate faces: +0)$')" = "0 2" ]
+check "tristrips: the triangles" [ "$(tail -8 "$T/strips.off" | tr '\n' ,)" = "3 0 3 1,3 1 3 4,3 1 4 2,3 2 4 5,3 3 6 4,3 4 6 7,3 4 7 5,3 5 7 8," ]
+check "tristrips: every normal -z" [ "$(sed -n '3,11p' "$T/strips.off" | awk '{print $4, $5, $6}' | sort -u)" = "0 0 -1" ]
+$PLYTOOL big "$T/strips.ply" "$T/strips_big.ply"
+run "$VNC" "$T/strips_big.ply" "$T/strips_big.off"
+check "tristrips, binary big endian: the same" cmp -s "$T/strips.off" "$T/strips_big.off"
+sed 's/^14 0 3 1 4 2 5 -1 3 6 4 7 5 8 8$/4 0 3 1 9/' "$T/strips.ply" >"$T/strips_range.ply"
+check_rejected "$VNC" "$T/strips_range.ply" "$T/none.off" "$T/keep.off"
+check "tristrips: an index out of range names it" grep -q "tristrips 0 has index 9, but the file has 9 vertices" "$T/stderr"
+
 # ---- double positions stay double; a double property is rounded to float, with a warning
 cat >"$T/double.ply" <<'PLYEOF'
 ply

@@ -9,9 +9,10 @@
  * scalar property, an attribute "_NAME" in the property's own type (double
  * as float32: vn_io attributes, like glTF, have no double; a warning says
  * when that rounds a value). The "face" element gives polygons
- * (vertex_indices or vertex_index) and face colours. Other elements (edges,
- * materials), vertex list properties and other face properties are read
- * past, not kept.
+ * (vertex_indices or vertex_index) and face colours; without faces, a
+ * "tristrips" element's strips give triangles (strip_faces). Other elements
+ * (edges, materials), vertex list properties and other face properties are
+ * read past, not kept.
  *
  * Not Draco's PlyReader (1.5.5): it refuses big endian, copies past the end
  * of a truncated binary file (no bounds check), and parses ASCII values as
@@ -139,8 +140,13 @@ typedef struct ply_reader {
 	size_t element_count;
 	ply_element* vertex;
 	ply_element* face;
-	ply_property* indices; /* the face element's vertex_indices list */
+	ply_property* indices; /* the face element's vertex_indices list (or the strips') */
 	size_t index_capacity;
+	/* Without faces, a "tristrips" element (Stanford's and MeshLab's older
+	 * files): its vertex_indices, -1 (as UINT32_MAX) between strips. */
+	ply_element* strips;
+	uint32_t* strip;
+	size_t strip_used, strip_capacity;
 
 	char* warnings;
 } ply_reader;
@@ -426,6 +432,81 @@ static vn_io_result reserve_indices(ply_reader* r, vn_io_mesh* m, size_t used, u
 	return vn_io_success;
 }
 
+/* The `length` values of a tristrips list, appended to r->strip. */
+static vn_io_result read_strip(ply_reader* r, const place* at, size_t length)
+{
+	if (length > r->strip_capacity - r->strip_used) {
+		size_t capacity = r->strip_capacity ? 2 * r->strip_capacity : 64;
+		if (capacity - r->strip_used < length)
+			capacity = r->strip_used + length;
+		uint32_t* grown = realloc(r->strip, capacity * sizeof *grown);
+		if (!grown)
+			return out_of_memory(r);
+		r->strip = grown;
+		r->strip_capacity = capacity;
+	}
+	for (size_t k = 0; k < length; k++) {
+		unsigned char v[8];
+		vn_io_result result = read_value(r, at->property->type, at, v);
+		if (result != vn_io_success)
+			return result;
+		const double index = get_value(at->property->type, v);
+		if (index != -1 && !(index >= 0 && index < (double)r->vertex->count && index == floor(index)))
+			return fail(r, vn_io_error_parse, "tristrips %zu has index %.17g, but the file has %llu vertices", at->entry,
+			            index, (unsigned long long)r->vertex->count);
+		r->strip[r->strip_used++] = index == -1 ? UINT32_MAX : (uint32_t)index;
+	}
+	/* A list's end ends its strip too. */
+	return vn_io_success;
+}
+
+/* The triangles of the strips: in each strip (between -1s, or a list's
+ * ends) v0 v1 v2, v2 v1 v3, v2 v3 v4, ... (every other one turned, so that
+ * all face the same way, as OpenGL and MeshLab read them); one with a
+ * repeated index (how strips are joined) has no surface and is left out. */
+static vn_io_result strip_faces(ply_reader* r, vn_io_mesh* m)
+{
+	size_t count = 0;
+	for (int pass = 0; pass < 2; pass++) {
+		size_t start = 0;
+		for (size_t k = 0; k < r->strip_used; k++) {
+			if (r->strip[k] == UINT32_MAX) {
+				start = k + 1;
+				continue;
+			}
+			if (k < start + 2)
+				continue;
+			uint32_t t[3] = {r->strip[k - 2], r->strip[k - 1], r->strip[k]};
+			if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+				continue;
+			if ((k - start) % 2) {
+				const uint32_t first = t[0];
+				t[0] = t[1], t[1] = first;
+			}
+			if (pass) {
+				memcpy(m->indices + 3 * m->face_count, t, sizeof t);
+				m->face_count++;
+				m->face_offsets[m->face_count] = (uint32_t)(3 * m->face_count);
+			} else if (++count > UINT32_MAX / 3) {
+				return fail(r, vn_io_error_unsupported, "the tristrips make more than %u triangles", UINT32_MAX / 3);
+			}
+		}
+		if (pass)
+			break;
+		if (count == 0)
+			return vn_io_fail(r->error, vn_io_error_unsupported,
+			                  "%s: has %llu vertices and tristrips with no triangle: a mesh is needed", r->name,
+			                  (unsigned long long)r->vertex->count);
+		m->face_offsets = malloc((count + 1) * sizeof *m->face_offsets);
+		m->indices = malloc(3 * count * sizeof *m->indices);
+		if (!m->face_offsets || !m->indices)
+			return out_of_memory(r);
+		m->face_offsets[0] = 0;
+		m->face_count = 0;
+	}
+	return vn_io_success;
+}
+
 /* A list property of entry i: its length, then its values (kept when it is
  * the face's vertex_indices). */
 static vn_io_result read_list(ply_reader* r, vn_io_mesh* m, const place* at)
@@ -444,6 +525,8 @@ static vn_io_result read_list(ply_reader* r, vn_io_mesh* m, const place* at)
 	if (length > (double)((size_t)(r->end - r->p) + 1) / (double)least)
 		return fail(r, vn_io_error_parse, "%s %zu, list '%s' has %.0f values, more than the rest of the file holds",
 		            at->element->name, at->entry, p->name, length);
+	if (p == r->indices && r->strips)
+		return read_strip(r, at, (size_t)length);
 	const int kept = p == r->indices;
 	const size_t used = kept ? m->face_offsets[at->entry] : 0;
 	if (kept && length == 0)
@@ -531,10 +614,27 @@ static vn_io_result prepare(ply_reader* r, vn_io_mesh* m)
 		if (!find_scalar(r->vertex, xyz[k]))
 			return vn_io_fail(r->error, vn_io_error_parse, "%s: the vertex element has no '%s' property", r->name,
 			                  xyz[k]);
-	if (!r->face || r->face->count == 0)
-		return vn_io_fail(r->error, vn_io_error_unsupported,
-		                  "%s: has %llu vertices and no faces: a mesh is needed",
-		                  r->name, (unsigned long long)r->vertex->count);
+	if (!r->face || r->face->count == 0) {
+		for (size_t i = 0; i < r->element_count && !r->strips; i++)
+			if (!strcmp(r->elements[i].name, "tristrips") && r->elements[i].count)
+				r->strips = &r->elements[i];
+		r->indices = find(r->strips, "vertex_indices");
+		if (!r->indices || r->indices->count_type < 0 || is_real(r->indices->type))
+			return vn_io_fail(r->error, vn_io_error_unsupported,
+			                  r->strips ? "%s: has %llu vertices and tristrips without a vertex_indices list of whole "
+			                              "numbers: a mesh is needed"
+			                            : "%s: has %llu vertices and no faces: a mesh is needed",
+			                  r->name, (unsigned long long)r->vertex->count);
+		if (r->vertex->count > UINT32_MAX - 1)
+			return vn_io_fail(r->error, vn_io_error_unsupported, "%s: %llu vertices: vn reads up to %u", r->name,
+			                  (unsigned long long)r->vertex->count, UINT32_MAX - 1);
+		for (size_t k = 0; k < r->vertex->property_count; k++) {
+			ply_property* p = &r->vertex->properties[k];
+			if (p->count_type < 0 && !(p->column = malloc((size_t)r->vertex->count * types[p->type].size + 1)))
+				return out_of_memory(r);
+		}
+		return vn_io_success;
+	}
 	r->indices = find(r->face, "vertex_indices");
 	if (!r->indices)
 		r->indices = find(r->face, "vertex_index");
@@ -654,7 +754,8 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 		return out_of_memory(r);
 	vn_io_result result = vn_io_success;
 	m->vertex_count = n;
-	m->face_count = (size_t)r->face->count;
+	if (!r->strips)
+		m->face_count = (size_t)r->face->count;
 
 	/* Positions and normals: three properties each into doubles. */
 	static const char* const names[2][3] = {{"x", "y", "z"}, {"nx", "ny", "nz"}};
@@ -723,7 +824,7 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 			result = out_of_memory(r);
 	}
 	free(used);
-	if (result == vn_io_success)
+	if (result == vn_io_success && !r->strips)
 		result = read_colours(r, r->face, &m->face_colors, &m->face_colors_are_bytes, NULL);
 	return result;
 }
@@ -747,6 +848,8 @@ static vn_io_result read_ply(ply_reader* r, vn_io_mesh* m)
 		if (!warn(r, text))
 			return out_of_memory(r);
 	}
+	if (r->strips && (result = strip_faces(r, m)) != vn_io_success)
+		return result;
 	return to_mesh(r, m);
 }
 
@@ -772,6 +875,7 @@ vn_io_result vn_io_ply_read_memory(const char* data, size_t size, const char* na
 		free(r.elements[i].properties);
 	}
 	free(r.elements);
+	free(r.strip);
 	mesh->warnings = r.warnings;
 	if (result != vn_io_success)
 		vn_io_mesh_free(mesh);
