@@ -863,9 +863,29 @@ static void test_error_face_more_corners_than_indices(void** state)
 {
 	(void)state;
 	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n", vn_io_error_parse,
-	             "bad.off:6: face 0 has 4 corners, but only 3 indices follow");
+	             "bad.off:6: the file ends in face 0, after 3 of its 4 indices");
 	expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n", vn_io_error_parse,
-	             "bad.off:6: face 0 has 4000000000 corners, but only 3 indices follow");
+	             "bad.off:6: face 0 has 4000000000 corners, more than the rest of the file holds");
+	/* A short face takes the next line's first word as its last index. */
+	expect_error("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n3 0 1 2\n", vn_io_error_parse,
+	             "bad.off:7: face 0 has index 3, but the file has 3 vertices");
+}
+
+/* Indices on the lines after their count (libigl writes long faces so;
+ * Geomview reads them as words): the colour is the rest of the last one. */
+static void test_face_indices_across_lines(void** state)
+{
+	(void)state;
+	vn_io_mesh m;
+	read_ok("OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n4 0\n1\n# a comment\n\n3 2 255 0 0\n3 1 3 2\n", &m);
+	const uint32_t offsets[] = {0, 4, 7}, indices[] = {0, 1, 3, 2, 1, 3, 2};
+	assert_int_equal(m.face_count, 2);
+	assert_u32s(m.face_offsets, offsets, 3);
+	assert_u32s(m.indices, indices, 7);
+	const float red[] = {1, 0, 0, 1};
+	assert_non_null(m.face_colors);
+	assert_floats(m.face_colors, red, 4);
+	vn_io_mesh_free(&m);
 }
 
 static void test_error_face_without_corners(void** state)
@@ -1507,6 +1527,7 @@ int main(void)
 	    cmocka_unit_test(test_error_negative_index),
 	    cmocka_unit_test(test_error_index_not_an_integer),
 	    cmocka_unit_test(test_error_face_more_corners_than_indices),
+	    cmocka_unit_test(test_face_indices_across_lines),
 	    cmocka_unit_test(test_error_face_without_corners),
 	    cmocka_unit_test(test_error_face_colour_lengths),
 	    cmocka_unit_test(test_error_colour_out_of_range),

@@ -5,7 +5,9 @@
  * on the same line for binary files. A vertex holds its position (x y z, or
  * x y z w with 4), normal (N), colour (C) and texture coordinates (ST), in
  * that order. ASCII is read line by line, the way Geomview reads face
- * colours ("to the end of the line"): one vertex or one face per line, '#'
+ * colours ("to the end of the line"): one vertex per line, a face's count
+ * on one line and its indices there or on the lines after (its colour is the
+ * rest of the last one's line), '#'
  * starts a comment anywhere, blank lines are skipped, and a line ends at
  * "\n", "\r\n" or a lone "\r".
  *
@@ -463,16 +465,24 @@ static vn_io_result read_ascii_face(off_reader* r, vn_io_mesh* m, size_t f, off_
 		return fail(r, vn_io_error_parse, "face %zu: expected the number of corners, found '%s'", f, quote(t).text);
 	if (corners == 0)
 		return fail(r, vn_io_error_parse, "face %zu has 0 corners", f);
-	if (corners > count - 1)
-		return fail(r, vn_io_error_parse, "face %zu has %llu corners, but only %zu indices follow", f,
-		            (unsigned long long)corners, count - 1);
+	/* Each index takes at least two characters: the count alone must not
+	 * allocate much. */
+	if (corners > (uint64_t)(r->end - r->p) / 2 + count)
+		return fail(r, vn_io_error_parse, "face %zu has %llu corners, more than the rest of the file holds", f,
+		            (unsigned long long)corners);
 	size_t used = m->face_offsets[f];
 	vn_io_result result = reserve_indices(r, m, f, used, corners);
 	if (result != vn_io_success)
 		return result;
 	for (size_t k = 0; k < corners; k++) {
 		uint64_t index;
-		next_token(&line, &t);
+		/* The indices may go on on the next lines (Geomview reads them as
+		 * words; libigl writes long faces so); the colour is the rest of
+		 * the line of the last one. */
+		while (!next_token(&line, &t))
+			if (!next_line(r, &line))
+				return fail(r, vn_io_error_parse, "the file ends in face %zu, after %zu of its %llu indices", f, k,
+				            (unsigned long long)corners);
 		token magnitude = {t.p + 1, t.n - 1};
 		if (t.p[0] == '-' && t.n > 1 && parse_natural(magnitude, &index))
 			return fail(r, vn_io_error_parse, "face %zu has a negative index %s", f, quote(t).text);
@@ -485,7 +495,7 @@ static vn_io_result read_ascii_face(off_reader* r, vn_io_mesh* m, size_t f, off_
 	}
 	m->face_offsets[f + 1] = (uint32_t)(used + corners);
 
-	size_t extra = count - 1 - (size_t)corners;
+	const size_t extra = count_tokens(line);
 	if (extra == 1) {
 		/* One integer is an index into Geomview's colormap, which vn does not
 		 * have: the face is read as if uncoloured. */
