@@ -170,23 +170,29 @@ check "lines: says so" grep -q "484 vertices and 242 lines (l), but no faces" "$
 grep '^v ' "$DATA/point_cloud_test_pos.obj" >"$T/points.obj"
 check_rejected "$VNC" "$T/points.obj" "$T/none.off" "$T/keep.off"
 check "point cloud: says so" grep -q "points.obj: 4 vertices and no faces (f), a point cloud" "$T/stderr"
-bad() { printf "$2" >"$T/$1.obj"; check_rejected "$VNC" "$T/$1.obj" "$T/none.obj" "$T/keep.obj"; check "$1: $3" grep -qF "$3" "$T/stderr"; }
+refused() { printf "$2" >"$T/$1.obj"; check_rejected "$VNC" "$T/$1.obj" "$T/none.obj" "$T/keep.obj"; check "$1: $3" grep -qF "$3" "$T/stderr"; }
 tri='v 0 0 0\nv 1 0 0\nv 0 1 0\n'
-bad range "${tri}f 1 2 9\n" "range.obj:4: face corner 3 refers to vertex 9, but the file has 3 vertices (v)"
-bad back "${tri}f -1 -2 -4\n" "back.obj:4: face corner 3 refers to vertex -4 (counting back), but only 3 vertices (v) come before it"
-bad notex "${tri}f 1/1 2/1 3/1\n" "notex.obj:4: face corner 1 refers to texture coordinate 1, but the file has 0"
-bad zero "${tri}f 0 1 2\n" "zero.obj:4: face corner 1, '0', is not v, v/vt, v/vt/vn or v//vn"
-bad huge "${tri}f 1 2 4294967295\n" "huge.obj:4: face corner 3, '4294967295', is not"
-bad short 'v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "short.obj:1: vertex 1 has 2 numbers; it needs 3"
-bad word 'v 0 0 x\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "word.obj:1: vertex 1: 'x' is not a number"
-bad big "${tri}vn 0 0 1e40\nf 1//1 2//1 3//1\n" "big.obj:4: normal 1 has the number '1e40', which is not finite"
-bad glued "${tri}f 1 2 3/1/2-4\n" "glued.obj:4: face corner 3 refers to texture coordinate 1"
+refused range "${tri}f 1 2 9\n" "range.obj:4: face corner 3 refers to vertex 9, but the file has 3 vertices (v)"
+refused back "${tri}f -1 -2 -4\n" "back.obj:4: face corner 3 refers to vertex -4 (counting back), but only 3 vertices (v) come before it"
+refused notex "${tri}f 1/1 2/1 3/1\n" "notex.obj:4: face corner 1 refers to texture coordinate 1, but the file has 0"
+refused zero "${tri}f 0 1 2\n" "zero.obj:4: face corner 1, '0', is not v, v/vt, v/vt/vn or v//vn"
+refused huge "${tri}f 1 2 4294967295\n" "huge.obj:4: face corner 3, '4294967295', is not"
+refused short 'v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "short.obj:1: vertex 1 has 2 numbers; it needs 3"
+refused word 'v 0 0 x\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "word.obj:1: vertex 1: 'x' is not a number"
+refused big "${tri}vn 0 0 1e40\nf 1//1 2//1 3//1\n" "big.obj:4: normal 1 has the number '1e40', which is not finite"
+refused glued "${tri}f 1 2 3/1/2-4\n" "glued.obj:4: face corner 3 refers to texture coordinate 1"
 # Draco stops reading a number at the first character not part of it: these
 # read as 3, 0, 1.5 and 3.1 (and a triangle 1 2 3) where they are refused.
-bad comma 'v 0 0 0\nv 1 0 0\nv 0 1 3,5\nf 1 2 3\n' "comma.obj:3: vertex 3: '3,5' is not a number"
-bad hex 'v 0 0 0\nv 0x10 0 0\nv 0 1 0\nf 1 2 3\n' "hex.obj:2: vertex 2: '0x10' is not a number"
-bad dots "${tri}vt 1.5.2 0\nf 1/1 2/1 3/1\n" "dots.obj:4: texture coordinate 1: '1.5.2' is not a number"
-bad plus_e "v 0 0 3.1+e2\nv 1 0 0\nv 0 1 0\nf 1 2 3\n" "plus_e.obj:1: vertex 1: '3.1+e2' is not a number"
-bad tail "${tri}f 1 2 3x4\n" "tail.obj:4: face corner 3, '3x4', is not v, v/vt, v/vt/vn or v//vn"
-bad empty "" "empty.obj: no vertices (v) and no faces (f)"
+refused comma 'v 0 0 0\nv 1 0 0\nv 0 1 3,5\nf 1 2 3\n' "comma.obj:3: vertex 3: '3,5' is not a number"
+refused hex 'v 0 0 0\nv 0x10 0 0\nv 0 1 0\nf 1 2 3\n' "hex.obj:2: vertex 2: '0x10' is not a number"
+refused dots "${tri}vt 1.5.2 0\nf 1/1 2/1 3/1\n" "dots.obj:4: texture coordinate 1: '1.5.2' is not a number"
+refused plus_e "v 0 0 3.1+e2\nv 1 0 0\nv 0 1 0\nf 1 2 3\n" "plus_e.obj:1: vertex 1: '3.1+e2' is not a number"
+refused tail "${tri}f 1 2 3x4\n" "tail.obj:4: face corner 3, '3x4', is not v, v/vt, v/vt/vn or v//vn"
+refused empty "" "empty.obj: no vertices (v) and no faces (f)"
+refused utf16 '\377\376v\000 \0000\000' "utf16.obj: the text is UTF-16LE (it starts with a byte order mark): save it as ASCII or UTF-8"
+# A UTF-8 byte order mark (Windows editors write one) is read past: before,
+# the first v line was skipped and every index moved by one.
+printf '\357\273\277v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4\n' >"$T/bom.obj"
+run "$VNC" "$T/bom.obj" "$T/bom-out.obj"
+check "UTF-8 byte order mark: the first vertex read" [ "$rc $(grep -c '^v ' "$T/bom-out.obj") $(head -1 "$T/bom-out.obj")" = "0 3 v 0 0 0" ]
 finish

@@ -249,6 +249,10 @@ static void test_off_crlf_and_byte_order_mark(void** state)
 	read_ok("\xEF\xBB\xBFOFF\r\n3 1 0\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n", &m);
 	assert_triangle(&m);
 	vn_io_mesh_free(&m);
+	/* UTF-16: its numbers are not ASCII; refused, naming it. */
+	static const char wide[] = "\xFF\xFEO\0F\0F\0\n\0";
+	expect_error_bytes(wide, sizeof wide - 1, vn_io_error_parse,
+	                   "bad.off: the text is UTF-16LE (it starts with a byte order mark): save it as ASCII or UTF-8");
 }
 
 static void test_off_line_numbers_with_carriage_returns(void** state)

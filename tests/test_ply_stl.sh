@@ -117,6 +117,18 @@ sed 's/^14 0 3 1 4 2 5 -1 3 6 4 7 5 8 8$/4 0 3 1 9/' "$T/strips.ply" >"$T/strips
 check_rejected "$VNC" "$T/strips_range.ply" "$T/none.off" "$T/keep.off"
 check "tristrips: an index out of range names it" grep -q "tristrips 0 has index 9, but the file has 9 vertices" "$T/stderr"
 
+# ---- a UTF-8 byte order mark (Windows editors write one) is read past; UTF-16
+# is refused, naming it
+{ printf '\357\273\277'; cat "$T/strips.ply"; } >"$T/bom.ply"
+run "$VNC" "$T/bom.ply" "$T/bom_ply.off"
+check "PLY with a UTF-8 byte order mark: read" cmp -s "$T/strips.off" "$T/bom_ply.off"
+printf '\357\273\277solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' >"$T/bom.stl"
+run "$VNC" "$T/bom.stl" "$T/bom_stl.off"
+check "ASCII STL with a UTF-8 byte order mark: one triangle" [ "$rc $(sed -n 2p "$T/bom_stl.off")" = "0 3 1 0" ]
+printf '\376\377\000p\000l\000y\000\n' >"$T/utf16.ply"
+check_rejected "$VNC" "$T/utf16.ply" "$T/none.off" "$T/keep.off"
+check "UTF-16 PLY: says so" grep -q "utf16.ply: the header is UTF-16BE text (it starts with a byte order mark)" "$T/stderr"
+
 # ---- double positions stay double; a double property is rounded to float, with a warning
 cat >"$T/double.ply" <<'PLYEOF'
 ply

@@ -654,6 +654,12 @@ void join_continued_lines(std::vector<char>& text)
 
 vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* mesh, vn_io_error* error)
 {
+	const unsigned char* bytes = reinterpret_cast<const unsigned char*>(data);
+	const size_t bom = vn_io_utf8_bom(bytes, size);
+	if (const char* wide = vn_io_wide_bom(bytes, size))
+		return vn_io_fail(error, vn_io_error_parse,
+		                  "%s: the text is %s (it starts with a byte order mark): save it as ASCII or UTF-8", name, wide);
+	data += bom, size -= bom;
 	std::vector<char> text(data, data + size);
 	/* A lone CR ends a line, as a LF (Draco would read on to the next LF). */
 	for (size_t i = 0; i < size; i++)

@@ -728,9 +728,11 @@ vn_io_result vn_io_off_read_memory(const char* data, size_t size, const char* na
 	r.end = r.begin + (data ? size : 0);
 	r.line = 1;
 	r.coords = 3;
-	/* A UTF-8 byte order mark, as some Windows editors write. */
-	if (r.end - r.p >= 3 && memcmp(r.p, "\xEF\xBB\xBF", 3) == 0)
-		r.p += 3;
+	r.p += vn_io_utf8_bom(r.p, (size_t)(r.end - r.p));
+	const char* wide = vn_io_wide_bom(r.p, (size_t)(r.end - r.p));
+	if (wide)
+		return vn_io_fail(error, vn_io_error_parse, "%s: the text is %s (it starts with a byte order mark): save it as "
+		                  "ASCII or UTF-8", name, wide);
 
 	vn_io_c_locale locale;
 	if (!vn_io_c_locale_enter(&locale))

@@ -862,8 +862,12 @@ vn_io_result vn_io_ply_read_memory(const char* data, size_t size, const char* na
 	r.name = name;
 	r.error = error;
 	r.begin = (const unsigned char*)(data ? data : "");
-	r.p = r.begin;
 	r.end = r.begin + (data ? size : 0);
+	r.p = r.begin + vn_io_utf8_bom(r.begin, (size_t)(r.end - r.begin));
+	const char* wide = vn_io_wide_bom(r.p, (size_t)(r.end - r.p));
+	if (wide)
+		return vn_io_fail(error, vn_io_error_parse, "%s: the header is %s text (it starts with a byte order mark): "
+		                  "save it as ASCII or UTF-8", name, wide);
 	vn_io_c_locale locale;
 	if (!vn_io_c_locale_enter(&locale))
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);

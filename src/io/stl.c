@@ -295,9 +295,16 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 	const uint64_t count = size >= STL_HEADER + 4 ? get_u32(r.p + STL_HEADER) : 0;
 	const uint64_t binary_size = STL_HEADER + 4 + STL_TRIANGLE * count;
 	vn_io_result result;
+	const size_t bom = vn_io_utf8_bom(r.p, size);
+	const char* wide = vn_io_wide_bom(r.p, size);
 	if (size >= STL_HEADER + 4 && binary_size == size) {
 		result = read_binary(&r, r.p, (size_t)count);
-	} else if (starts_with_solid(r.p, r.end)) {
+	} else if (wide) {
+		result = vn_io_fail(error, vn_io_error_parse,
+		                    "%s: the text is %s (it starts with a byte order mark): save it as ASCII or UTF-8", name,
+		                    wide);
+	} else if (starts_with_solid(r.p + bom, r.end)) {
+		r.p += bom;
 		vn_io_c_locale locale;
 		if (!vn_io_c_locale_enter(&locale))
 			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);

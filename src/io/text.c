@@ -73,6 +73,24 @@ int vn_io_parse_real(const unsigned char* p, size_t n, double* out)
 	return stop == text + n;
 }
 
+size_t vn_io_utf8_bom(const unsigned char* p, size_t n)
+{
+	return n >= 3 && memcmp(p, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+}
+
+const char* vn_io_wide_bom(const unsigned char* p, size_t n)
+{
+	if (n >= 4 && memcmp(p, "\xFF\xFE\0\0", 4) == 0)
+		return "UTF-32LE";
+	if (n >= 4 && memcmp(p, "\0\0\xFE\xFF", 4) == 0)
+		return "UTF-32BE";
+	if (n >= 2 && memcmp(p, "\xFF\xFE", 2) == 0)
+		return "UTF-16LE";
+	if (n >= 2 && memcmp(p, "\xFE\xFF", 2) == 0)
+		return "UTF-16BE";
+	return NULL;
+}
+
 vn_io_quoted vn_io_quote(const unsigned char* p, size_t n)
 {
 	vn_io_quoted q;

@@ -62,6 +62,14 @@ typedef struct vn_io_quoted {
 } vn_io_quoted;
 vn_io_quoted vn_io_quote(const unsigned char* p, size_t n);
 
+/* The length of a UTF-8 byte order mark at the n bytes at p (3), or 0: the
+ * text formats read past one (Windows editors write it). */
+size_t vn_io_utf8_bom(const unsigned char* p, size_t n);
+/* The encoding a UTF-16 or UTF-32 byte order mark at p names ("UTF-16LE"
+ * ...), or NULL: text in it is refused, naming it (its numbers are not
+ * ASCII). */
+const char* vn_io_wide_bom(const unsigned char* p, size_t n);
+
 /* A reader's error at a place in the file: "name:where: what" (a line), or
  * "name: byte where: what" when `byte`; what is fmt with args. Returns r. */
 vn_io_result vn_io_fail_at(vn_io_error* error, vn_io_result r, const char* name, int byte, size_t where,
