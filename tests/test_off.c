@@ -549,6 +549,37 @@ static void test_binary_off(void** state)
 	vn_io_mesh_free(&m);
 }
 
+/* pmp-library writes binary OFF in little-endian words, without the colour
+ * count after a face's indices: read so (with a warning) when only that
+ * reading's counts fit the file. */
+static void test_binary_off_as_pmp_library_writes_it(void** state)
+{
+	(void)state;
+	bytes b = {{0}, 0};
+	add_text(&b, "OFF BINARY\n");
+	const size_t header = b.size;
+	ADD_INTS(&b, 4, 2, 0);
+	ADD_FLOATS(&b, 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0);
+	ADD_INTS(&b, 3, 0, 1, 2, 3, 1, 3, 2);
+	for (size_t i = header; i < b.size; i += 4) { /* each word little-endian */
+		unsigned char t = b.data[i];
+		b.data[i] = b.data[i + 3], b.data[i + 3] = t;
+		t = b.data[i + 1], b.data[i + 1] = b.data[i + 2], b.data[i + 2] = t;
+	}
+	vn_io_mesh m;
+	read_bytes_ok("pmp.off", b.data, b.size, &m);
+	const double positions[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+	const uint32_t offsets[3] = {0, 3, 6}, indices[6] = {0, 1, 2, 1, 3, 2};
+	assert_int_equal(m.vertex_count, 4);
+	assert_int_equal(m.face_count, 2);
+	assert_doubles(m.positions, positions, 12);
+	assert_u32s(m.face_offsets, offsets, 3);
+	assert_u32s(m.indices, indices, 6);
+	assert_non_null(m.warnings);
+	assert_non_null(strstr(m.warnings, "binary OFF as pmp-library writes it"));
+	vn_io_mesh_free(&m);
+}
+
 static void test_binary_noff_with_comment_before_header(void** state)
 {
 	(void)state;
@@ -1497,6 +1528,7 @@ int main(void)
 	    cmocka_unit_test(test_fixture_colored),
 	    cmocka_unit_test(test_fixture_binary),
 	    cmocka_unit_test(test_binary_off),
+	    cmocka_unit_test(test_binary_off_as_pmp_library_writes_it),
 	    cmocka_unit_test(test_binary_noff_with_comment_before_header),
 	    cmocka_unit_test(test_binary_coff_and_face_colours),
 	    cmocka_unit_test(test_binary_stoff_and_ndim),

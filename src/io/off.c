@@ -62,6 +62,10 @@ typedef struct off_reader {
 	size_t line;  /* number of the line that starts at p */
 	size_t where; /* what messages name: a line, or a byte offset when binary */
 	int binary;
+	/* Binary as pmp-library writes it: little-endian words (Geomview's are
+	 * big-endian) and no colour count after a face's indices. */
+	int pmp;
+	char* warnings;
 
 	char keyword[16]; /* as written, e.g. "CNOFF" */
 	char layout[48];  /* the numbers of an ASCII vertex, e.g. "x y z nx ny nz" */
@@ -566,13 +570,34 @@ static vn_io_result read_ascii(off_reader* r, vn_io_mesh* m, off_line rest)
 /* Geomview binary OFF: after the header line, big-endian 32-bit words:
  * [dimension] vertices faces edges, the vertices as floats (position, normal,
  * RGBA colour, texture coordinates), then per face: corner count, indices,
- * colour count, colour floats. */
+ * colour count, colour floats. pmp-library writes little-endian words and no
+ * colour count (read so when only then do the counts fit the file). */
+
+static uint32_t word_at(const unsigned char* p, int little)
+{
+	return little ? (uint32_t)p[3] << 24 | (uint32_t)p[2] << 16 | (uint32_t)p[1] << 8 | p[0]
+	              : (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
+}
 
 static uint32_t take_word(off_reader* r)
 {
-	uint32_t w = (uint32_t)r->p[0] << 24 | (uint32_t)r->p[1] << 16 | (uint32_t)r->p[2] << 8 | r->p[3];
+	uint32_t w = word_at(r->p, r->pmp);
 	r->p += 4;
 	return w;
+}
+
+/* Whether the words after the header, read in that order, make a dimension
+ * of 3 (nOFF) and counts whose vertices and faces the file can hold. */
+static int counts_fit(const off_reader* r, int little, uint64_t vertex_bytes)
+{
+	const unsigned char* p = r->p;
+	const size_t words = 3 + (r->ndim != 0);
+	if ((size_t)(r->end - p) < 4 * words || (r->ndim && word_at(p, little) != 3))
+		return 0;
+	p += 4 * (r->ndim != 0);
+	const uint64_t vertices = word_at(p, little), faces = word_at(p + 4, little);
+	const uint64_t available = (uint64_t)(r->end - p) - 12;
+	return vertices <= INT32_MAX && faces <= INT32_MAX && vertices * vertex_bytes + faces * 12 <= available;
 }
 
 /* Marks the position for messages; 1 when `words` more words are there. */
@@ -602,7 +627,7 @@ static vn_io_result read_binary_face(off_reader* r, vn_io_mesh* m, size_t f)
 	if (corners <= 0)
 		return fail(r, vn_io_error_parse, "face %zu has %lld corners", f, (long long)corners);
 	/* Checked before reserving: the count alone must not allocate. */
-	if (!expect_words(r, (uint64_t)corners + 1))
+	if (!expect_words(r, (uint64_t)corners + !r->pmp))
 		return fail(r, vn_io_error_parse, "face %zu has %lld corners, more than the rest of the file holds", f,
 		            (long long)corners);
 	size_t used = m->face_offsets[f];
@@ -619,6 +644,8 @@ static vn_io_result read_binary_face(off_reader* r, vn_io_mesh* m, size_t f)
 		m->indices[used + k] = (uint32_t)index;
 	}
 	m->face_offsets[f + 1] = (uint32_t)(used + (size_t)corners);
+	if (r->pmp)
+		return vn_io_success;
 
 	int64_t colours = as_int32(take_word(r));
 	if (colours < 0 || colours == 2 || colours > 4)
@@ -644,6 +671,15 @@ static vn_io_result read_binary_face(off_reader* r, vn_io_mesh* m, size_t f)
 
 static vn_io_result read_binary(off_reader* r, vn_io_mesh* m)
 {
+	/* Binary vertex colours are always 4 floats (RGBA). */
+	size_t words = r->coords + (r->normal ? 3u : 0u) + (r->colour ? 4u : 0u) + (r->st ? 2u : 0u);
+	if (!counts_fit(r, 0, 4 * words) && counts_fit(r, 1, 4 * words)) {
+		r->pmp = 1;
+		if (!vn_io_append_line(&r->warnings, "binary OFF as pmp-library writes it (little-endian words, no face colour "
+		                                     "counts; Geomview's are big-endian): read so, as its counts fit the file "
+		                                     "only so"))
+			return out_of_memory(r);
+	}
 	if (r->ndim) {
 		if (!expect_words(r, 1))
 			return fail(r, vn_io_error_parse, "the file ends before the nOFF dimension");
@@ -663,8 +699,6 @@ static vn_io_result read_binary(off_reader* r, vn_io_mesh* m)
 		if (counts[i] < 0)
 			return fail(r, vn_io_error_parse, "the %s count %lld is negative", names[i], (long long)counts[i]);
 	}
-	/* Binary vertex colours are always 4 floats (RGBA). */
-	size_t words = r->coords + (r->normal ? 3u : 0u) + (r->colour ? 4u : 0u) + (r->st ? 2u : 0u);
 	/* A face is at least 3 words: 1 corner, its index, 0 colours. */
 	r->where = counts_at;
 	vn_io_result result =
@@ -741,6 +775,10 @@ vn_io_result vn_io_off_read_memory(const char* data, size_t size, const char* na
 	vn_io_c_locale_leave(&locale);
 	if (result != vn_io_success)
 		vn_io_mesh_free(mesh);
+	if (result == vn_io_success)
+		mesh->warnings = r.warnings;
+	else
+		free(r.warnings);
 	return result;
 }
 

@@ -187,13 +187,7 @@ static vn_io_quoted quote(token t)
 /* Appends one line to the mesh's warnings; 0 when out of memory. */
 static int warn(ply_reader* r, const char* text)
 {
-	const size_t used = r->warnings ? strlen(r->warnings) : 0, n = strlen(text);
-	char* grown = realloc(r->warnings, used + n + 2);
-	if (!grown)
-		return 0;
-	r->warnings = grown;
-	snprintf(grown + used, n + 2, "%s%s", used ? "\n" : "", text);
-	return 1;
+	return vn_io_append_line(&r->warnings, text);
 }
 
 /* ------------------------------------------------------------------ header */

@@ -324,11 +324,8 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 		/* Padding after the triangles, as some exporters write. */
 		result = read_binary(&r, r.p, (size_t)count);
 		char text[96];
-		const int n = snprintf(text, sizeof text, "%zu bytes after the last triangle, not read",
-		                       size - (size_t)binary_size);
-		if (result == vn_io_success && (mesh->warnings = malloc((size_t)n + 1)) != NULL)
-			memcpy(mesh->warnings, text, (size_t)n + 1);
-		else if (result == vn_io_success)
+		snprintf(text, sizeof text, "%zu bytes after the last triangle, not read", size - (size_t)binary_size);
+		if (result == vn_io_success && !vn_io_append_line(&mesh->warnings, text))
 			result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	}
 	if (result == vn_io_success)

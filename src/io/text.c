@@ -73,6 +73,17 @@ int vn_io_parse_real(const unsigned char* p, size_t n, double* out)
 	return stop == text + n;
 }
 
+int vn_io_append_line(char** lines, const char* text)
+{
+	const size_t used = *lines ? strlen(*lines) : 0, n = strlen(text);
+	char* grown = realloc(*lines, used + n + 2);
+	if (!grown)
+		return 0;
+	*lines = grown;
+	snprintf(grown + used, n + 2, "%s%s", used ? "\n" : "", text);
+	return 1;
+}
+
 size_t vn_io_utf8_bom(const unsigned char* p, size_t n)
 {
 	return n >= 3 && memcmp(p, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;

@@ -62,6 +62,10 @@ typedef struct vn_io_quoted {
 } vn_io_quoted;
 vn_io_quoted vn_io_quote(const unsigned char* p, size_t n);
 
+/* Appends text as one more line of *lines ("\n"-separated, NULL when
+ * empty: a reader's warnings); 0 when out of memory (*lines unchanged). */
+int vn_io_append_line(char** lines, const char* text);
+
 /* The length of a UTF-8 byte order mark at the n bytes at p (3), or 0: the
  * text formats read past one (Windows editors write it). */
 size_t vn_io_utf8_bom(const unsigned char* p, size_t n);
