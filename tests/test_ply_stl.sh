@@ -177,6 +177,17 @@ check "Blender STL ASCII and binary: same triangles" [ "$(stl_triangles "$T/b1.s
 { printf 'solid but binary'; head -c 64 /dev/zero; tail -c +81 "$STL/test_sphere.stl"; } >"$T/solid_binary.stl"
 run "$VNC" "$T/solid_binary.stl" "$T/sb.stl" -q
 check "binary STL starting with 'solid' is read as binary" cmp -s "$T/sb.stl" "$T/bin.stl"
+# ... and so is one with padding after its triangles (it was read as ASCII:
+# "the file ends after 0 triangles, before 'endsolid'").
+{ cat "$T/solid_binary.stl"; printf '\0\0'; } >"$T/solid_padded.stl"
+run "$VNC" "$T/solid_padded.stl" "$T/sp.stl"
+check "binary STL starting with 'solid', padded: read as binary" cmp -s "$T/sp.stl" "$T/bin.stl"
+check "binary STL starting with 'solid', padded: says so" grep -q "solid_padded.stl: 2 bytes after the last triangle, not read" "$T/stderr"
+# A count of 0 with triangles after it (a writer that never filled it in).
+{ head -c 80 "$STL/test_sphere.stl"; printf '\0\0\0\0'; tail -c +85 "$STL/test_sphere.stl"; } >"$T/count0.stl"
+run "$VNC" "$T/count0.stl" "$T/c0.stl"
+check "binary STL with count 0: its triangles read" cmp -s "$T/c0.stl" "$T/bin.stl"
+check "binary STL with count 0: says so" grep -q "count0.stl: binary STL announces 0 triangles, but 224 triangles follow its header: read" "$T/stderr"
 run "$VNC" "$PLY/blender_binary.ply" "$T/lost.stl"
 check "PLY to STL warns that the vertex normals are not written" grep -q "cannot hold vertex normals, vertex colours, texture coordinates: not written" "$T/stderr"
 

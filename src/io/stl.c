@@ -7,7 +7,9 @@
  * ("solid ... facet normal ... outer loop, vertex x3, endloop, endfacet,
  * endsolid", keywords in any case, several solids in one file). A binary
  * header may start with "solid" too: a file whose size is 84 + 50 * its
- * count is binary. Corners with equal positions (exactly, -0 = +0) are
+ * count is binary, and so is one ASCII cannot read whose triangles fit with
+ * padding after them (read_padded); a count of 0 with whole triangles after
+ * it (writers that never fill it in) reads those. Corners with equal positions (exactly, -0 = +0) are
  * welded into one vertex, so the mesh is connected and vn's normals are
  * smooth across triangles. The facet normals (one per triangle, not per
  * vertex), the header and the attribute bytes (a colour in some exporters)
@@ -273,6 +275,18 @@ static vn_io_result weld(stl_reader* r, vn_io_mesh* m)
 	return vn_io_success;
 }
 
+/* A binary STL's count triangles, then `padding` bytes (as some exporters
+ * write them), with a warning saying so. */
+static vn_io_result read_padded(stl_reader* r, uint64_t count, size_t padding, vn_io_mesh* mesh)
+{
+	vn_io_result result = read_binary(r, r->p, (size_t)count);
+	char text[96];
+	snprintf(text, sizeof text, "%zu bytes after the last triangle, not read", padding);
+	if (result == vn_io_success && !vn_io_append_line(&mesh->warnings, text))
+		result = vn_io_fail(r->error, vn_io_error_memory, "%s: out of memory", r->name);
+	return result;
+}
+
 /* Starts with "solid" after blanks, in any case. */
 static int starts_with_solid(const unsigned char* p, const unsigned char* end)
 {
@@ -294,6 +308,7 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 	r.line = 1;
 	const uint64_t count = size >= STL_HEADER + 4 ? get_u32(r.p + STL_HEADER) : 0;
 	const uint64_t binary_size = STL_HEADER + 4 + STL_TRIANGLE * count;
+	const size_t after = size >= STL_HEADER + 4 ? size - (STL_HEADER + 4) : 0; /* bytes after the header */
 	vn_io_result result;
 	const size_t bom = vn_io_utf8_bom(r.p, size);
 	const char* wide = vn_io_wide_bom(r.p, size);
@@ -310,23 +325,36 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 		result = read_ascii(&r);
 		vn_io_c_locale_leave(&locale);
+		/* Not ASCII after all: a binary STL whose header starts with
+		 * "solid" and whose triangles are followed by padding. */
+		if (result != vn_io_success && result != vn_io_error_memory && count > 0 && binary_size <= size) {
+			free(r.corners);
+			r.corners = NULL, r.triangles = 0, r.capacity = 0;
+			r.p = (const unsigned char*)data;
+			result = read_padded(&r, count, size - (size_t)binary_size, mesh);
+		}
 	} else if (size < STL_HEADER + 4) {
 		result = vn_io_fail(error, vn_io_error_parse,
 		                    "%s: not an STL file: %zu bytes, too short for a binary STL's 84-byte header, and it "
 		                    "does not start with 'solid'",
 		                    name, size);
+	} else if (count == 0 && after > 0 && after % STL_TRIANGLE == 0) {
+		/* A writer that never filled in the count (streaming ones do so):
+		 * the triangles that follow are read. */
+		result = read_binary(&r, r.p, after / STL_TRIANGLE);
+		char text[128];
+		const size_t n = after / STL_TRIANGLE;
+		snprintf(text, sizeof text, "binary STL announces 0 triangles, but %zu triangle%s follow%s its header: read", n,
+		         n == 1 ? "" : "s", n == 1 ? "s" : "");
+		if (result == vn_io_success && !vn_io_append_line(&mesh->warnings, text))
+			result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	} else if (binary_size > size) {
 		result = vn_io_fail(error, vn_io_error_parse,
 		                    "%s: binary STL announces %llu triangles (%llu bytes), but the file has %zu bytes: it is "
 		                    "cut short",
 		                    name, (unsigned long long)count, (unsigned long long)binary_size, size);
 	} else {
-		/* Padding after the triangles, as some exporters write. */
-		result = read_binary(&r, r.p, (size_t)count);
-		char text[96];
-		snprintf(text, sizeof text, "%zu bytes after the last triangle, not read", size - (size_t)binary_size);
-		if (result == vn_io_success && !vn_io_append_line(&mesh->warnings, text))
-			result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+		result = read_padded(&r, count, size - (size_t)binary_size, mesh);
 	}
 	if (result == vn_io_success)
 		result = weld(&r, mesh);
