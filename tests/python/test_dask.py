@@ -155,3 +155,24 @@ def test_help():
     p = subprocess.run([sys.executable, "-m", "vn.dask", "--help"], stdout=subprocess.PIPE, universal_newlines=True)
     assert p.returncode == 0
     assert "--scheduler ADDRESS" in p.stdout and "--crease-angle" in p.stdout
+
+
+def test_close_timeout_noise_dropped(caplog):
+    """The message an unread TimeoutError leaves when distributed's client
+    closes is dropped (it ended a run that went well, after its summary:
+    test_command_line then saw it as the last line); any other unread
+    exception is still reported."""
+    import asyncio
+    import gc
+    loop = asyncio.new_event_loop()
+    vn.dask._quiet_close(loop)
+    with caplog.at_level("ERROR", logger="asyncio"):
+        for exception in (TimeoutError("Timeout"), ValueError("kept")):
+            f = loop.create_future()
+            f.set_exception(exception)
+            del f
+            gc.collect()
+    loop.close()
+    messages = [r.getMessage() for r in caplog.records if r.name == "asyncio"]
+    assert len(messages) == 1 and "Future exception was never retrieved" in messages[0]
+    assert "ValueError" in caplog.text and "Timeout" not in caplog.text
