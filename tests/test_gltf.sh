@@ -251,4 +251,9 @@ done
 run "$VNC" "$SAMPLES/sphere-quads.off" "$T/sq.glb" -q && run "$VNC" "$T/sq.glb" "$T/sq.off" --stats
 check "quads are fan-triangulated" grep -q "^faces: *528 (triangles)" "$T/stdout"
 
+# A glTF with no mesh at all, to OFF: an empty mesh (no vertex: the copy of
+# its normals was a memcpy from NULL, which UBSan reported).
+printf '{"asset":{"version":"2.0"}}' >"$T/nothing.gltf"
+run "$VNC" "$T/nothing.gltf" "$T/nothing.off"
+check "a glTF with no mesh to OFF: an empty OFF" [ "$rc $(sed -n 2p "$T/nothing.off")" = "0 0 0 0" ]
 finish

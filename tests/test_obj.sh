@@ -95,6 +95,27 @@ check "v/vt/ and v//: texture coordinates kept" [ "$(grep '^f' "$T/slash-out.obj
 # A face without vt beside faces with them stays without (Draco fills its
 # corners with the first vt, which was written for them before).
 check "v//: no texture coordinate made up" [ "$(grep '^f' "$T/slash-out.obj" | tail -1)" = "f 2//1 4//1 3//1" ]
+# A face without vt has vertices of its own: Draco gives its corners the
+# first vt, and merged them with a textured face's corners there; written and
+# read again, the first vt was another one and they split (fuzz_obj found it).
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 1\nf 3/2 1/1 2/2\nf 1 2 4\n' >"$T/first_vt.obj"
+run "$VNC" "$T/first_vt.obj" "$T/first_vt2.obj" --stats
+once=$(stat vertices)
+run "$VNC" "$T/first_vt2.obj" "$T/first_vt3.obj" --stats
+check "f v beside f v/vt: written and read again, the same $once vertices" [ "$once $(stat vertices)" = "6 6" ]
+check "f v beside f v/vt: OBJ to OBJ twice, the same file" cmp -s "$T/first_vt2.obj" "$T/first_vt3.obj"
+# Draco's parser reads numbers with its own arithmetic, one float away from
+# strtod's at times: 44082806 (the float 44082808) was written as 4.408281e+07,
+# which Draco reads as 44082812 (fuzz_obj found it). Written as Draco reads.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 44082806\nf 1 2 3\n' >"$T/draco_float.obj"
+"$VNC" "$T/draco_float.obj" "$T/draco_float2.obj" -q
+"$VNC" "$T/draco_float2.obj" "$T/draco_float3.obj" -q
+check "a float Draco reads otherwise than strtod: OBJ to OBJ twice, the same file" cmp -s "$T/draco_float2.obj" "$T/draco_float3.obj"
+# An o line whose name is NUL bytes names nothing (it was written as 'o ',
+# which reads back as no object).
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\no \0\0\0\nf 1 2 3\n' >"$T/nul_name.obj"
+run "$VNC" "$T/nul_name.obj" "$T/nul_name2.obj"
+check "o with a NUL name: no o line written" [ "$rc $(grep -c '^o' "$T/nul_name2.obj")" = "0 0" ]
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0.5 0.25\nvt 0.7 0.7\nf 1 2 3\nf 2/2 4/2 3/2\n' >"$T/mixed.obj"
 run "$VNC" "$T/mixed.obj" "$T/mixed-out.obj"
 check "f v beside f v/vt: as they were, one vt line" [ "$(grep -E '^(f|vt)' "$T/mixed-out.obj" | tr '\n' ,)" = "vt 0.7 0.7,f 1//1 2//1 3//1,f 2/1/1 4/1/1 3/1/1," ]

@@ -76,7 +76,8 @@ vn_io_result compute(vn_io_mesh* mesh, const char* path, const vn_io_normals_opt
 	double* out = static_cast<double*>(std::malloc(3 * sizeof(double) * (outputs ? outputs : 1)));
 	if (!out)
 		return failed(vn_result_out_of_memory);
-	memcpy(out, normals.data(), 3 * sizeof(double) * outputs);
+	if (outputs) /* an empty mesh's vector has no data */
+		memcpy(out, normals.data(), 3 * sizeof(double) * outputs);
 	if (!g.extra_source.empty()) {
 		bool grown = append_copies((void**)&mesh->positions, 3 * sizeof(double), n, g.extra_source) &&
 		             append_copies((void**)&mesh->colors, 4 * sizeof(float), n, g.extra_source) &&

@@ -59,6 +59,55 @@ bool space(char c)
 	return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r';
 }
 
+/* parser::ParseUnsignedInt and ParseSignedInt, the text up to end: uint32
+ * arithmetic, wrapping as Draco's does; *overflow tells when it wrapped. */
+bool draco_signed(const char*& q, const char* end, int32_t* value, bool* overflow)
+{
+	int sign = 1;
+	if (q < end && (*q == '-' || *q == '+'))
+		sign = *q++ == '-' ? -1 : 1;
+	uint32_t v = 0;
+	uint64_t exact = 0;
+	const char* digits = q;
+	for (; q < end && *q >= '0' && *q <= '9'; q++) {
+		v = v * 10 + uint32_t(*q - '0');
+		exact = std::min<uint64_t>(exact * 10 + uint64_t(*q - '0'), UINT64_C(1) << 32);
+	}
+	if (q == digits)
+		return false;
+	*value = int32_t(sign < 0 ? 0u - v : v);
+	if (overflow)
+		*overflow = exact > INT32_MAX;
+	return true;
+}
+
+/* parser::ParseFloat's arithmetic after the sign (so the same value): digits,
+ * '.', digits, then an exponent; *digits says whether there was a digit
+ * (if not, *out is 0 and the exponent is not read). False when an exponent
+ * has no digits. */
+bool draco_magnitude(const char*& q, const char* end, double* out, bool* digits)
+{
+	double v = 0.0;
+	*digits = false;
+	for (; q < end && *q >= '0' && *q <= '9'; q++, *digits = true)
+		v = v * 10.0 + (*q - '0');
+	if (q < end && *q == '.') {
+		double fraction = 1.0;
+		for (q++; q < end && *q >= '0' && *q <= '9'; q++, *digits = true) {
+			fraction *= 0.1;
+			v += (*q - '0') * fraction;
+		}
+	}
+	if (*digits && q < end && (*q == 'e' || *q == 'E')) {
+		int32_t exponent;
+		if (!draco_signed(++q, end, &exponent, nullptr))
+			return false;
+		v *= std::pow(10.0, exponent);
+	}
+	*out = v;
+	return true;
+}
+
 /* Draco's face limit (ObjDecoder::ParseFace, kMaxCorners): longer faces
  * are split for it (scanner::split_long_faces). */
 const int max_corners = 8;
@@ -131,22 +180,7 @@ struct scanner {
 	 * wrapping as Draco's does; *overflow tells when it wrapped. */
 	bool parse_signed(const char*& q, int32_t* value, bool* overflow = nullptr) const
 	{
-		int sign = 1;
-		if (q < line_end && (*q == '-' || *q == '+'))
-			sign = *q++ == '-' ? -1 : 1;
-		uint32_t v = 0;
-		uint64_t exact = 0;
-		const char* digits = q;
-		for (; q < line_end && *q >= '0' && *q <= '9'; q++) {
-			v = v * 10 + uint32_t(*q - '0');
-			exact = std::min<uint64_t>(exact * 10 + uint64_t(*q - '0'), UINT64_C(1) << 32);
-		}
-		if (q == digits)
-			return false;
-		*value = int32_t(sign < 0 ? 0u - v : v);
-		if (overflow)
-			*overflow = exact > INT32_MAX;
-		return true;
+		return draco_signed(q, line_end, value, overflow);
 	}
 
 	/* An index: as Draco reads it, or 0 (refused) when it wrapped. */
@@ -163,17 +197,10 @@ struct scanner {
 		int sign = 1;
 		if (q < line_end && (*q == '-' || *q == '+'))
 			sign = *q++ == '-' ? -1 : 1;
-		bool digits = false;
-		double v = 0.0;
-		for (; q < line_end && *q >= '0' && *q <= '9'; q++, digits = true)
-			v = v * 10.0 + (*q - '0');
-		if (q < line_end && *q == '.') {
-			double fraction = 1.0;
-			for (q++; q < line_end && *q >= '0' && *q <= '9'; q++, digits = true) {
-				fraction *= 0.1;
-				v += (*q - '0') * fraction;
-			}
-		}
+		bool digits;
+		double v;
+		if (!draco_magnitude(q, line_end, &v, &digits))
+			return false;
 		if (!digits) {
 			skip_blanks(q);
 			const int n = token_length(q);
@@ -185,11 +212,6 @@ struct scanner {
 				v = NAN;
 			else
 				return false;
-		} else if (q < line_end && (*q == 'e' || *q == 'E')) {
-			int32_t exponent;
-			if (!parse_signed(++q, &exponent))
-				return false;
-			v *= std::pow(10.0, exponent);
 		}
 		*value = sign < 0 ? float(-v) : float(v);
 		return true;
@@ -500,12 +522,13 @@ bool face_names(const draco::Mesh& m, const char* label, const std::vector<uint3
 		int id = 0;
 		const draco::FaceIndex t(first_triangle[f]);
 		out->of_face[f] = int64_t(first_triangle[f]) < first || !a->ConvertValue<int>(a->mapped_index(m.face(t)[0]), &id) ||
-		                          id < 0 || size_t(id) >= names.size()
+		                          id < 0 || size_t(id) >= names.size() || names[size_t(id)].c_str()[0] == '\0'
 		                      ? VN_IO_NO_NAME
 		                      : uint32_t(id);
 	}
-	/* Names that no face has (an `o` after the last face): none, as the
-	 * writer would write none. */
+	/* An empty name, as C text (a name of NUL bytes: names are copied to
+	 * their first NUL), names nothing. Names that no face has (an `o` after the last
+	 * face): none, as the writer would write none. */
 	if (std::all_of(out->of_face, out->of_face + first_triangle.size(), [](uint32_t i) { return i == VN_IO_NO_NAME; })) {
 		for (size_t i = 0; i < out->count; i++)
 			std::free(out->names[i]);
@@ -545,8 +568,9 @@ vn_io_result out_of_memory(const char* name, vn_io_error* error)
 	return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 }
 
-/* mesh->face_untextured where some face has no vt (the file has vt);
- * false when out of memory. */
+/* mesh->face_untextured where some face has no vt but others have
+ * (texcoords are read only when some face has one); false when out of
+ * memory. */
 bool untextured_faces(const scanner& s, vn_io_mesh* mesh)
 {
 	if (std::find(s.face_textured.begin(), s.face_textured.end(), 0) == s.face_textured.end())
@@ -565,18 +589,30 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 {
 	using draco::GeometryAttribute;
 	const draco::PointAttribute* pos = m.GetNamedAttribute(GeometryAttribute::POSITION);
-	const draco::PointAttribute* tex = m.GetNamedAttribute(GeometryAttribute::TEX_COORD);
+	/* vt lines no face uses give no texture coordinates (Draco would give
+	 * every corner the first). */
+	const bool textured = std::find(s.face_textured.begin(), s.face_textured.end(), 1) != s.face_textured.end();
+	const draco::PointAttribute* tex = textured ? m.GetNamedAttribute(GeometryAttribute::TEX_COORD) : nullptr;
 	const draco::PointAttribute* nrm = m.GetNamedAttribute(GeometryAttribute::NORMAL);
 	if (!pos || m.num_faces() == 0)
 		return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader found no faces", s.name);
 
-	std::vector<uint32_t> vertex_of_point(m.num_points(), UINT32_MAX);
+	std::vector<uint32_t> vertex_of_point;
 	std::unordered_map<corner_key, uint32_t, corner_hash> vertex_of;
 	std::vector<corner_key> vertices;
-	auto vertex = [&](draco::PointIndex p) {
-		uint32_t& v = vertex_of_point[p.value()];
+	/* A corner of a face without vt is Draco's point with the first vt, but
+	 * a vertex of its own (no texture coordinate, NO_TEX), so that it is not
+	 * merged with the first vt's corners of textured faces. */
+	constexpr uint32_t NO_TEX = UINT32_MAX;
+	std::vector<uint32_t> untextured_vertex_of_point;
+	auto vertex = [&](draco::PointIndex p, bool untextured) {
+		std::vector<uint32_t>& cache = untextured ? untextured_vertex_of_point : vertex_of_point;
+		if (cache.empty())
+			cache.assign(m.num_points(), UINT32_MAX);
+		uint32_t& v = cache[p.value()];
 		if (v == UINT32_MAX) {
-			const corner_key k = {{pos->mapped_index(p).value(), tex ? tex->mapped_index(p).value() : 0,
+			const corner_key k = {{pos->mapped_index(p).value(),
+			                       tex && !untextured ? tex->mapped_index(p).value() : NO_TEX,
 			                       nrm ? nrm->mapped_index(p).value() : 0}};
 			v = vertex_of.emplace(k, uint32_t(vertices.size())).first->second;
 			if (v == vertices.size())
@@ -588,15 +624,17 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	 * the first one's corners, then the last corner of each other one. */
 	std::vector<uint32_t> offsets{0}, indices, first_triangle;
 	uint32_t t = 0;
-	for (uint32_t k : s.face_corners) {
+	for (size_t face = 0; face < s.face_corners.size(); face++) {
+		const uint32_t k = s.face_corners[face];
+		const bool untextured = !s.face_textured[face];
 		if (t + (k - 2) > m.num_faces())
 			return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader found fewer faces than the file has",
 			                  s.name);
 		const draco::Mesh::Face& f = m.face(draco::FaceIndex(t));
 		first_triangle.push_back(t);
-		indices.insert(indices.end(), {vertex(f[0]), vertex(f[1]), vertex(f[2])});
+		indices.insert(indices.end(), {vertex(f[0], untextured), vertex(f[1], untextured), vertex(f[2], untextured)});
 		for (uint32_t j = 1; j < k - 2; j++)
-			indices.push_back(vertex(m.face(draco::FaceIndex(t + j))[2]));
+			indices.push_back(vertex(m.face(draco::FaceIndex(t + j))[2], untextured));
 		offsets.push_back(uint32_t(indices.size()));
 		t += k - 2;
 	}
@@ -608,7 +646,7 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 		float v[3];
 		pos->ConvertValue<float, 3>(draco::AttributeValueIndex(vertices[i].v[0]), v);
 		positions[3 * i] = v[0], positions[3 * i + 1] = v[1], positions[3 * i + 2] = v[2];
-		if (tex)
+		if (tex && vertices[i].v[1] != NO_TEX)
 			tex->ConvertValue<float, 2>(draco::AttributeValueIndex(vertices[i].v[1]), &texcoords[2 * i]);
 		if (nrm) {
 			nrm->ConvertValue<float, 3>(draco::AttributeValueIndex(vertices[i].v[2]), v);
@@ -723,10 +761,32 @@ uint64_t bits(double x)
 /* A value read from a float (OBJ, glTF, Draco) as the shortest text that
  * reads back as that float, which a float reader (every OBJ reader) gets
  * exactly; any other double in full. */
+/* " v": the shortest of 6 to 12 significant digits that Draco's parser
+ * reads back as v (draco_magnitude: its arithmetic can land one float away
+ * from strtod's, which vn_io_put_float checks with), else 9. */
+void put_obj_float(vn_io_text_out* w, float v)
+{
+	char text[40];
+	for (int digits = 6; digits <= 12; digits++) {
+		snprintf(text, sizeof text, " %.*g", digits, (double)v);
+		const char* q = text + 1 + (text[1] == '-');
+		const char* end = text + std::strlen(text);
+		double back;
+		bool any;
+		if (draco_magnitude(q, end, &back, &any) && any && q == end &&
+		    (text[1] == '-' ? float(-back) : float(back)) == v) {
+			vn_io_put(w, text);
+			return;
+		}
+	}
+	snprintf(text, sizeof text, " %.9g", (double)v);
+	vn_io_put(w, text);
+}
+
 void put_coordinate(vn_io_text_out* w, double x)
 {
 	if (std::fabs(x) <= FLT_MAX && double(float(x)) == x)
-		vn_io_put_float(w, float(x));
+		put_obj_float(w, float(x));
 	else
 		vn_io_put_exact(w, " ", x);
 }
@@ -877,7 +937,7 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 		for (int k = 0; k < 3; k++)
 			put_coordinate(&w, p[k]);
 		for (int k = 0; rgb && k < 3; k++)
-			vn_io_put_float(&w, rgb[k]);
+			put_obj_float(&w, rgb[k]);
 		vn_io_put(&w, "\n");
 	}
 	numbering<2> texcoords;
@@ -887,8 +947,8 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 		if (!textured[i] || (vt[i] = texcoords.of({bits(t[0]), bits(t[1])}, &fresh), !fresh))
 			continue;
 		vn_io_put(&w, "vt");
-		vn_io_put_float(&w, t[0]);
-		vn_io_put_float(&w, t[1]);
+		put_obj_float(&w, t[0]);
+		put_obj_float(&w, t[1]);
 		vn_io_put(&w, "\n");
 	}
 	numbering<3> normals;
