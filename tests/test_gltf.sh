@@ -256,4 +256,17 @@ check "quads are fan-triangulated" grep -q "^faces: *528 (triangles)" "$T/stdout
 printf '{"asset":{"version":"2.0"}}' >"$T/nothing.gltf"
 run "$VNC" "$T/nothing.gltf" "$T/nothing.off"
 check "a glTF with no mesh to OFF: an empty OFF" [ "$rc $(sed -n 2p "$T/nothing.off")" = "0 0 0 0" ]
+# A new indices accessor (split vertices; --draco on) keeps the name and
+# extras the file gave the one it replaces, as the attribute accessors do.
+python3 - "$T/twosided.gltf" "$T/labelled.gltf" <<'PYEOF'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["accessors"][d["meshes"][0]["primitives"][0]["indices"]].update(name="bowl indices", extras={"k": 2})
+json.dump(d, open(sys.argv[2], "w"))
+PYEOF
+label() { python3 -c "import json, sys; d = json.load(open(sys.argv[1])); a = d['accessors'][d['meshes'][0]['primitives'][0]['indices']]; print(a.get('name'), a.get('extras'))" "$1"; }
+for o in "--crease-angle 1" "--draco on"; do
+  run "$VNC" "$T/labelled.gltf" "$T/labelled-out.gltf" $o
+  check "new indices accessor ($o): its name and extras kept" [ "$rc $(label "$T/labelled-out.gltf")" = "0 bowl indices {'k': 2}" ]
+done
 finish

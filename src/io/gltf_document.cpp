@@ -610,6 +610,21 @@ long long append_accessor(document& d, json a)
 	return (long long)d.j["accessors"].size() - 1;
 }
 
+json with_indices_label(const document& d, const json& prim, json a)
+{
+	const auto at = prim.find("indices");
+	if (at == prim.end() || !at->is_number_integer() || !d.j.contains("accessors"))
+		return a;
+	const long long old = at->get<long long>();
+	const json& accessors = d.j["accessors"];
+	if (old < 0 || (size_t)old >= accessors.size() || !accessors[(size_t)old].is_object())
+		return a;
+	for (const char* key : {"name", "extras"})
+		if (accessors[(size_t)old].contains(key))
+			a[key] = accessors[(size_t)old][key];
+	return a;
+}
+
 vn_io_result to_error(const failure& f, const char* path, vn_io_error* error)
 {
 	if (f.names_file)

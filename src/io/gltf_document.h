@@ -232,6 +232,9 @@ size_t append_bytes(document& d, size_t b, bytes data);
 /* A new bufferView holding data, a new accessor: their indices. */
 size_t append_view(document& d, bytes data, size_t stride, int target);
 long long append_accessor(document& d, json a);
+/* a, a new indices accessor for primitive prim, with the name and extras of
+ * the one it replaces (when prim has indices), which the file gave it. */
+json with_indices_label(const document& d, const json& prim, json a);
 
 /* ------------------------------------------------------------------ meshopt (gltf_meshopt.cpp) */
 

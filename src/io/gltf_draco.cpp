@@ -501,9 +501,11 @@ void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, v
 	const size_t view = append_draco(d, std::move(encoder), bits.compression_level, targets, position,
 	                                 ext_attributes["POSITION"].get<uint32_t>(), w.bounded, what);
 	const size_t points = kept.size();
-	prim["indices"] = append_accessor(d, json{{"componentType", points <= 256 ? 5121 : points <= 65536 ? 5123 : 5125},
-	                                          {"count", triangles.size()},
-	                                          {"type", "SCALAR"}});
+	prim["indices"] = append_accessor(
+	    d, with_indices_label(d, prim,
+	                          json{{"componentType", points <= 256 ? 5121 : points <= 65536 ? 5123 : 5125},
+	                               {"count", triangles.size()},
+	                               {"type", "SCALAR"}}));
 	if (prim.contains("mode"))
 		prim["mode"] = 4;
 	if (!prim.contains("extensions"))

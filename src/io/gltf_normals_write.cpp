@@ -133,10 +133,11 @@ static void write_split(document& d, const primitive& p)
 		return;
 	bytes data(p.split_triangles.size() * 4);
 	memcpy(data.data(), p.split_triangles.data(), data.size());
-	prim["indices"] = append_accessor(d, json{{"bufferView", append_view(d, std::move(data), 0, 34963)},
-	                                          {"componentType", 5125},
-	                                          {"count", p.split_triangles.size()},
-	                                          {"type", "SCALAR"}});
+	prim["indices"] = append_accessor(d, with_indices_label(d, prim,
+	                                                        json{{"bufferView", append_view(d, std::move(data), 0, 34963)},
+	                                                             {"componentType", 5125},
+	                                                             {"count", p.split_triangles.size()},
+	                                                             {"type", "SCALAR"}}));
 	if (prim.contains("mode"))
 		prim["mode"] = 4; /* strips and fans become triangle lists */
 }
