@@ -209,6 +209,38 @@ for f in "$DATA/car.drc" "$DD/cube-parts.drc" "$DD/tetra-rgba.drc" "$DD/test_nm.
   check "$name: three conversions change nothing but NORMAL" $SAME "$T/keep-$name-0.json" "$T/keep-$name-3.json"
 done
 check "cube-parts: GENERIC metadata kept" grep -q '"name":"sub_obj"' "$T/keep-cube-parts-3.json"
+# Polygons kept by draco_encoder -preserve_polygons (an "added_edges" mark a
+# point, read across the triangles' shared edges) come back as polygons from
+# vn's stream: a 3 x 3 quad grid on shared vertices and an octagon (Draco's
+# octagon_preserved.obj). Before, each point had a POSITION value of its
+# own, edgebreaker saw every shared edge as a cut, and draco_decoder gave
+# the octagon back as 4 triangles and a quad.
+python3 - "$T/poly.obj" <<'EOF'
+import math, sys
+with open(sys.argv[1], "w") as o:
+    for j in range(4):
+        for i in range(4):
+            o.write(f"v {i} {j} {0.1 * i * j}\n")
+    for k in range(8):
+        a = 2 * math.pi * k / 8
+        o.write(f"v {6 + math.cos(a)} {1.5 + math.sin(a)} 0\n")
+    for j in range(3):
+        for i in range(3):
+            v = 1 + 4 * j + i
+            o.write(f"f {v} {v + 1} {v + 5} {v + 4}\n")
+    o.write("f " + " ".join(str(17 + k) for k in range(8)) + "\n")
+EOF
+polygons() { grep '^f ' "$1" | awk '{print NF - 1}' | sort -n | uniq -c | tr -s ' \n' ' '; }
+draco_encoder -i "$T/poly.obj" -o "$T/poly.drc" -preserve_polygons >/dev/null
+check "preserved polygons: draco_encoder made the input" [ -s "$T/poly.drc" ]
+draco_decoder -i "$T/poly.drc" -o "$T/poly-in.obj" >/dev/null
+check "preserved polygons: the input decodes to 9 quads and an octagon" \
+  [ "$(polygons "$T/poly-in.obj")" = " 9 4 1 8 " ]
+run "$VNC" "$T/poly.drc" "$T/poly-out.drc" -q
+check "preserved polygons: .drc -> .drc exits 0" [ $rc -eq 0 ]
+draco_decoder -i "$T/poly-out.drc" -o "$T/poly-out.obj" >/dev/null
+check "preserved polygons: vn's stream decodes to 9 quads and an octagon" \
+  [ "$(polygons "$T/poly-out.obj")" = " 9 4 1 8 " ]
 # New bits: a new grid, within a step of the new bits.
 run "$VNC" "$DATA/car.drc" "$T/keep-car-qp10.drc" -q --draco-qp 10
 check "--draco-qp 10 on a .drc: exits 0" [ $rc -eq 0 ]

@@ -465,6 +465,14 @@ static vn_io_result prepare(const vn_drc_geometry* g, const char* name, vn_drc_e
 			        int32_t(mesh.attribute(id)->unique_id())))
 				mesh.AddAttributeMetadata(id, std::unique_ptr<draco::AttributeMetadata>(new draco::AttributeMetadata(*m)));
 	}
+	/* Points that share a value (bit for bit) share it in the stream, as
+	 * Draco's own loaders and its JavaScript encoder make them: edgebreaker
+	 * connects triangles through shared POSITION values only, so with one
+	 * value a point every seam was a cut. That lost the polygons of a
+	 * --preserve_polygons file (its "added_edges" marks are read across
+	 * edges) and compressed worse. The points and their values are unchanged. */
+	if (!mesh.DeduplicateAttributeValues())
+		return vn_io_fail(error, vn_io_error_unsupported, "%s: Draco cannot index this mesh's attribute values", name);
 	return vn_io_success;
 }
 
