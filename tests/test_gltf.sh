@@ -256,6 +256,16 @@ check "quads are fan-triangulated" grep -q "^faces: *528 (triangles)" "$T/stdout
 printf '{"asset":{"version":"2.0"}}' >"$T/nothing.gltf"
 run "$VNC" "$T/nothing.gltf" "$T/nothing.off"
 check "a glTF with no mesh to OFF: an empty OFF" [ "$rc $(sed -n 2p "$T/nothing.off")" = "0 0 0 0" ]
+# To a format that needs faces: one line saying there is nothing (Draco
+# said "all triangles are degenerate", OBJ and PLY "write OFF for a point
+# cloud"), and no file.
+for ext in drc obj ply stl; do
+  run "$VNC" "$T/nothing.gltf" "$T/nothing.$ext"
+  check "a glTF with no mesh to $ext: exit 1" [ $rc -eq 1 ]
+  check "a glTF with no mesh to $ext: one line" one_line_err
+  check "a glTF with no mesh to $ext: says so" grep -q "nothing.$ext: .*nothing.gltf has no vertices and no faces: nothing to write$" "$T/stderr"
+  check "a glTF with no mesh to $ext: no file" [ ! -e "$T/nothing.$ext" ]
+done
 # A new indices accessor (split vertices; --draco on) keeps the name and
 # extras the file gave the one it replaces, as the attribute accessors do.
 python3 - "$T/twosided.gltf" "$T/labelled.gltf" <<'PYEOF'

@@ -38,7 +38,7 @@ static const vn_io_format formats[] = {
     {"off", "OFF", "OFF", ".off", "Geomview Object File Format (reads ASCII and binary, writes ASCII)",
      vn_io_off_read, vn_io_off_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_face_colors |
-         vn_io_holds_polygons | vn_io_holds_loose_vertices,
+         vn_io_holds_polygons | vn_io_holds_loose_vertices | vn_io_holds_no_faces,
      vn_io_path_mesh, 0, "the zero vector",
      {{vn_io_holds_colors, "vertex colours", NULL},
       {vn_io_holds_colors | vn_io_holds_color_alpha, "their alpha", "vertex colour alpha (named)"},
