@@ -266,6 +266,29 @@ for ext in drc obj ply stl; do
   check "a glTF with no mesh to $ext: says so" grep -q "nothing.$ext: .*nothing.gltf has no vertices and no faces: nothing to write$" "$T/stderr"
   check "a glTF with no mesh to $ext: no file" [ ! -e "$T/nothing.$ext" ]
 done
+# A bufferView past its buffer's end (invalid: BUFFER_VIEW_TOO_LONG; assimp's
+# IncorrectVertexArrays/Cube.gltf): the triangle is read, with a warning,
+# and the new NORMAL view starts after the furthest view (it started at the
+# buffer's end, under the long view, whose accessor then read the normals).
+python3 - "$T/long-view.gltf" <<'PYEOF'
+import base64, json, struct, sys
+data = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+json.dump({"asset": {"version": "2.0"},
+           "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+           "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 48}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                          "min": [0, 0, 0], "max": [1, 1, 0]},
+                         {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}]}, open(sys.argv[1], "w"))
+PYEOF
+for ext in gltf glb; do
+  run "$VNC" "$T/long-view.gltf" "$T/long-view-out.$ext"
+  check "a view past its buffer's end -> $ext: exits 0" [ $rc -eq 0 ]
+  check "a view past its buffer's end -> $ext: warns" \
+    grep -q "bufferViews\[1\] ends at byte 84, past the end of buffers\[0\] (36 bytes).*new data goes after byte 84" "$T/stderr"
+  check "a view past its buffer's end -> $ext: the new view after it" \
+    [ "$(q "$T/long-view-out.$ext" "[v.get('byteOffset', 0) for v in d['bufferViews']]")" = "[0, 36, 84]" ]
+done
 # A new indices accessor (split vertices; --draco on) keeps the name and
 # extras the file gave the one it replaces, as the attribute accessors do.
 python3 - "$T/twosided.gltf" "$T/labelled.gltf" <<'PYEOF'

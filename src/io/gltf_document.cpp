@@ -521,6 +521,38 @@ document load(const std::string& path)
 		d.buffers.push_back(load_buffer(d, i, file, bin, bin_length));
 	auto views = d.j.find("bufferViews");
 	d.input_views = views != d.j.end() && views->is_array() ? views->size() : 0;
+	/* Views past their buffer's end (read lazily: an error only when read). */
+	const auto integer = [](const json& o, const char* key, long long none) {
+		auto it = o.find(key);
+		return it == o.end() ? none : it->is_number_integer() ? it->get<long long>() : -1;
+	};
+	size_t past = 0, first = 0, furthest = 0;
+	for (size_t v = 0; v < d.input_views; ++v) {
+		const json& view = (*views)[v];
+		if (!view.is_object())
+			continue;
+		const long long b = integer(view, "buffer", -1), begin = integer(view, "byteOffset", 0),
+		                length = integer(view, "byteLength", -1);
+		if (b < 0 || (size_t)b >= d.buffers.size() || d.buffers[(size_t)b].absent || begin < 0 || length < 0 ||
+		    begin > PTRDIFF_MAX - length)
+			continue;
+		buffer& to = d.buffers[(size_t)b];
+		const size_t end = (size_t)(begin + length);
+		if (end > to.size) {
+			if (!past++)
+				first = v, furthest = end;
+			to.reserved = std::max(to.reserved, end);
+		}
+	}
+	if (past) {
+		const size_t b = (size_t)integer((*views)[first], "buffer", -1);
+		d.warnings.push_back(str("bufferViews[%zu] ends at byte %zu, past the end of buffers[%zu] (%zu bytes)%s: an "
+		                         "invalid file (the validator's BUFFER_VIEW_TOO_LONG); views that fit are read, and "
+		                         "new data goes after byte %zu, zeros before it",
+		                         first, furthest, b, d.buffers[b].size,
+		                         past > 1 ? str(", and %zu more views end past their buffer's", past - 1).c_str() : "",
+		                         d.buffers[b].reserved));
+	}
 	return d;
 }
 

@@ -51,9 +51,14 @@ struct buffer {
 	std::shared_ptr<unsigned char> owner;
 	unsigned char* base = nullptr;
 	size_t size = 0;
+	/* The end of the file's furthest view of it where that is past size
+	 * (an invalid file: the validator's BUFFER_VIEW_TOO_LONG), else 0: what
+	 * vn appends starts after it, so that no appended view overlaps one of
+	 * the file's. */
+	size_t reserved = 0;
 	bool absent = false;
 	std::vector<std::pair<size_t, bytes>> tail;
-	size_t tail_start() const { return (size + 3) / 4 * 4; }
+	size_t tail_start() const { return (std::max(size, reserved) + 3) / 4 * 4; }
 	size_t tail_size() const { return tail.empty() ? 0 : tail.back().first + tail.back().second.size(); }
 	size_t total() const { return tail.empty() ? size : tail_start() + tail_size(); }
 	unsigned char* at(size_t offset) const
