@@ -64,6 +64,34 @@ check "_CONFIDENCE: 35947 floats" [ "$(q "$T/bun.glb" "(lambda a: (a['count'], a
 run "$VNC" "$T/bun.glb" "$T/bun_back.ply" -q
 check "bunny PLY to glb to PLY: every property and face exactly" $PLYTOOL same "$T/bun_zipper.ply" "$T/bun_back.ply"
 check "confidence of vertex 0 is 0.850855 (as float)" [ "$($PLYTOOL column "$T/bun_back.ply" confidence 0)" = 0.8508549928665161 ]
+# PLY to PLY keeps every vertex property's name: characters glTF's names
+# lack (my-prop was written my_prop, and the file's own my_prop became
+# my_prop_4), case (Quality), names past 62 characters, and names the
+# reader gives a role it did not take them in (ushort red green blue are no
+# colour to vn, and were written red_0 green_1 blue_2; a short s next to
+# float u v was written s_0, and the texture coordinates as s t).
+long=$(printf 'p%.0s' $(seq 1 100))
+/usr/bin/python3 - "$T/names.ply" "$long" <<'EOF'
+import struct, sys
+props = [("float", "x"), ("float", "y"), ("float", "z"), ("float", "my-prop"), ("float", "my_prop"),
+         ("float", "Quality"), ("float", sys.argv[2]), ("ushort", "red"), ("ushort", "green"), ("ushort", "blue"),
+         ("short", "s"), ("float", "u"), ("float", "v")]
+verts = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 0.5)]
+with open(sys.argv[1], "wb") as f:
+    f.write(b"ply\nformat binary_little_endian 1.0\nelement vertex 4\n")
+    f.write("".join(f"property {t} {n}\n" for t, n in props).encode())
+    f.write(b"element face 2\nproperty list uchar int vertex_indices\nend_header\n")
+    for i, p in enumerate(verts):
+        f.write(struct.pack("<6f", *p, 10 + i, 20 + i, 30 + i) + struct.pack("<f3Hh2f", 40 + i, 1000 * i, 2000 * i,
+                                                                            3000 * i, -i, 0.25 * i, 0.5 * i))
+    f.write(struct.pack("<B3i", 3, 0, 1, 2) + struct.pack("<B3i", 3, 1, 3, 2))
+EOF
+run "$VNC" "$T/names.ply" "$T/names-out.ply" -q
+check "property names: PLY to PLY exits 0" [ $rc -eq 0 ]
+check "property names: every vertex property kept, by name, type and values" $PLYTOOL same "$T/names.ply" "$T/names-out.ply"
+check "property names: the texture coordinates as u v" grep -aq "^property float u$" "$T/names-out.ply"
+run "$VNC" "$T/names-out.ply" "$T/names-again.ply" -q
+check "property names: a second round trip gives the same file" cmp "$T/names-out.ply" "$T/names-again.ply"
 
 # ---- in place, as issue 17 asks
 cp "$T/bun_zipper.ply" "$T/scan.ply"

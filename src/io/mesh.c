@@ -62,7 +62,7 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 	free(mesh->indices);
 	free(mesh->face_colors);
 	for (size_t i = 0; i < mesh->attribute_count; i++)
-		free(mesh->attributes[i].data);
+		free(mesh->attributes[i].data), free(mesh->attributes[i].source_name);
 	free(mesh->attributes);
 	vn_io_face_names* sets[2] = {&mesh->materials, &mesh->objects};
 	for (size_t k = 0; k < 2; k++) {

@@ -108,15 +108,18 @@ static void reverse(unsigned char* p, size_t n)
 
 /* ------------------------------------------------------------------ reader state */
 
+/* Room for a property's or element's name (longer ones are cut). */
+#define PLY_NAME_MAX 256
+
 typedef struct ply_property {
-	char name[64];
+	char name[PLY_NAME_MAX];
 	int type;              /* of the values */
 	int count_type;        /* of a list's length; -1: not a list */
 	unsigned char* column; /* kept scalars: the element's values in host byte order; else NULL */
 } ply_property;
 
 typedef struct ply_element {
-	char name[64];
+	char name[PLY_NAME_MAX];
 	uint64_t count;
 	ply_property* properties;
 	size_t property_count;
@@ -247,9 +250,9 @@ static int parse_count(token t, uint64_t* out)
 	return 1;
 }
 
-static void copy_name(char name[64], token t)
+static void copy_name(char name[PLY_NAME_MAX], token t)
 {
-	const size_t n = t.n < 63 ? t.n : 63;
+	const size_t n = t.n < PLY_NAME_MAX - 1 ? t.n : PLY_NAME_MAX - 1;
 	memcpy(name, t.p, n);
 	name[n] = '\0';
 }
@@ -719,6 +722,11 @@ static vn_io_result read_colours(ply_reader* r, ply_element* e, float** out, int
 	return vn_io_success;
 }
 
+/* The pairs of property names the reader takes as texture coordinates, in
+ * its order of preference (the writer writes the first free one). */
+static const char* const texcoord_pairs[4][2] = {{"s", "t"}, {"u", "v"}, {"texture_u", "texture_v"},
+                                                 {"texture_s", "texture_t"}};
+
 /* "_" and the property's name in upper case, other characters than letters
  * and digits as '_', unique among the mesh's attributes. */
 static void attribute_name(const vn_io_mesh* m, const ply_property* p, size_t index, char name[64])
@@ -772,10 +780,9 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 	}
 	if (result == vn_io_success)
 		result = read_colours(r, v, &m->colors, &m->colors_are_bytes, used);
-	static const char* const pairs[4][2] = {{"s", "t"}, {"u", "v"}, {"texture_u", "texture_v"}, {"texture_s", "texture_t"}};
 	for (int k = 0; k < 4 && result == vn_io_success && !m->texcoords; k++) {
-		ply_property* s = find_scalar(v, pairs[k][0]);
-		ply_property* t = find_scalar(v, pairs[k][1]);
+		ply_property* s = find_scalar(v, texcoord_pairs[k][0]);
+		ply_property* t = find_scalar(v, texcoord_pairs[k][1]);
 		if (!s || !t || !is_real(s->type) || !is_real(t->type))
 			continue;
 		if (!(m->texcoords = malloc(2 * sizeof(float) * n + 1))) {
@@ -796,10 +803,12 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 		char name[64];
 		attribute_name(m, p, k, name);
 		vn_io_attribute* a = vn_io_mesh_add_attribute(m, name, vn_io_semantic_generic, types[p->type].gltf, 1, 0);
-		if (!a) {
+		const size_t length = strlen(p->name) + 1;
+		if (!a || !(a->source_name = malloc(length))) {
 			result = out_of_memory(r);
 			break;
 		}
+		memcpy(a->source_name, p->name, length);
 		if (p->type != PLY_FLOAT64) {
 			memcpy(a->data, p->column, n * types[p->type].size);
 			continue;
@@ -811,7 +820,7 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 			rounded += (double)f != x && x == x;
 			((float*)a->data)[i] = f;
 		}
-		char text[160];
+		char text[PLY_NAME_MAX + 96];
 		snprintf(text, sizeof text, "vertex property '%s' is double, kept as float: %zu of its %zu values rounded",
 		         p->name, rounded, n);
 		if (rounded && !warn(r, text))
@@ -940,35 +949,62 @@ static int ply_type_of(int component_type)
 	return -1;
 }
 
-/* Names a reader gives a meaning; an attribute is not written under one. */
-static int reserved(const char* name)
+/* Names the writer gives the mesh's texture coordinates: the first pair
+ * the reader knows that no attribute read from a PLY was called (a file's
+ * `short s` next to its `u v` keeps its name, and the pair is u v). */
+static const char* const* texcoord_names(const vn_io_mesh* m)
 {
-	static const char* const names[] = {"x",     "y",     "z",         "nx",        "ny",        "nz",
-	                                    "red",   "green", "blue",      "alpha",     "s",         "t",
-	                                    "u",     "v",     "texture_u", "texture_v", "texture_s", "texture_t"};
-	for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-		if (!strcmp(name, names[i]))
+	for (int k = 0; k < 4; k++) {
+		int free_pair = 1;
+		for (size_t a = 0; a < m->attribute_count && free_pair; a++)
+			for (int c = 0; c < 2 && m->attributes[a].source_name; c++)
+				free_pair &= strcmp(m->attributes[a].source_name, texcoord_pairs[k][c]) != 0;
+		if (free_pair)
+			return texcoord_pairs[k];
+	}
+	return texcoord_pairs[0];
+}
+
+/* Whether the writer gives name a meaning in this file (x, y, z, and the
+ * normals', colours' and texture coordinates' names where it writes them),
+ * or, with every_role, whether any reader role has it. */
+static int role_name(const vn_io_mesh* m, const char* name, int every_role)
+{
+	static const char* const roles[] = {"x",     "y", "z", "nx",  "ny",        "nz",        "red",       "green",
+	                                    "blue",  "alpha", "s", "t", "u",      "v",         "texture_u", "texture_v",
+	                                    "texture_s", "texture_t"};
+	const size_t n = sizeof roles / sizeof roles[0];
+	for (size_t i = 0; i < n; i++) {
+		if (strcmp(name, roles[i]))
+			continue;
+		if (every_role || i < 3 || (i < 6 && m->normals) || (i < 10 && i >= 6 && m->colors))
 			return 1;
+		const char* const* tex = texcoord_names(m);
+		return i >= 10 && m->texcoords && (!strcmp(name, tex[0]) || !strcmp(name, tex[1]));
+	}
 	return 0;
 }
 
-/* Attribute a's property name for component c: its name in lower case
- * without the leading '_' ("_CONFIDENCE" is "confidence"), "_c" after it for
- * more than one component, and "_<a>" after that if the name is taken. */
+/* Attribute a's property name for component c: the name of the property it
+ * was read from (source_name), else its name in lower case without the
+ * leading '_' ("_CONFIDENCE" is "confidence"), "_c" after it for more than
+ * one component; "_<a>" after that where the name is taken (by what the
+ * writer writes, or an earlier attribute). name has room for size bytes. */
 static void property_name(const vn_io_mesh* m, size_t a, int c, char* name, size_t size)
 {
 	const vn_io_attribute* at = &m->attributes[a];
-	const char* s = at->name[0] == '_' && at->name[1] ? at->name + 1 : at->name;
+	const int own = at->source_name && at->components == 1;
+	const char* s = own ? at->source_name : at->name[0] == '_' && at->name[1] ? at->name + 1 : at->name;
 	size_t n = 0;
 	for (; *s && n + 1 < size; s++)
-		name[n++] = *s >= 'A' && *s <= 'Z' ? (char)(*s - 'A' + 'a') : *s;
+		name[n++] = own || !(*s >= 'A' && *s <= 'Z') ? *s : (char)(*s - 'A' + 'a');
 	name[n] = '\0';
 	if (at->components > 1)
 		snprintf(name + n, size - n, "_%d", c);
-	int taken = reserved(name);
+	int taken = role_name(m, name, !own);
 	for (size_t b = 0; b < a && !taken; b++)
 		for (int k = 0; k < m->attributes[b].components && !taken; k++) {
-			char other[96];
+			char other[PLY_NAME_MAX + 32];
 			property_name(m, b, k, other, sizeof other);
 			taken = !strcmp(other, name);
 		}
@@ -1005,7 +1041,7 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	if (mesh->colors)
 		header_colour(out, mesh->colors_are_bytes);
 	if (mesh->texcoords)
-		fprintf(out, "property float s\nproperty float t\n");
+		fprintf(out, "property float %s\nproperty float %s\n", texcoord_names(mesh)[0], texcoord_names(mesh)[1]);
 	size_t record_size = 3 * (doubles ? 8u : 4u) + (mesh->normals ? 12u : 0u) +
 	                     (mesh->colors ? (mesh->colors_are_bytes ? 4u : 16u) : 0u) +
 	                     (mesh->texcoords ? 8u : 0u);
@@ -1016,7 +1052,7 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 			return vn_io_fail(error, vn_io_error_unsupported, "%s: attribute %s has component type %d, which PLY lacks",
 			                  path, at->name, at->component_type);
 		for (int c = 0; c < at->components; c++) {
-			char name[96];
+			char name[PLY_NAME_MAX + 32];
 			property_name(mesh, a, c, name, sizeof name);
 			fprintf(out, "property %s %s\n", types[type].name, name);
 		}

@@ -72,6 +72,10 @@ typedef struct vn_io_attribute {
 	int components;     /* 1 to 4 */
 	int normalized;     /* integers stand for [0, 1] (unsigned) or [-1, 1] (signed) */
 	void* data;         /* vertex_count * components values, packed, vertex by vertex */
+	/* The property it was read from, as the file names it (PLY: "my-prop",
+	 * where name is "_MY_PROP"), or NULL: the PLY writer writes it back
+	 * under that name. Freed with the mesh. */
+	char* source_name;
 } vn_io_attribute;
 
 /* Names given to sets of faces: OBJ's materials (`usemtl`) and objects
