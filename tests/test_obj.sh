@@ -209,6 +209,18 @@ refused hex 'v 0 0 0\nv 0x10 0 0\nv 0 1 0\nf 1 2 3\n' "hex.obj:2: vertex 2: '0x1
 refused dots "${tri}vt 1.5.2 0\nf 1/1 2/1 3/1\n" "dots.obj:4: texture coordinate 1: '1.5.2' is not a number"
 refused plus_e "v 0 0 3.1+e2\nv 1 0 0\nv 0 1 0\nf 1 2 3\n" "plus_e.obj:1: vertex 1: '3.1+e2' is not a number"
 refused tail "${tri}f 1 2 3x4\n" "tail.obj:4: face corner 3, '3x4', is not v, v/vt, v/vt/vn or v//vn"
+refused no_uv "${tri}vt\nf 1/1 2/1 3/1\n" "no_uv.obj:4: texture coordinate 1 has 0 numbers; it needs 1"
+# vt u [v [w]]: a vt of one number has v = 0 (it was refused: "has 1
+# numbers; it needs 2"), also before a comment and among faces Draco takes
+# split (a decagon).
+printf '%s\n' "v 1 0 0" "v 0.809 0.588 0" "v 0.309 0.951 0" "v -0.309 0.951 0" "v -0.809 0.588 0" "v -1 0 0" \
+  "v -0.809 -0.588 0" "v -0.309 -0.951 0" "v 0.309 -0.951 0" "v 0.809 -0.588 0" "vt 0.1" \
+  "f 1/1 2/1 3/1 4/1 5/1 6/1 7/1 8/1 9/1 10/1" "vt 0.2 # a comment" "vt 0.3 0.4" "v 0 0 1" "f 1/2 2/3 11/2" >"$T/u.obj"
+run "$VNC" "$T/u.obj" "$T/u-out.obj"
+check "vt of one number: exits 0" [ $rc -eq 0 ]
+check "vt of one number: v is 0" [ "$(grep '^vt' "$T/u-out.obj" | tr '\n' ' ')" = "vt 0.1 0 vt 0.2 0 vt 0.3 0.4 " ]
+check "vt of one number: the decagon and the triangle" \
+  [ "$(grep '^f' "$T/u-out.obj" | awk '{print NF - 1}' | tr '\n' ' ')" = "10 3 " ]
 refused empty "" "empty.obj: no vertices (v) and no faces (f)"
 refused utf16 '\377\376v\000 \0000\000' "utf16.obj: the text is UTF-16LE (it starts with a byte order mark): save it as ASCII or UTF-8"
 # A UTF-8 byte order mark (Windows editors write one) is read past: before,

@@ -12,7 +12,8 @@
  * refuses NaN and infinite numbers, and hands Draco a copy where a comment
  * after a face is blanked, a tab after `v` or `o` is a space and a lone CR
  * ends a line (Draco reads those lines differently or not at all), a face
- * of more than 8 corners is split into faces Draco takes, and `mtllib` is a
+ * of more than 8 corners is split into faces Draco takes, a vt of one
+ * number gets its v (0, as the specification says), and `mtllib` is a
  * comment: reading from memory, Draco would look for the .mtl in the
  * current folder, and it only adds names, in another order, from it; the
  * `mtllib` argument is kept instead, with the file's folder (the writer
@@ -109,7 +110,7 @@ bool draco_magnitude(const char*& q, const char* end, double* out, bool* digits)
 }
 
 /* Draco's face limit (ObjDecoder::ParseFace, kMaxCorners): longer faces
- * are split for it (scanner::split_long_faces). */
+ * are split for it (scanner::rewritten). */
 const int max_corners = 8;
 
 /* Reads an OBJ the way Draco's ObjDecoder does (ParseDefinition and the
@@ -142,6 +143,9 @@ struct scanner {
 		std::vector<std::array<int32_t, 3>> corners;
 	};
 	std::vector<long_face> long_faces;
+	/* Where a vt line of one number ends it: " 0" goes there (the
+	 * specification's default v; Draco reads two numbers). */
+	std::vector<size_t> short_texcoords;
 
 	size_t line = 1;
 	const char* line_end = nullptr;
@@ -240,7 +244,8 @@ struct scanner {
 		return parse_index(q, &index[2]);
 	}
 
-	/* A v, vt or vn line (kind 0, 1, 2) after its keyword. */
+	/* A v, vt or vn line (kind 0, 1, 2) after its keyword. A vt may have
+	 * one number (u; v is then 0, as the specification says). */
 	bool numbers(const char* q, int kind)
 	{
 		static const char* const kinds[3] = {"vertex", "texture coordinate", "normal"};
@@ -249,10 +254,15 @@ struct scanner {
 		if (counting)
 			return true;
 		for (int i = 0; i < needed[kind]; i++) {
+			const char* after = q;
 			skip_blanks(q);
+			if (kind == 1 && i == 1 && (q == line_end || *q == '#')) {
+				short_texcoords.push_back(size_t(after - begin));
+				break;
+			}
 			if (q == line_end)
 				return fail(vn_io_error_parse, "%s %" PRId64 " has %d numbers; it needs %d", kinds[kind], index, i,
-				            needed[kind]);
+				            kind == 1 ? 1 : needed[kind]);
 			const char* start = q;
 			float v;
 			/* Draco stops at the first character that is not part of a
@@ -353,11 +363,21 @@ struct scanner {
 	/* The text with every long face written as faces of at most
 	 * max_corners corners that fan-triangulate as the whole face does: the
 	 * first corner, then the corners from the last one of the piece before. */
-	std::vector<char> split_long_faces() const
+	/* The text Draco gets: faces of more than max_corners corners split, " 0"
+	 * after each vt of one number (both lists are in file order). */
+	std::vector<char> rewritten() const
 	{
 		std::vector<char> out;
-		size_t copied = 0;
+		size_t copied = 0, pad = 0;
+		auto pad_until = [&](size_t at) {
+			for (; pad < short_texcoords.size() && short_texcoords[pad] <= at; pad++) {
+				out.insert(out.end(), begin + copied, begin + short_texcoords[pad]);
+				out.insert(out.end(), {' ', '0'});
+				copied = short_texcoords[pad];
+			}
+		};
 		for (const long_face& l : long_faces) {
+			pad_until(l.begin);
 			out.insert(out.end(), begin + copied, begin + l.begin);
 			copied = l.end;
 			const size_t k = l.corners.size();
@@ -380,6 +400,7 @@ struct scanner {
 				first = last - 1;
 			}
 		}
+		pad_until(size_t(end - begin));
 		out.insert(out.end(), begin + copied, end);
 		return out;
 	}
@@ -456,6 +477,7 @@ struct scanner {
 		face_corners.clear();
 		face_textured.clear();
 		long_faces.clear();
+		short_texcoords.clear();
 		line = 1;
 		for (char* p = begin;;) {
 			while (p < end && space(*p))
@@ -714,9 +736,9 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 	std::memcpy(s.total, s.seen, sizeof s.total);
 	if (!s.pass(false))
 		return s.result;
-	if (!s.long_faces.empty()) {
-		std::vector<char> split = s.split_long_faces();
-		text.swap(split);
+	if (!s.long_faces.empty() || !s.short_texcoords.empty()) {
+		std::vector<char> copy = s.rewritten();
+		text.swap(copy);
 	}
 	if (s.triangles == 0) {
 		if (s.total[0] == 0)
