@@ -463,6 +463,9 @@ static void test_face_colormap_index_is_ignored(void** state)
 	read_ok("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 17\n", &m);
 	assert_triangle(&m);
 	assert_null(m.face_colors);
+	/* Not silently: the colour is not kept. */
+	assert_string_equal(m.warnings, "face 0 gives its colour as an index into Geomview's colormap, which vn does not "
+	                                "have: it is read as an uncoloured face");
 	vn_io_mesh_free(&m);
 }
 
@@ -475,6 +478,7 @@ static void test_uncoloured_faces_get_geomview_grey(void** state)
 	const float colours[12] = {grey, grey, grey, 1, 0, 0, 1, 1, grey, grey, grey, 1};
 	assert_floats(m.face_colors, colours, 12);
 	assert_int_equal(m.face_colors_are_bytes, 1);
+	assert_non_null(strstr(m.warnings, "face 2 gives its colour as an index into Geomview's colormap"));
 	vn_io_mesh_free(&m);
 }
 
@@ -635,6 +639,7 @@ static void test_binary_stoff_and_ndim(void** state)
 	const float st[6] = {0.25f, 0.5f, 1, 0, 0, 1};
 	assert_floats(m.texcoords, st, 6);
 	assert_null(m.face_colors);
+	assert_non_null(strstr(m.warnings, "face 0 gives its colour as an index into Geomview's colormap"));
 	vn_io_mesh_free(&m);
 }
 

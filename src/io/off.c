@@ -66,6 +66,8 @@ typedef struct off_reader {
 	 * big-endian) and no colour count after a face's indices. */
 	int pmp;
 	char* warnings;
+	/* Faces coloured by a colormap index, which vn does not keep. */
+	size_t colormap_faces, first_colormap_face;
 
 	char keyword[16]; /* as written, e.g. "CNOFF" */
 	char layout[48];  /* the numbers of an ASCII vertex, e.g. "x y z nx ny nz" */
@@ -508,6 +510,8 @@ static vn_io_result read_ascii_face(off_reader* r, vn_io_mesh* m, size_t f, off_
 		if (!parse_natural(t, &index))
 			return fail(r, vn_io_error_parse, "face %zu: '%s' after the indices is not a colormap index", f,
 			            quote(t).text);
+		if (!r->colormap_faces++)
+			r->first_colormap_face = f;
 	} else if (extra == 3 || extra == 4) {
 		float* rgba = NULL;
 		result = face_colour(r, m, f, &rgba);
@@ -656,6 +660,8 @@ static vn_io_result read_binary_face(off_reader* r, vn_io_mesh* m, size_t f)
 		return fail(r, vn_io_error_parse, "the file ends inside the colour of face %zu", f);
 	if (colours == 1) {
 		r->p += 4; /* colormap index: see read_ascii_face */
+		if (!r->colormap_faces++)
+			r->first_colormap_face = f;
 	} else if (colours >= 3) {
 		float* rgba = NULL;
 		result = face_colour(r, m, f, &rgba);
@@ -773,6 +779,21 @@ vn_io_result vn_io_off_read_memory(const char* data, size_t size, const char* na
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	vn_io_result result = read_off(&r, mesh);
 	vn_io_c_locale_leave(&locale);
+	if (result == vn_io_success && r.colormap_faces) {
+		char text[200];
+		if (r.colormap_faces == 1)
+			snprintf(text, sizeof text,
+			         "face %zu gives its colour as an index into Geomview's colormap, which vn does not have: it "
+			         "is read as an uncoloured face",
+			         r.first_colormap_face);
+		else
+			snprintf(text, sizeof text,
+			         "%zu faces (the first: face %zu) give their colour as an index into Geomview's colormap, which vn "
+			         "does not have: they are read as uncoloured faces",
+			         r.colormap_faces, r.first_colormap_face);
+		if (!vn_io_append_line(&r.warnings, text))
+			result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+	}
 	if (result != vn_io_success)
 		vn_io_mesh_free(mesh);
 	if (result == vn_io_success)
