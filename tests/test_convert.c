@@ -295,8 +295,8 @@ static void test_warnings_and_stats_in_the_report(void** state)
 	vn_io_error error;
 	assert_int_equal(vn_io_convert(in, in_folder("isolated.drc"), &o, &r, &error), vn_io_success);
 	assert_string_equal(r.warnings,
-	                    "1 of 4 vertices has no normal (isolated, or only degenerate faces); written as the zero vector "
-	                    "(Draco's octahedral coding decodes it as (1, 0, 0))\n"
+	                    "1 of 4 vertices has no normal (isolated, only degenerate faces, or faces whose normals cancel); "
+	                    "written as the zero vector (Draco's octahedral coding decodes it as (1, 0, 0))\n"
 	                    "4 vertices and 1 triangle: only the vertices faces use are written, as Draco cannot store "
 	                    "more than 3 points per triangle\n");
 	assert_int_equal(r.zero_normals, 1);

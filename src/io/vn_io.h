@@ -191,7 +191,7 @@ typedef struct vn_io_normals_stats {
 	size_t welded_vertices;  /* vertices merged into another one by position */
 	size_t hard_edges;       /* edges kept hard because the input normals of their welded copies differ */
 	size_t split_vertices;   /* vertices appended by crease splitting */
-	size_t zero_normals;     /* output vertices no face contributes to (isolated, only degenerate faces) */
+	size_t zero_normals;     /* output vertices whose normal sums to zero (isolated, only degenerate faces, or faces that cancel) */
 	size_t degenerate_faces; /* faces that contributed nothing (vn_stats) */
 } vn_io_normals_stats;
 
