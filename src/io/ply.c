@@ -747,6 +747,48 @@ static void attribute_name(const vn_io_mesh* m, const ply_property* p, size_t in
 		}
 }
 
+/* One warning naming what reading leaves out (vertex list properties,
+ * face properties other than the indices and a colour, other elements with
+ * entries; every vertex scalar is read): a PLY-to-PLY conversion drops
+ * them. face_used: the face's colour properties read (NULL with strips,
+ * whose element gives only its indices). */
+static vn_io_result warn_left_out(ply_reader* r, const unsigned char* face_used)
+{
+	char text[480];
+	size_t n = 0, items = 0, more = 0;
+	const int room = (int)sizeof text - 8; /* for the closing text's "…" */
+	const ply_element* faces = r->strips ? r->strips : r->face;
+	for (size_t i = 0; i < r->element_count; i++) {
+		const ply_element* e = &r->elements[i];
+		const int is_vertex = e == r->vertex, is_face = e == faces;
+		for (size_t k = 0; k < e->property_count && (is_vertex || is_face); k++) {
+			const ply_property* p = &e->properties[k];
+			if ((is_vertex && p->count_type < 0) || (is_face && (p == r->indices || (face_used && face_used[k]))))
+				continue;
+			const int w = snprintf(text + n, sizeof text - n, "%s%s %s'%s'", items++ ? ", " : "", e->name,
+			                       p->count_type >= 0 ? "list " : "property ", p->name);
+			if (w < 0 || (size_t)w >= (size_t)room - n)
+				more++, items--;
+			else
+				n += (size_t)w;
+		}
+		if (is_vertex || is_face || !e->count)
+			continue;
+		const int w = snprintf(text + n, sizeof text - n, "%selement '%s' (%llu)", items++ ? ", " : "", e->name,
+		                       (unsigned long long)e->count);
+		if (w < 0 || (size_t)w >= (size_t)room - n)
+			more++, items--;
+		else
+			n += (size_t)w;
+	}
+	if (!items && !more)
+		return vn_io_success;
+	char line[600];
+	snprintf(line, sizeof line, "left out (vn reads vertices, faces and their colours): %.*s%s", (int)n, text,
+	         more ? ", ..." : "");
+	return warn(r, line) ? vn_io_success : out_of_memory(r);
+}
+
 static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 {
 	ply_element* v = r->vertex;
@@ -826,9 +868,17 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 		if (rounded && !warn(r, text))
 			result = out_of_memory(r);
 	}
+	unsigned char* face_used = NULL;
+	if (result == vn_io_success && !r->strips) {
+		if (!(face_used = calloc(r->face->property_count + 1, 1)))
+			result = out_of_memory(r);
+		else
+			result = read_colours(r, r->face, &m->face_colors, &m->face_colors_are_bytes, face_used);
+	}
+	if (result == vn_io_success)
+		result = warn_left_out(r, face_used);
 	free(used);
-	if (result == vn_io_success && !r->strips)
-		result = read_colours(r, r->face, &m->face_colors, &m->face_colors_are_bytes, NULL);
+	free(face_used);
 	return result;
 }
 
