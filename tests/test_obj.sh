@@ -228,4 +228,12 @@ refused utf16 '\377\376v\000 \0000\000' "utf16.obj: the text is UTF-16LE (it sta
 printf '\357\273\277v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4\n' >"$T/bom.obj"
 run "$VNC" "$T/bom.obj" "$T/bom-out.obj"
 check "UTF-8 byte order mark: the first vertex read" [ "$rc $(grep -c '^v ' "$T/bom-out.obj") $(head -1 "$T/bom-out.obj")" = "0 3 v 0 0 0" ]
+# What Draco skips is named in one warning (it was dropped without a word):
+# groups, smoothing groups (not "s off"), lines, vertex colours on v lines.
+printf '%s\n' "o x" "g grp" "s 1" "v 0 0 0 1 0 0" "v 1 0 0 1 0 0" "v 0 1 0" "f 1 2 3" "l 1 2" "s off" "g g2" "# c" >"$T/left.obj"
+run "$VNC" "$T/left.obj" "$T/left-out.obj"
+check "left out: exits 0" [ $rc -eq 0 ]
+check "left out: one warning names them" [ "$err" = "vnconvert: warning: $T/left.obj: left out (vn reads v, vt, vn, f, o, usemtl and mtllib): 2 'g' lines (groups), 1 's' line (smoothing groups), 1 'l' line (lines), numbers after x y z on 2 'v' lines (vertex colours, or w)" ]
+run "$VNC" "$T/bom.obj" "$T/bom-again.obj"
+check "left out: none, no warning" [ -z "$err" ]
 finish

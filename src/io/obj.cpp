@@ -146,6 +146,12 @@ struct scanner {
 	/* Where a vt line of one number ends it: " 0" goes there (the
 	 * specification's default v; Draco reads two numbers). */
 	std::vector<size_t> short_texcoords;
+	/* Lines whose data Draco skips, by keyword (in order of first
+	 * appearance, at most left_out_max kinds), counted in the checking
+	 * pass; and v lines with more than x y z (colours, or w). */
+	static const size_t left_out_max = 8;
+	std::vector<std::pair<std::string, uint64_t>> left_out;
+	uint64_t left_out_kinds = 0, extra_vertex_numbers = 0;
 
 	size_t line = 1;
 	const char* line_end = nullptr;
@@ -275,6 +281,8 @@ struct scanner {
 				            "%s %" PRId64 " has the number '%.*s', which is not finite: fix or remove that line",
 				            kinds[kind], index, token_length(start), start);
 		}
+		skip_blanks(q);
+		extra_vertex_numbers += kind == 0 && q < line_end && *q != '#';
 		return true;
 	}
 
@@ -465,7 +473,52 @@ struct scanner {
 		}
 		if (*p == 'l' && (left == 1 || space(p[1])))
 			polylines++;
+		if (!counting)
+			note_left_out(p);
 		return true;
+	}
+
+	/* A line of a kind Draco skips: counted by its keyword, except "s off"
+	 * and "s 0" (no smoothing group: nothing to lose). */
+	void note_left_out(const char* p)
+	{
+		const std::string keyword(p, size_t(token_length(p)));
+		if (keyword == "s") {
+			const std::string group = rest(p + 1);
+			if (group == "off" || group == "0")
+				return;
+		}
+		for (auto& k : left_out)
+			if (k.first == keyword) {
+				k.second++;
+				return;
+			}
+		if (left_out.size() < left_out_max)
+			left_out.push_back({keyword, 1});
+		left_out_kinds++;
+	}
+
+	/* One warning line naming what the file has that vn leaves out, or "". */
+	std::string left_out_warning() const
+	{
+		static const std::pair<const char*, const char*> meanings[] = {
+		    {"g", "groups"}, {"s", "smoothing groups"}, {"l", "lines"}, {"p", "points"}, {"mg", "merging groups"},
+		    {"curv", "curves"}, {"surf", "surfaces"}};
+		std::string text;
+		for (const auto& k : left_out) {
+			text += (text.empty() ? "" : ", ") + std::to_string(k.second) + " '" + k.first + "' line" +
+			        (k.second == 1 ? "" : "s");
+			for (const auto& m : meanings)
+				if (k.first == m.first)
+					text += std::string(" (") + m.second + ")";
+		}
+		if (left_out_kinds > left_out.size())
+			text += ", lines of " + std::to_string(left_out_kinds - left_out.size()) + " more kinds";
+		if (extra_vertex_numbers)
+			text += (text.empty() ? "" : ", ") + std::string("numbers after x y z on ") +
+			        std::to_string(extra_vertex_numbers) + " 'v' line" + (extra_vertex_numbers == 1 ? "" : "s") +
+			        " (vertex colours, or w)";
+		return text.empty() ? text : "left out (vn reads v, vt, vn, f, o, usemtl and mtllib): " + text;
 	}
 
 	bool pass(bool count)
@@ -478,6 +531,8 @@ struct scanner {
 		face_textured.clear();
 		long_faces.clear();
 		short_texcoords.clear();
+		left_out.clear();
+		left_out_kinds = extra_vertex_numbers = 0;
 		line = 1;
 		for (char* p = begin;;) {
 			while (p < end && space(*p))
@@ -761,13 +816,18 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 	if (!status.ok())
 		return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader: %s", name, status.error_msg());
 	const vn_io_result r = to_mesh(m, s, mesh, error);
-	if (r == vn_io_success && s.short_faces) {
-		const std::string warning = std::to_string(s.short_faces) + " face" + (s.short_faces == 1 ? "" : "s") +
-		                            " (f) of fewer than 3 corners skipped (the first on line " +
-		                            std::to_string(s.first_short_face) + "): such a face has no surface";
-		if (!(mesh->warnings = copy_string(warning)))
-			return out_of_memory(name, error);
-	}
+	if (r != vn_io_success)
+		return r;
+	std::string warnings;
+	if (s.short_faces)
+		warnings = std::to_string(s.short_faces) + " face" + (s.short_faces == 1 ? "" : "s") +
+		           " (f) of fewer than 3 corners skipped (the first on line " + std::to_string(s.first_short_face) +
+		           "): such a face has no surface";
+	const std::string left_out = s.left_out_warning();
+	if (!left_out.empty())
+		warnings += (warnings.empty() ? "" : "\n") + left_out;
+	if (!warnings.empty() && !(mesh->warnings = copy_string(warnings)))
+		return out_of_memory(name, error);
 	return r;
 }
 
