@@ -289,6 +289,30 @@ for ext in gltf glb; do
   check "a view past its buffer's end -> $ext: the new view after it" \
     [ "$(q "$T/long-view-out.$ext" "[v.get('byteOffset', 0) for v in d['bufferViews']]")" = "[0, 36, 84]" ]
 done
+# Three buffers, one of which vn empties (--tangents drop: it held only
+# TANGENT; --draco on: the mesh data), to .glb: every bufferView in the one
+# BIN chunk, POSITION's floats as they were. The buffer left out renumbered
+# the views' buffer as signed JSON integers, which the GLB merge skipped:
+# views of "buffer": 1 in a GLB with one buffer (glTF's teapots_galore).
+for o in "--tangents drop" "--draco on"; do
+  run "$VNC" "$HERE/data/gltf/three-buffers.gltf" "$T/three.glb" $o -q
+  check "three buffers, $o -> glb: exits 0" [ $rc -eq 0 ]
+  check "three buffers, $o -> glb: every view in the BIN chunk" python3 - "$T/three.glb" "$o" <<'PYEOF'
+import json, struct, sys
+raw = open(sys.argv[1], "rb").read()
+n = struct.unpack("<I", raw[12:16])[0]
+d = json.loads(raw[20:20 + n])
+binary = raw[20 + n + 8:]
+assert len(d["buffers"]) == 1 and d["buffers"][0]["byteLength"] <= len(binary), d["buffers"]
+for v in d["bufferViews"]:
+    assert v["buffer"] == 0 and v.get("byteOffset", 0) + v["byteLength"] <= d["buffers"][0]["byteLength"], v
+if sys.argv[2] == "--tangents drop":
+    a = d["accessors"][d["meshes"][0]["primitives"][0]["attributes"]["POSITION"]]
+    v = d["bufferViews"][a["bufferView"]]
+    at = v.get("byteOffset", 0) + a.get("byteOffset", 0)
+    assert struct.unpack("<9f", binary[at:at + 36]) == (0, 0, 0, 1, 0, 0, 0, 1, 0)
+PYEOF
+done
 # A new indices accessor (split vertices; --draco on) keeps the name and
 # extras the file gave the one it replaces, as the attribute accessors do.
 python3 - "$T/twosided.gltf" "$T/labelled.gltf" <<'PYEOF'

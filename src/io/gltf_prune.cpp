@@ -157,7 +157,7 @@ namespace {
 long long index_or_none(const json& o, const char* key)
 {
 	auto it = o.find(key);
-	return it != o.end() && it->is_number_unsigned() ? it->get<long long>() : -1;
+	return it != o.end() && it->is_number_integer() && it->get<long long>() >= 0 ? it->get<long long>() : -1;
 }
 
 /* Calls f(holder) for every byte range of buffer b, holder the json of its
@@ -276,7 +276,7 @@ void remove_buffers(document& d, const std::vector<bool>& gone)
 	else
 		d.j["buffers"] = std::move(kept_json);
 	auto renumber = [&](json& ref) {
-		if (ref.is_number_unsigned() && ref.get<size_t>() < to.size())
+		if (ref.is_number_integer() && ref.get<long long>() >= 0 && ref.get<size_t>() < to.size())
 			ref = to[ref.get<size_t>()];
 	};
 	for (json& v : d.j["bufferViews"])

@@ -345,7 +345,9 @@ static void merge_for_glb(document& d)
 			continue;
 		const std::string what = str("bufferViews[%zu]", v);
 		extension_buffers(view, [&](json& ref, json& ext) { relocate(ref, ext, what + ".extensions"); });
-		if (view.contains("buffer") && view["buffer"].is_number_unsigned())
+		/* Any non-negative integer: a reference vn renumbered is signed in
+		 * the JSON (remove_buffers), the file's are unsigned. */
+		if (view.contains("buffer") && view["buffer"].is_number_integer() && view["buffer"].get<long long>() >= 0)
 			relocate(view["buffer"], view, what);
 	}
 	json kept = json::array();
