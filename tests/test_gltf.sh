@@ -313,6 +313,15 @@ if sys.argv[2] == "--tangents drop":
     assert struct.unpack("<9f", binary[at:at + 36]) == (0, 0, 0, 1, 0, 0, 0, 1, 0)
 PYEOF
 done
+# 256 vertices: indices 0..255, and 255 is the unsigned byte's primitive
+# restart value (ACCESSOR_INDEX_PRIMITIVE_RESTART), so --draco on declares
+# unsigned short indices, and --draco off writes them so (they were bytes).
+run "$VNC" "$HERE/data/gltf/grid-256-vertices.gltf" "$T/g256.glb" --draco on -q
+check "256 vertices, --draco on: unsigned short indices" \
+  [ "$rc $(q "$T/g256.glb" "[d['accessors'][p['indices']]['componentType'] for m in d['meshes'] for p in m['primitives']]")" = "0 [5123]" ]
+run "$VNC" "$T/g256.glb" "$T/g256-off.glb" --draco off -q
+check "256 vertices, --draco off: unsigned short indices" \
+  [ "$rc $(q "$T/g256-off.glb" "[d['accessors'][p['indices']]['componentType'] for m in d['meshes'] for p in m['primitives']]")" = "0 [5123]" ]
 # A new indices accessor (split vertices; --draco on) keeps the name and
 # extras the file gave the one it replaces, as the attribute accessors do.
 python3 - "$T/twosided.gltf" "$T/labelled.gltf" <<'PYEOF'

@@ -157,7 +157,9 @@ void decompress_draco(document& d)
 				              *kv.second, dm->g.point_count, 34962, held);
 			}
 			const long long component = get_accessor(d, get_int(prim, "indices", 0, what)).component;
-			const size_t limit = component == 5121 ? 256u : component == 5123 ? 65536u : UINT32_MAX;
+			/* The largest index a type holds is its primitive restart value,
+			 * which glTF forbids (ACCESSOR_INDEX_PRIMITIVE_RESTART). */
+			const size_t limit = component == 5121 ? 255u : component == 5123 ? 65535u : UINT32_MAX;
 			vn_drc_attribute corners{};
 			corners.component_type = 5125;
 			corners.components = 1;
@@ -335,7 +337,7 @@ void write_draco(document& d, primitive& p, const vn_gltf_options& o, vn_gltf_st
 				}
 			}
 		json indices = d.j["accessors"][(size_t)get_int(prim, "indices", 0, what)];
-		const bool wider = n > (get_int(indices, "componentType", 0, what) == 5121 ? 256u : 65536u);
+		const bool wider = n > (get_int(indices, "componentType", 0, what) == 5121 ? 255u : 65535u); /* as above */
 		if (wider || get_int(indices, "count", 0, what) != (long long)(3 * in.triangle_count)) {
 			if (wider)
 				indices["componentType"] = 5125;
@@ -503,7 +505,7 @@ void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, v
 	const size_t points = kept.size();
 	prim["indices"] = append_accessor(
 	    d, with_indices_label(d, prim,
-	                          json{{"componentType", points <= 256 ? 5121 : points <= 65536 ? 5123 : 5125},
+	                          json{{"componentType", points <= 255 ? 5121 : points <= 65535 ? 5123 : 5125},
 	                               {"count", triangles.size()},
 	                               {"type", "SCALAR"}}));
 	if (prim.contains("mode"))
