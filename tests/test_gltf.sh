@@ -322,6 +322,25 @@ check "256 vertices, --draco on: unsigned short indices" \
 run "$VNC" "$T/g256.glb" "$T/g256-off.glb" --draco off -q
 check "256 vertices, --draco off: unsigned short indices" \
   [ "$rc $(q "$T/g256-off.glb" "[d['accessors'][p['indices']]['componentType'] for m in d['meshes'] for p in m['primitives']]")" = "0 [5123]" ]
+# Float colours in [0, 1] through --draco on and off stay in [0, 1]: Draco's
+# default grid spans all components with one range, and a component whose
+# minimum is above 0 decoded 1.0 as 1.00196 (ACCESSOR_NON_CLAMPED). On the
+# unit grid every 8-bit step is k / 255.
+run "$VNC" "$HERE/data/gltf/colour-floats.gltf" "$T/colour-on.glb" --draco on -q &&
+  run "$VNC" "$T/colour-on.glb" "$T/colour-off.glb" --draco off -q
+check "float colours through --draco on and off: exits 0" [ $rc -eq 0 ]
+check "float colours through --draco on and off: within [0, 1], on 8-bit steps" python3 - "$T/colour-off.glb" <<'PYEOF'
+import json, struct, sys
+raw = open(sys.argv[1], "rb").read()
+n = struct.unpack("<I", raw[12:16])[0]
+d = json.loads(raw[20:20 + n])
+binary = raw[20 + n + 8:]
+a = d["accessors"][d["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"]]
+v = d["bufferViews"][a["bufferView"]]
+at = v.get("byteOffset", 0) + a.get("byteOffset", 0)
+c = struct.unpack("<%df" % (4 * a["count"]), binary[at:at + 16 * a["count"]])
+assert all(0 <= x <= 1 and abs(x * 255 - round(x * 255)) < 1e-4 for x in c), c
+PYEOF
 # A new indices accessor (split vertices; --draco on) keeps the name and
 # extras the file gave the one it replaces, as the attribute accessors do.
 python3 - "$T/twosided.gltf" "$T/labelled.gltf" <<'PYEOF'

@@ -451,6 +451,15 @@ static vn_io_result prepare(const vn_drc_geometry* g, const char* name, vn_drc_e
 		 * (same integers, same decoded values) when its bits did not change. */
 		if (type == draco::DT_FLOAT32 && a.quantization_bits > 0) {
 			vn_drc_encoder::quantized q{id, a, on_grid(a, g->point_count)};
+			/* New float colours in [0, 1] (glTF's range for them) go on the
+			 * unit grid: Draco's own spans the values with one range for
+			 * all components, so a component whose minimum is above 0
+			 * decoded 1.0 as up to half a step more (1.00196 at 8 bits:
+			 * the validator's ACCESSOR_NON_CLAMPED once decoded into glTF). */
+			if (!q.on_grid && a.semantic == vn_drc_color) {
+				q.a.grid = vn_drc_grid{a.quantization_bits, {0, 0, 0, 0}, 1.0f};
+				q.on_grid = on_grid(q.a, g->point_count);
+			}
 			q.a.data = nullptr;
 			e->quantize.push_back(q);
 		}
