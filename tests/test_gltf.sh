@@ -263,9 +263,26 @@ for ext in drc obj ply stl; do
   run "$VNC" "$T/nothing.gltf" "$T/nothing.$ext"
   check "a glTF with no mesh to $ext: exit 1" [ $rc -eq 1 ]
   check "a glTF with no mesh to $ext: one line" one_line_err
-  check "a glTF with no mesh to $ext: says so" grep -q "nothing.$ext: .*nothing.gltf has no vertices and no faces: nothing to write$" "$T/stderr"
+  check "a glTF with no mesh to $ext: says so" grep -q "nothing.$ext: vn read no vertices and no faces from .*nothing.gltf: nothing to write$" "$T/stderr"
   check "a glTF with no mesh to $ext: no file" [ ! -e "$T/nothing.$ext" ]
 done
+# POINTS and LINES primitives, which only glTF output keeps, are named when
+# another format leaves them out (an OFF of nothing was written without a
+# word, and PLY said the file had no vertices).
+python3 - "$T/points.gltf" <<'PYEOF'
+import base64, json, struct, sys
+data = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+json.dump({"asset": {"version": "2.0"},
+           "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+           "bufferViews": [{"buffer": 0, "byteLength": 36}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 0}, {"attributes": {"POSITION": 0}, "mode": 3}]}]},
+          open(sys.argv[1], "w"))
+PYEOF
+run "$VNC" "$T/points.gltf" "$T/points.off"
+check "POINTS and LINES to OFF: named" [ "$rc $err" = "0 vnconvert: warning: $T/points.gltf: primitives left out (vn reads triangles): 1 POINTS, 1 LINES (or LINE_LOOP, LINE_STRIP)" ]
+run "$VNC" "$T/points.gltf" "$T/points.ply"
+check "POINTS and LINES to PLY: named, then nothing to write" [ "$rc $(tail -1 "$T/stderr")" = "1 vnconvert: error: $T/points.ply: vn read no vertices and no faces from $T/points.gltf: nothing to write" ]
 # A bufferView past its buffer's end (invalid: BUFFER_VIEW_TOO_LONG; assimp's
 # IncorrectVertexArrays/Cube.gltf): the triangle is read, with a warning,
 # and the new NORMAL view starts after the furthest view (it started at the

@@ -482,7 +482,7 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	if (!(c->out_format->holds & vn_io_holds_no_faces) && vn_io_mesh_triangle_count(mesh) == 0) {
 		if (!mesh->vertex_count)
 			return vn_io_fail(error, vn_io_error_unsupported,
-			                  "%s: %s has no vertices and no faces: nothing to write", c->out, c->in);
+			                  "%s: vn read no vertices and no faces from %s: nothing to write", c->out, c->in);
 		return vn_io_fail(error, vn_io_error_unsupported,
 		                  "%s: %s has %zu %s and no faces (a point cloud), and %s needs faces: write OFF to keep a "
 		                  "point cloud",

@@ -206,9 +206,19 @@ static std::vector<placement> placements(const document& d, const std::vector<pr
  * attribute (TEXCOORD_n, COLOR_n, JOINTS_n, WEIGHTS_n, TANGENT, _NAME)
  * into attributes in its own type; a primitive without an
  * attribute another one has gets zeros there. */
-static void mesh_from_document(const document& d, vn_io_mesh* mesh, bool scene)
+static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 {
-	std::vector<primitive> prims = triangle_primitives(d, nullptr);
+	vn_gltf_stats st{};
+	std::vector<primitive> prims = triangle_primitives(d, &st);
+	/* Another format holds the triangles alone: what is left out is named. */
+	const size_t skipped[3] = {st.skipped_points, st.skipped_lines, st.skipped_no_position};
+	static const char* const kinds[3] = {"POINTS", "LINES (or LINE_LOOP, LINE_STRIP)", "without POSITION"};
+	std::string left_out;
+	for (int k = 0; k < 3; ++k)
+		if (skipped[k])
+			left_out += str("%s%zu %s", left_out.empty() ? "" : ", ", skipped[k], kinds[k]);
+	if (!left_out.empty())
+		d.warnings.push_back("primitives left out (vn reads triangles): " + left_out);
 	const std::vector<placement> at = placements(d, prims, scene);
 	size_t vertices = 0, triangles = 0;
 	for (const placement& pl : at) {
