@@ -90,6 +90,23 @@ run "$VNC" "$T/names.ply" "$T/names-out.ply" -q
 check "property names: PLY to PLY exits 0" [ $rc -eq 0 ]
 check "property names: every vertex property kept, by name, type and values" $PLYTOOL same "$T/names.ply" "$T/names-out.ply"
 check "property names: the texture coordinates as u v" grep -aq "^property float u$" "$T/names-out.ply"
+# Forty extra vertex properties: each name was checked against the earlier
+# ones by naming those anew, recursively (2^k work: 26 properties took 7 s,
+# forty would not finish). A hang past the timeout fails.
+/usr/bin/python3 - "$T/wide.ply" <<'EOF'
+import struct, sys
+k = 40
+with open(sys.argv[1], "wb") as f:
+    f.write(b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n")
+    f.write("".join(f"property float q{i}\n" for i in range(k)).encode())
+    f.write(b"element face 1\nproperty list uchar int vertex_indices\nend_header\n")
+    for p in [(0, 0, 0), (1, 0, 0), (0, 1, 0)]:
+        f.write(struct.pack("<3f", *p) + struct.pack(f"<{k}f", *range(k)))
+    f.write(struct.pack("<B3i", 3, 0, 1, 2))
+EOF
+run timeout 60 "$VNC" "$T/wide.ply" "$T/wide-out.ply" -q
+check "forty vertex properties: PLY to PLY within a minute" [ $rc -eq 0 ]
+check "forty vertex properties: every one kept" $PLYTOOL same "$T/wide.ply" "$T/wide-out.ply"
 # What the reader leaves out is named in one warning (it was dropped without
 # a word): a vertex list, face properties other than the indices and a
 # colour, other elements with entries (an empty one is nothing lost).

@@ -1016,9 +1016,9 @@ static const char* const* texcoord_names(const vn_io_mesh* m)
 }
 
 /* Whether the writer gives name a meaning in this file (x, y, z, and the
- * normals', colours' and texture coordinates' names where it writes them),
- * or, with every_role, whether any reader role has it. */
-static int role_name(const vn_io_mesh* m, const char* name, int every_role)
+ * normals', colours' and texture coordinates' (tex) names where it writes
+ * them), or, with every_role, whether any reader role has it. */
+static int role_name(const vn_io_mesh* m, const char* const* tex, const char* name, int every_role)
 {
 	static const char* const roles[] = {"x",     "y", "z", "nx",  "ny",        "nz",        "red",       "green",
 	                                    "blue",  "alpha", "s", "t", "u",      "v",         "texture_u", "texture_v",
@@ -1029,37 +1029,48 @@ static int role_name(const vn_io_mesh* m, const char* name, int every_role)
 			continue;
 		if (every_role || i < 3 || (i < 6 && m->normals) || (i < 10 && i >= 6 && m->colors))
 			return 1;
-		const char* const* tex = texcoord_names(m);
 		return i >= 10 && m->texcoords && (!strcmp(name, tex[0]) || !strcmp(name, tex[1]));
 	}
 	return 0;
 }
 
-/* Attribute a's property name for component c: the name of the property it
- * was read from (source_name), else its name in lower case without the
- * leading '_' ("_CONFIDENCE" is "confidence"), "_c" after it for more than
- * one component; "_<a>" after that where the name is taken (by what the
- * writer writes, or an earlier attribute). name has room for size bytes. */
-static void property_name(const vn_io_mesh* m, size_t a, int c, char* name, size_t size)
+/* Room for a written property name: a PLY name and the suffixes below. */
+#define PROPERTY_NAME_SIZE (PLY_NAME_MAX + 32)
+
+/* Every attribute component's property name, in attribute then component
+ * order, PROPERTY_NAME_SIZE bytes each (NULL when out of memory): the name
+ * of the property the attribute was read from (source_name), else its name
+ * in lower case without the leading '_' ("_CONFIDENCE" is "confidence"),
+ * "_c" after it for more than one component; "_<a>" after that where the
+ * name is taken (by what the writer writes, or an earlier component). Each
+ * name is compared with the ones before it, once. */
+static char* property_names(const vn_io_mesh* m, const char* const* tex)
 {
-	const vn_io_attribute* at = &m->attributes[a];
-	const int own = at->source_name && at->components == 1;
-	const char* s = own ? at->source_name : at->name[0] == '_' && at->name[1] ? at->name + 1 : at->name;
-	size_t n = 0;
-	for (; *s && n + 1 < size; s++)
-		name[n++] = own || !(*s >= 'A' && *s <= 'Z') ? *s : (char)(*s - 'A' + 'a');
-	name[n] = '\0';
-	if (at->components > 1)
-		snprintf(name + n, size - n, "_%d", c);
-	int taken = role_name(m, name, !own);
-	for (size_t b = 0; b < a && !taken; b++)
-		for (int k = 0; k < m->attributes[b].components && !taken; k++) {
-			char other[PLY_NAME_MAX + 32];
-			property_name(m, b, k, other, sizeof other);
-			taken = !strcmp(other, name);
+	size_t total = 0;
+	for (size_t a = 0; a < m->attribute_count; a++)
+		total += (size_t)m->attributes[a].components;
+	char* names = malloc(PROPERTY_NAME_SIZE * total + 1);
+	if (!names)
+		return NULL;
+	char* name = names;
+	for (size_t a = 0; a < m->attribute_count; a++)
+		for (int c = 0; c < m->attributes[a].components; c++, name += PROPERTY_NAME_SIZE) {
+			const vn_io_attribute* at = &m->attributes[a];
+			const int own = at->source_name && at->components == 1;
+			const char* s = own ? at->source_name : at->name[0] == '_' && at->name[1] ? at->name + 1 : at->name;
+			size_t n = 0;
+			for (; *s && n + 1 < PROPERTY_NAME_SIZE; s++)
+				name[n++] = own || !(*s >= 'A' && *s <= 'Z') ? *s : (char)(*s - 'A' + 'a');
+			name[n] = '\0';
+			if (at->components > 1)
+				snprintf(name + n, PROPERTY_NAME_SIZE - n, "_%d", c);
+			int taken = role_name(m, tex, name, !own);
+			for (const char* other = names; other < name && !taken; other += PROPERTY_NAME_SIZE)
+				taken = !strcmp(other, name);
+			if (taken)
+				snprintf(name + strlen(name), PROPERTY_NAME_SIZE - strlen(name), "_%zu", a);
 		}
-	if (taken)
-		snprintf(name + strlen(name), size - strlen(name), "_%zu", a);
+	return names;
 }
 
 vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings,
@@ -1090,22 +1101,26 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 		fprintf(out, "property float nx\nproperty float ny\nproperty float nz\n");
 	if (mesh->colors)
 		header_colour(out, mesh->colors_are_bytes);
+	const char* const* tex = texcoord_names(mesh);
 	if (mesh->texcoords)
-		fprintf(out, "property float %s\nproperty float %s\n", texcoord_names(mesh)[0], texcoord_names(mesh)[1]);
+		fprintf(out, "property float %s\nproperty float %s\n", tex[0], tex[1]);
+	char* names = property_names(mesh, tex);
+	if (!names)
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);
+	const char* name = names;
 	size_t record_size = 3 * (doubles ? 8u : 4u) + (mesh->normals ? 12u : 0u) +
 	                     (mesh->colors ? (mesh->colors_are_bytes ? 4u : 16u) : 0u) +
 	                     (mesh->texcoords ? 8u : 0u);
 	for (size_t a = 0; a < mesh->attribute_count; a++) {
 		const vn_io_attribute* at = &mesh->attributes[a];
 		const int type = ply_type_of(at->component_type);
-		if (type < 0)
+		if (type < 0) {
+			free(names);
 			return vn_io_fail(error, vn_io_error_unsupported, "%s: attribute %s has component type %d, which PLY lacks",
 			                  path, at->name, at->component_type);
-		for (int c = 0; c < at->components; c++) {
-			char name[PLY_NAME_MAX + 32];
-			property_name(mesh, a, c, name, sizeof name);
-			fprintf(out, "property %s %s\n", types[type].name, name);
 		}
+		for (int c = 0; c < at->components; c++, name += PROPERTY_NAME_SIZE)
+			fprintf(out, "property %s %s\n", types[type].name, name);
 		record_size += types[type].size * (size_t)at->components;
 	}
 	fprintf(out, "element face %zu\nproperty list %s %s vertex_indices\n", mesh->face_count,
@@ -1113,6 +1128,7 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	if (mesh->face_colors)
 		header_colour(out, mesh->face_colors_are_bytes);
 	fprintf(out, "end_header\n");
+	free(names);
 
 	record b = {malloc(record_size + 32), 0};
 	if (!b.bytes)
