@@ -254,6 +254,9 @@ static void add(text* t, const char* fmt, ...)
 }
 
 /* "1 primitive", "2 primitives": the noun for a count. */
+/* Why a vertex gets no normal, as each conversion's warning says it. */
+#define NO_NORMAL_CAUSES "(isolated, only degenerate faces, or faces whose normals cancel)"
+
 static const char* noun(size_t count, const char* one, const char* many)
 {
 	return count == 1 ? one : many;
@@ -353,7 +356,7 @@ static vn_io_result convert_gltf(conversion* c, vn_io_error* error)
 	input_warnings(c, st.warnings);
 	if (st.zero_normals)
 		add(&c->warnings,
-		    "%zu of %zu %s %s no normal (isolated, only degenerate faces, or faces whose normals cancel); "
+		    "%zu of %zu %s %s no normal " NO_NORMAL_CAUSES "; "
 		    "the input's normal kept where it is a unit vector, else written as (0, 0, 1)\n",
 		    st.zero_normals, st.vertices, noun(st.vertices, "vertex", "vertices"),
 		    noun(st.zero_normals, "has", "have"));
@@ -427,7 +430,7 @@ static vn_io_result convert_drc(conversion* c, vn_io_error* error)
 	r->write_seconds = st.write_seconds;
 	if (st.normals.zero_normals)
 		add(&c->warnings,
-		    "%zu of %zu %s %s no normal (isolated, only degenerate faces, or faces whose normals cancel); %s\n",
+		    "%zu of %zu %s %s no normal " NO_NORMAL_CAUSES "; %s\n",
 		    st.normals.zero_normals, st.points, noun(st.points, "vertex", "vertices"),
 		    noun(st.normals.zero_normals, "has", "have"),
 		    st.input_normals ? "the input's normal kept" : "written as the zero vector");
@@ -519,9 +522,10 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 		add(&c->warnings, "%s cannot hold %s: not written\n", c->out, lost);
 	if (st.zero_normals && c->out_format->no_normal)
 		add(&c->warnings,
-		    "%zu of %zu %s %s no normal (isolated, only degenerate faces, or faces whose normals cancel); %s%s\n",
+		    "%zu of %zu %s %s no normal " NO_NORMAL_CAUSES "; %s%s\n",
 		    st.zero_normals, mesh->vertex_count, noun(mesh->vertex_count, "vertex", "vertices"),
-		    noun(st.zero_normals, "has", "have"), had_normals ? "the input's normal kept" : "written as ", had_normals ? "" : c->out_format->no_normal);
+		    noun(st.zero_normals, "has", "have"), had_normals ? "the input's normal kept" : "written as ",
+		    had_normals ? "" : c->out_format->no_normal);
 	const size_t corners = 3 * (size_t)vn_io_mesh_triangle_count(mesh);
 	/* Draco 1.5.5's decoder refuses more points than 3 per triangle: the
 	 * writer then keeps only the vertices faces use. */

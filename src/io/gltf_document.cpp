@@ -139,6 +139,12 @@ long long get_int(const json& o, const char* key, long long def, const std::stri
 	return it->get<long long>();
 }
 
+long long index_or_none(const json& o, const char* key)
+{
+	auto it = o.find(key);
+	return it != o.end() && it->is_number_integer() && it->get<long long>() >= 0 ? it->get<long long>() : -1;
+}
+
 const json& element(const json& doc, const char* array, long long i, const std::string& what)
 {
 	auto it = doc.find(array);
@@ -522,17 +528,13 @@ document load(const std::string& path)
 	auto views = d.j.find("bufferViews");
 	d.input_views = views != d.j.end() && views->is_array() ? views->size() : 0;
 	/* Views past their buffer's end (read lazily: an error only when read). */
-	const auto integer = [](const json& o, const char* key, long long none) {
-		auto it = o.find(key);
-		return it == o.end() ? none : it->is_number_integer() ? it->get<long long>() : -1;
-	};
-	size_t past = 0, first = 0, furthest = 0;
+	size_t past = 0, first = 0, first_buffer = 0, furthest = 0;
 	for (size_t v = 0; v < d.input_views; ++v) {
 		const json& view = (*views)[v];
 		if (!view.is_object())
 			continue;
-		const long long b = integer(view, "buffer", -1), begin = integer(view, "byteOffset", 0),
-		                length = integer(view, "byteLength", -1);
+		const long long b = index_or_none(view, "buffer"), length = index_or_none(view, "byteLength");
+		const long long begin = view.contains("byteOffset") ? index_or_none(view, "byteOffset") : 0;
 		if (b < 0 || (size_t)b >= d.buffers.size() || d.buffers[(size_t)b].absent || begin < 0 || length < 0 ||
 		    begin > PTRDIFF_MAX - length)
 			continue;
@@ -540,12 +542,12 @@ document load(const std::string& path)
 		const size_t end = (size_t)(begin + length);
 		if (end > to.size) {
 			if (!past++)
-				first = v, furthest = end;
+				first = v, first_buffer = (size_t)b, furthest = end;
 			to.reserved = std::max(to.reserved, end);
 		}
 	}
 	if (past) {
-		const size_t b = (size_t)integer((*views)[first], "buffer", -1);
+		const size_t b = first_buffer;
 		d.warnings.push_back(str("bufferViews[%zu] ends at byte %zu, past the end of buffers[%zu] (%zu bytes)%s: an "
 		                         "invalid file (the validator's BUFFER_VIEW_TOO_LONG); views that fit are read, and "
 		                         "new data goes after byte %zu, zeros before it",

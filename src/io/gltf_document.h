@@ -192,6 +192,9 @@ bool is_data_uri(const std::string& uri);
 bool decode_data_uri(const std::string& uri, bytes& data, std::string& media_type);
 
 long long get_int(const json& o, const char* key, long long def, const std::string& what);
+/* A non-negative integer property, or -1 (absent or anything else): for
+ * reading what may be invalid without failing. */
+long long index_or_none(const json& o, const char* key);
 /* doc[array][i], which must exist and be an object. */
 const json& element(const json& doc, const char* array, long long i, const std::string& what);
 /* Bytes per component of glTF component type `type` (0: not one). */

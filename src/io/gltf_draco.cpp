@@ -88,6 +88,14 @@ std::shared_ptr<const draco_mesh> decode_draco(const document& d, const json& pr
  * other values for it, which then go under a copy `ref` is pointed at, or
  * the same, which are not written again. held: per input accessor, the
  * accessors holding its values so far. */
+/* How many points indices of a component type can number: its largest
+ * value is its primitive restart value, which glTF forbids
+ * (ACCESSOR_INDEX_PRIMITIVE_RESTART). */
+static size_t points_numbered(long long component)
+{
+	return component == 5121 ? 255u : component == 5123 ? 65535u : UINT32_MAX;
+}
+
 static void store_decoded(document& d, json& ref, long long component, const vn_drc_attribute& a, size_t count, int target,
                           std::map<long long, std::vector<long long>>& held)
 {
@@ -157,9 +165,7 @@ void decompress_draco(document& d)
 				              *kv.second, dm->g.point_count, 34962, held);
 			}
 			const long long component = get_accessor(d, get_int(prim, "indices", 0, what)).component;
-			/* The largest index a type holds is its primitive restart value,
-			 * which glTF forbids (ACCESSOR_INDEX_PRIMITIVE_RESTART). */
-			const size_t limit = component == 5121 ? 255u : component == 5123 ? 65535u : UINT32_MAX;
+			const size_t limit = points_numbered(component);
 			vn_drc_attribute corners{};
 			corners.component_type = 5125;
 			corners.components = 1;
@@ -337,7 +343,7 @@ void write_draco(document& d, primitive& p, const vn_gltf_options& o, vn_gltf_st
 				}
 			}
 		json indices = d.j["accessors"][(size_t)get_int(prim, "indices", 0, what)];
-		const bool wider = n > (get_int(indices, "componentType", 0, what) == 5121 ? 255u : 65535u); /* as above */
+		const bool wider = n > points_numbered(get_int(indices, "componentType", 0, what));
 		if (wider || get_int(indices, "count", 0, what) != (long long)(3 * in.triangle_count)) {
 			if (wider)
 				indices["componentType"] = 5125;
@@ -503,11 +509,11 @@ void compress_draco(document& d, const primitive& p, const vn_gltf_options& o, v
 	const size_t view = append_draco(d, std::move(encoder), bits.compression_level, targets, position,
 	                                 ext_attributes["POSITION"].get<uint32_t>(), w.bounded, what);
 	const size_t points = kept.size();
-	prim["indices"] = append_accessor(
-	    d, with_indices_label(d, prim,
-	                          json{{"componentType", points <= 255 ? 5121 : points <= 65535 ? 5123 : 5125},
-	                               {"count", triangles.size()},
-	                               {"type", "SCALAR"}}));
+	const int component = points <= points_numbered(5121) ? 5121 : points <= points_numbered(5123) ? 5123 : 5125;
+	prim["indices"] = append_accessor(d, with_indices_label(d, prim,
+	                                                        json{{"componentType", component},
+	                                                             {"count", triangles.size()},
+	                                                             {"type", "SCALAR"}}));
 	if (prim.contains("mode"))
 		prim["mode"] = 4;
 	if (!prim.contains("extensions"))

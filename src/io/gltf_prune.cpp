@@ -153,13 +153,6 @@ std::string unknown_extension(const json& j)
 
 namespace {
 
-/* A non-negative integer property, or -1 (absent or anything else). */
-long long index_or_none(const json& o, const char* key)
-{
-	auto it = o.find(key);
-	return it != o.end() && it->is_number_integer() && it->get<long long>() >= 0 ? it->get<long long>() : -1;
-}
-
 /* Calls f(holder) for every byte range of buffer b, holder the json of its
  * byteOffset and byteLength: the bufferViews in b, and the meshopt data in
  * b that bufferViews' extensions refer to. */
