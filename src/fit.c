@@ -697,15 +697,18 @@ static void phase_list(void* ctx, unsigned t)
 			if (idx[c] - v0 < v1 - v0)
 				j->list[j->start[idx[c]]++] = c;
 	} else {
-		for (uint32_t f = 0; f < n / 3; ++f)
-			for (uint32_t at = 0; at < 3; ++at) {
-				const uint32_t v = idx[3 * f + at];
+		for (uint32_t f = 0; f < n / 3; ++f) {
+			const uint32_t a = idx[3 * f], b = idx[3 * f + 1], c = idx[3 * f + 2];
+			const uint32_t corner[3][3] = {{a, b, c}, {b, c, a}, {c, a, b}}; /* v, next, previous */
+			const int ok = j->usable[f];
+			for (int at = 0; at < 3; ++at) {
+				const uint32_t v = corner[at][0];
 				if (v - v0 >= v1 - v0)
 					continue;
 				uint32_t* e = j->list + 2 * (size_t)j->start[v]++;
-				const int ok = j->usable[f];
-				e[0] = ok ? idx[3 * f + (at + 1) % 3] : v, e[1] = ok ? idx[3 * f + (at + 2) % 3] : v;
+				e[0] = ok ? corner[at][1] : v, e[1] = ok ? corner[at][2] : v;
 			}
+		}
 	}
 	uint32_t top = 0;
 	for (uint32_t v = v0; v < v1; begin = j->start[v++]) {
@@ -722,18 +725,21 @@ static void phase_list(void* ctx, unsigned t)
 	j->top[t] = top;
 }
 
-/* Appends to s->ring the unstamped vertices sharing a usable face with u,
- * while it has fewer than s->cap members. */
+/* Appends to s->ring the unstamped vertices sharing a usable face with u.
+ * They are at most phase_list's candidate count of u (and fewer than nv),
+ * which the capacity holds: no test of it here. */
 static uint32_t gather(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
 {
 	const uint32_t* idx = j->w.indices;
-	const uint32_t tag = s->tag, cap = (uint32_t)s->cap;
+	const uint32_t tag = s->tag;
 	if (!j->w.offsets) { /* triangles: each corner's next and previous vertex (phase_list) */
 		/* Without a branch on the stamp, as in expand: in a closed fan
 		 * every neighbour comes twice. */
-		for (size_t i = 2 * (size_t)(u ? j->start[u - 1] : 0); i < 2 * (size_t)j->start[u]; ++i) {
-			const uint32_t x = j->list[i], fresh = s->stamp[x] != tag;
-			s->stamp[x] = tag, s->ring[m] = x, m += fresh & (m < cap);
+		uint32_t *stamp = s->stamp, *ring = s->ring;
+		const uint32_t *e = j->list + 2 * (size_t)(u ? j->start[u - 1] : 0), *end = j->list + 2 * (size_t)j->start[u];
+		for (; e < end; ++e) {
+			const uint32_t x = *e, fresh = stamp[x] != tag;
+			stamp[x] = tag, ring[m] = x, m += fresh;
 		}
 		return m;
 	}
@@ -747,8 +753,8 @@ static uint32_t gather(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
 		const uint32_t at = c - b, step = k > RING_ALL_MAX ? k - 2 : 1;
 		for (uint32_t o = 1; o < k; o += step) {
 			const uint32_t x = idx[b + (at + o) % k];
-			if (s->stamp[x] != s->tag && m < s->cap)
-				s->stamp[x] = s->tag, s->ring[m++] = x;
+			if (s->stamp[x] != tag)
+				s->stamp[x] = tag, s->ring[m++] = x;
 		}
 	}
 	return m;

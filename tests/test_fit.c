@@ -477,6 +477,44 @@ static void threads_bit_identical(void** state)
 	grid_free(&g);
 }
 
+/* A vertex with a NaN coordinate makes its faces unusable: the fits come
+ * out as if those faces were not in the mesh, bit for bit, with the vector
+ * usability test (four faces at a time) and without it. */
+static void nonfinite_vertex_as_if_absent(void** state)
+{
+	(void)state;
+	grid_mesh g = make_surface(1, 24, 12, 0.3);
+	const uint32_t bad = 5 * 24 + 7;
+	g.pos[3 * bad + 1] = NAN;
+	uint32_t* kept = (uint32_t*)malloc(sizeof(uint32_t) * g.ni);
+	size_t nk = 0;
+	for (size_t f = 0; f < g.ni; f += 3)
+		if (g.idx[f] != bad && g.idx[f + 1] != bad && g.idx[f + 2] != bad)
+			memcpy(kept + nk, g.idx + f, 3 * sizeof(uint32_t)), nk += 3;
+	assert_int_equal(nk, g.ni - 18); /* valence 6 */
+	double* a = (double*)malloc(3 * sizeof(double) * g.nv);
+	double* b = (double*)malloc(3 * sizeof(double) * g.nv);
+	const vn_positions p = {g.pos, g.nv, 0, vn_scalar_float64};
+	const vn_vectors oa = {a, 0, vn_scalar_float64}, ob = {b, 0, vn_scalar_float64};
+	for (int simd = 0; simd < 2; ++simd)
+		for (size_t k = 0; k < sizeof(fits) / sizeof(fits[0]); ++k) {
+			vn_options opt;
+			memset(&opt, 0, sizeof(opt));
+			opt.simd = simd ? vn_simd_auto : vn_simd_off;
+			assert_int_equal(vn_triangle_normals(&oa, &p, g.idx, g.ni, fits[k], &opt, NULL), vn_result_success);
+			assert_int_equal(vn_triangle_normals(&ob, &p, kept, nk, fits[k], &opt, NULL), vn_result_success);
+			assert_memory_equal(a, b, 3 * sizeof(double) * g.nv);
+			assert_vec(a + 3 * bad, 0, 0, 0, 0);
+			for (size_t v = 0; v < g.nv; ++v) { /* every other vertex a unit vector */
+				const double* n = a + 3 * v;
+				if (v != bad && !(fabs(sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) - 1) <= 1e-12))
+					fail_msg("%s, vertex %zu: (%g, %g, %g)", vn_method_name(fits[k]), v, n[0], n[1], n[2]);
+			}
+		}
+	free(a), free(b), free(kept);
+	grid_free(&g);
+}
+
 /* A tetrahedron (valence 3), one triangle, an isolated vertex (6), and a
  * vertex (7) whose 1-ring (8..12) is collinear: too few points or an
  * ill-conditioned system, so QUADRIC, JET and ADAPTIVE give the seed, MWA's
@@ -665,6 +703,7 @@ int main(void)
 	    cmocka_unit_test(torus_outward_everywhere),
 	    cmocka_unit_test(adaptive_across_noise),
 	    cmocka_unit_test(threads_bit_identical),
+	    cmocka_unit_test(nonfinite_vertex_as_if_absent),
 	    cmocka_unit_test(degenerate_rings),
 	    cmocka_unit_test(hubs_not_expanded),
 	    cmocka_unit_test(adaptive_cone_rim),
