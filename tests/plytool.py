@@ -54,11 +54,18 @@ def read(path):
     return fmt, elements, out, raw[:end], data
 
 
+def face_lists(e):
+    """The faces' index lists; none without a face element (a point cloud)."""
+    if "face" not in e:
+        return []
+    return e["face"][1].get("vertex_indices") or e["face"][1].get("vertex_index") or []
+
+
 def main():
     cmd = sys.argv[1]
     if cmd == "count":
         _, _, e, _, _ = read(sys.argv[2])
-        faces = e["face"][1].get("vertex_indices") or e["face"][1].get("vertex_index")
+        faces = face_lists(e)
         print(len(e["vertex"][1]["x"]), len(faces), sum(max(len(f) - 2, 0) for f in faces))
     elif cmd == "column":
         _, _, e, _, _ = read(sys.argv[2])
@@ -76,8 +83,7 @@ def main():
                 bad.append("values of " + p + " differ")
             elif TYPES[a["vertex"][0][p]] != TYPES[b["vertex"][0][p]]:
                 bad.append(p + " changed type")
-        fa = a["face"][1].get("vertex_indices") or a["face"][1].get("vertex_index")
-        fb = b["face"][1]["vertex_indices"]
+        fa, fb = face_lists(a), face_lists(b)
         if len(fa) != len(fb) or any(not np.array_equal(x, y) for x, y in zip(fa, fb)):
             bad.append("faces differ")
         print("\n".join(bad))

@@ -256,10 +256,12 @@ check "quads are fan-triangulated" grep -q "^faces: *528 (triangles)" "$T/stdout
 printf '{"asset":{"version":"2.0"}}' >"$T/nothing.gltf"
 run "$VNC" "$T/nothing.gltf" "$T/nothing.off"
 check "a glTF with no mesh to OFF: an empty OFF" [ "$rc $(sed -n 2p "$T/nothing.off")" = "0 0 0 0" ]
-# To a format that needs faces: one line saying there is nothing (Draco
-# said "all triangles are degenerate", OBJ and PLY "write OFF for a point
+run "$VNC" "$T/nothing.gltf" "$T/nothing.ply"
+check "a glTF with no mesh to PLY: an empty PLY" [ "$rc $(head -c 200 "$T/nothing.ply" | grep -a "^element" | tr '\n' ' ')" = "0 element vertex 0 element face 0 " ]
+# To a format vn writes only with faces: one line saying there is nothing
+# (Draco said "all triangles are degenerate", OBJ "write OFF for a point
 # cloud"), and no file.
-for ext in drc obj ply stl; do
+for ext in drc obj stl; do
   run "$VNC" "$T/nothing.gltf" "$T/nothing.$ext"
   check "a glTF with no mesh to $ext: exit 1" [ $rc -eq 1 ]
   check "a glTF with no mesh to $ext: one line" one_line_err
@@ -281,8 +283,8 @@ json.dump({"asset": {"version": "2.0"},
 PYEOF
 run "$VNC" "$T/points.gltf" "$T/points.off"
 check "POINTS and LINES to OFF: named" [ "$rc $err" = "0 vnconvert: warning: $T/points.gltf: primitives left out (vn reads triangles): 1 POINTS, 1 LINES (or LINE_LOOP, LINE_STRIP)" ]
-run "$VNC" "$T/points.gltf" "$T/points.ply"
-check "POINTS and LINES to PLY: named, then nothing to write" [ "$rc $(tail -1 "$T/stderr")" = "1 vnconvert: error: $T/points.ply: vn read no vertices and no faces from $T/points.gltf: nothing to write" ]
+run "$VNC" "$T/points.gltf" "$T/points.stl"
+check "POINTS and LINES to STL: named, then nothing to write" [ "$rc $(tail -1 "$T/stderr")" = "1 vnconvert: error: $T/points.stl: vn read no vertices and no faces from $T/points.gltf: nothing to write" ]
 # A bufferView past its buffer's end (invalid: BUFFER_VIEW_TOO_LONG; assimp's
 # IncorrectVertexArrays/Cube.gltf): the triangle is read, with a warning,
 # and the new NORMAL view starts after the furthest view (it started at the

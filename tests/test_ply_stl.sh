@@ -247,11 +247,31 @@ run "$VNC" "$PLY/blender_binary.ply" "$T/lost.stl"
 check "PLY to STL warns that the vertex normals are not written" grep -q "cannot hold vertex normals, vertex colours, texture coordinates: not written" "$T/stderr"
 
 # ---- bad input: one line naming the file, no output
-for f in point_cloud_test_pos int_point_cloud float_inf_point_cloud; do
-  check_rejected "$VNC" "$PLY/$f.ply" "$T/none.ply" "$T/keep.ply"
+check_rejected "$VNC" "$PLY/float_inf_point_cloud.ply" "$T/none.ply" "$T/keep.ply"
+check "infinite coordinate: says so" grep -q "float_inf_point_cloud.ply: vertex 0 is at (-409, 249, inf)" "$T/stderr"
+# ---- point clouds (no faces): read, written as PLY and OFF with every vertex property, refused for STL
+for f in point_cloud_test_pos int_point_cloud; do
+  run "$VNC" "$PLY/$f.ply" "$T/cloud.ply"
+  check "$f to PLY: exit 0" [ $rc -eq 0 ]
+  check "$f to PLY: nothing said left out" not grep -q "left out" "$T/stderr"
+  check "$f to PLY: every vertex, no faces" [ "$($PLYTOOL count "$T/cloud.ply")" = "$($PLYTOOL count "$PLY/$f.ply")" ]
+  [ $f = int_point_cloud ] || check "$f to PLY: every property kept" $PLYTOOL same "$PLY/$f.ply" "$T/cloud.ply"
+  run "$VNC" "$T/cloud.ply" "$T/cloud2.ply"
+  check "$f to PLY and again: the same bytes" cmp -s "$T/cloud.ply" "$T/cloud2.ply"
+  run "$VNC" "$PLY/$f.ply" "$T/cloud.off"
+  check "$f to OFF: exit 0" [ $rc -eq 0 ]
+  check "$f to OFF: every vertex, no faces" [ "$(sed -n 2p "$T/cloud.off" | cut -d' ' -f1-2)" = "$(head -c 300 "$PLY/$f.ply" | grep -a -m1 "^element vertex" | cut -d' ' -f3) 0" ]
 done
-run "$VNC" "$PLY/point_cloud_test_pos.ply" "$T/none.ply"
-check "point cloud: says so" grep -q "point_cloud_test_pos.ply: has 4 vertices and no faces: a mesh is needed" "$T/stderr"
+check "int_point_cloud to OFF: the file's coordinates" [ "$(sed -n 3p "$T/cloud.off" | cut -d' ' -f1-3)" = "-409 249 4" ]
+# normals, colours and another property of a point cloud, through PLY and OFF
+printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nproperty float intensity\nend_header\n0 0 0 0 0 1 255 0 0 0.5\n1 0 0 0 1 0 0 255 0 0.25\n' >"$T/scan.ply"
+run "$VNC" "$T/scan.ply" "$T/scan_out.ply"
+check "scanned point cloud to PLY: exit 0" [ $rc -eq 0 ]
+check "scanned point cloud: the input's normals kept, said so" grep -q "2 of 2 vertices have no normal .*the input's normal kept" "$T/stderr"
+check "scanned point cloud: colours and intensity kept" $PLYTOOL same "$T/scan.ply" "$T/scan_out.ply"
+check "scanned point cloud: normals kept" [ "$($PLYTOOL column "$T/scan_out.ply" nz 0) $($PLYTOOL column "$T/scan_out.ply" ny 1)" = "1.0 1.0" ]
+run "$VNC" "$T/scan.ply" "$T/scan_out.off"
+check "scanned point cloud to OFF: normals and colours" [ "$(sed -n 3p "$T/scan_out.off")" = "0 0 0 0 0 1 255 0 0 255" ]
 rejected_text() { printf "$2" >"$T/$1"; check_rejected "$VNC" "$T/$1" "$T/none.off" "$T/keep.off"; }
 HEADER='ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n'
 rejected_text index.ply "${HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"
@@ -281,17 +301,18 @@ head -n 30 "$STL/test_sphere_ascii.stl" >"$T/cut.stl"
 check_rejected "$VNC" "$T/cut.stl" "$T/none.ply" "$T/keep.ply"
 : >"$T/empty.stl"
 check_rejected "$VNC" "$T/empty.stl" "$T/none.ply" "$T/keep.ply"
-# A point cloud (an OFF without faces) written as STL or PLY: refused, not an
-# empty STL, nor a PLY that vn would refuse to read.
+# A point cloud (an OFF without faces) written as STL: refused, not an empty
+# STL; as PLY: written, and read back.
 printf 'OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n' >"$T/cloud.off"
+rm -f "$T/cloud.stl" "$T/cloud.ply"
 run "$VNC" "$T/cloud.off" "$T/cloud.stl"
 check "point cloud to STL: exit 1" [ $rc -eq 1 ]
 check "point cloud to STL: no file" [ ! -e "$T/cloud.stl" ]
 check "point cloud to STL: one line" one_line_err
-check "point cloud to STL: says why" grep -q "cloud.stl: .*cloud.off has 3 vertices and no faces (a point cloud), and STL needs faces: write OFF" "$T/stderr"
+check "point cloud to STL: says why" grep -q "cloud.stl: .*cloud.off has 3 vertices and no faces (a point cloud), and vn writes STL only with faces: write OFF or PLY" "$T/stderr"
 run "$VNC" "$T/cloud.off" "$T/cloud.ply"
-check "point cloud to PLY: exit 1" [ $rc -eq 1 ]
-check "point cloud to PLY: no file" [ ! -e "$T/cloud.ply" ]
-check "point cloud to PLY: one line" one_line_err
-check "point cloud to PLY: says why" grep -q "cloud.ply: .*cloud.off has 3 vertices and no faces (a point cloud), and PLY needs faces: write OFF" "$T/stderr"
+check "point cloud to PLY: exit 0" [ $rc -eq 0 ]
+check "point cloud to PLY: 3 vertices, no faces" [ "$($PLYTOOL count "$T/cloud.ply")" = "3 0 0" ]
+run "$VNC" "$T/cloud.ply" "$T/cloud_back.off"
+check "point cloud to PLY and back: the same positions" [ "$(sed -n '3,5p' "$T/cloud_back.off" | cut -d' ' -f1-3 | tr '\n' ' ')" = "0 0 0 1 0 0 0 1 0 " ]
 finish

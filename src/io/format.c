@@ -63,7 +63,7 @@ static const vn_io_format formats[] = {
      "Stanford polygon file (reads ASCII and binary, either byte order; writes binary little-endian)",
      vn_io_ply_read, vn_io_ply_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
-         vn_io_holds_face_colors | vn_io_holds_polygons | vn_io_holds_loose_vertices,
+         vn_io_holds_face_colors | vn_io_holds_polygons | vn_io_holds_loose_vertices | vn_io_holds_no_faces,
      vn_io_path_mesh, 0, "the zero vector",
      {{vn_io_holds_colors, "vertex colours (red green blue)", NULL},
       {vn_io_holds_colors | vn_io_holds_color_alpha, "their alpha", "vertex colour alpha (named)"},

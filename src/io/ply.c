@@ -10,7 +10,8 @@
  * as float32: vn_io attributes, like glTF, have no double; a warning says
  * when that rounds a value). The "face" element gives polygons
  * (vertex_indices or vertex_index) and face colours; without faces, a
- * "tristrips" element's strips give triangles (strip_faces). Other elements
+ * "tristrips" element's strips give triangles (strip_faces), and without
+ * either the file is a point cloud: its vertices alone. Other elements
  * (edges, materials), vertex list properties and other face properties are
  * read past, not kept.
  *
@@ -23,7 +24,8 @@
  * float, or double when a coordinate is not a float (so PLY to PLY keeps
  * positions exactly), nx ny nz float, colours red green blue alpha, uchar
  * when the source had bytes (else float), s t float, every attribute as properties of its type,
- * faces as "list uchar int vertex_indices" (uint when needed), face colours.
+ * faces as "list uchar int vertex_indices" (uint when needed; "element
+ * face 0" for a point cloud), face colours.
  */
 #include "ply.h"
 #include "text.h"
@@ -611,16 +613,15 @@ static vn_io_result prepare(ply_reader* r, vn_io_mesh* m)
 		if (!find_scalar(r->vertex, xyz[k]))
 			return vn_io_fail(r->error, vn_io_error_parse, "%s: the vertex element has no '%s' property", r->name,
 			                  xyz[k]);
-	if (!r->face || r->face->count == 0) {
+	if (!r->face || r->face->count == 0) { /* triangle strips, or a point cloud */
 		for (size_t i = 0; i < r->element_count && !r->strips; i++)
 			if (!strcmp(r->elements[i].name, "tristrips") && r->elements[i].count)
 				r->strips = &r->elements[i];
 		r->indices = find(r->strips, "vertex_indices");
-		if (!r->indices || r->indices->count_type < 0 || is_real(r->indices->type))
+		if (r->strips && (!r->indices || r->indices->count_type < 0 || is_real(r->indices->type)))
 			return vn_io_fail(r->error, vn_io_error_unsupported,
-			                  r->strips ? "%s: has %llu vertices and tristrips without a vertex_indices list of whole "
-			                              "numbers: a mesh is needed"
-			                            : "%s: has %llu vertices and no faces: a mesh is needed",
+			                  "%s: has %llu vertices and tristrips without a vertex_indices list of whole numbers: a "
+			                  "mesh is needed",
 			                  r->name, (unsigned long long)r->vertex->count);
 		if (r->vertex->count > UINT32_MAX - 1)
 			return vn_io_fail(r->error, vn_io_error_unsupported, "%s: %llu vertices: vn reads up to %u", r->name,
@@ -630,6 +631,8 @@ static vn_io_result prepare(ply_reader* r, vn_io_mesh* m)
 			if (p->count_type < 0 && !(p->column = malloc((size_t)r->vertex->count * types[p->type].size + 1)))
 				return out_of_memory(r);
 		}
+		if (!r->strips && !(m->face_offsets = calloc(1, sizeof *m->face_offsets)))
+			return out_of_memory(r);
 		return vn_io_success;
 	}
 	r->indices = find(r->face, "vertex_indices");
@@ -760,6 +763,8 @@ static vn_io_result warn_left_out(ply_reader* r, const unsigned char* face_used)
 	const ply_element* faces = r->strips ? r->strips : r->face;
 	for (size_t i = 0; i < r->element_count; i++) {
 		const ply_element* e = &r->elements[i];
+		if (!e->count) /* nothing in it to leave out */
+			continue;
 		const int is_vertex = e == r->vertex, is_face = e == faces;
 		for (size_t k = 0; k < e->property_count && (is_vertex || is_face); k++) {
 			const ply_property* p = &e->properties[k];
@@ -772,7 +777,7 @@ static vn_io_result warn_left_out(ply_reader* r, const unsigned char* face_used)
 			else
 				n += (size_t)w;
 		}
-		if (is_vertex || is_face || !e->count)
+		if (is_vertex || is_face)
 			continue;
 		const int w = snprintf(text + n, sizeof text - n, "%selement '%s' (%llu)", items++ ? ", " : "", e->name,
 		                       (unsigned long long)e->count);
@@ -799,7 +804,7 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 	vn_io_result result = vn_io_success;
 	m->vertex_count = n;
 	if (!r->strips)
-		m->face_count = (size_t)r->face->count;
+		m->face_count = r->face ? (size_t)r->face->count : 0;
 
 	/* Positions and normals: three properties each into doubles. */
 	static const char* const names[2][3] = {{"x", "y", "z"}, {"nx", "ny", "nz"}};
@@ -869,7 +874,7 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 			result = out_of_memory(r);
 	}
 	unsigned char* face_used = NULL;
-	if (result == vn_io_success && !r->strips) {
+	if (result == vn_io_success && r->face && !r->strips) {
 		if (!(face_used = calloc(r->face->property_count + 1, 1)))
 			result = out_of_memory(r);
 		else
@@ -1077,12 +1082,6 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
                              vn_io_error* error)
 {
 	(void)settings; /* PLY has none */
-	/* As OBJ and STL: what vn writes, vn reads (a PLY without faces is refused). */
-	if (mesh->face_count == 0)
-		return vn_io_fail(error, vn_io_error_unsupported,
-		                  "%s: the mesh has no faces, and vn reads a PLY without faces as an error: write OFF for a "
-		                  "point cloud",
-		                  path);
 	const size_t n = mesh->vertex_count;
 	int doubles = 0;
 	for (size_t i = 0; i < 3 * n && !doubles; i++)
