@@ -258,9 +258,9 @@ run "$VNC" "$T/nothing.gltf" "$T/nothing.off"
 check "a glTF with no mesh to OFF: an empty OFF" [ "$rc $(sed -n 2p "$T/nothing.off")" = "0 0 0 0" ]
 run "$VNC" "$T/nothing.gltf" "$T/nothing.ply"
 check "a glTF with no mesh to PLY: an empty PLY" [ "$rc $(head -c 200 "$T/nothing.ply" | grep -a "^element" | tr '\n' ' ')" = "0 element vertex 0 element face 0 " ]
-# To a format vn writes only with faces: one line saying there is nothing
-# (Draco said "all triangles are degenerate", OBJ "write OFF for a point
-# cloud"), and no file.
+# To a format vn writes only with faces (or OBJ, whose empty file vn would
+# not read back): one line saying there is nothing (Draco said "all
+# triangles are degenerate", OBJ "write OFF for a point cloud"), and no file.
 for ext in drc obj stl; do
   run "$VNC" "$T/nothing.gltf" "$T/nothing.$ext"
   check "a glTF with no mesh to $ext: exit 1" [ $rc -eq 1 ]

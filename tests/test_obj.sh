@@ -188,9 +188,29 @@ check_rejected "$VNC" "$DATA/inf_nan.obj" "$T/none.obj" "$T/keep.obj"
 check "inf_nan: names line and number" grep -q "inf_nan.obj:1: vertex 1 has the number 'inf', which is not finite" "$T/stderr"
 check_rejected "$VNC" "$DATA/test_lines.obj" "$T/none.glb" "$T/keep.glb"
 check "lines: says so" grep -q "484 vertices and 242 lines (l), but no faces" "$T/stderr"
+# Point clouds (no faces, no lines): a vertex a v line, with as many vt and
+# vn lines; written as OFF, PLY and OBJ (a line of each a vertex, in order).
 grep '^v ' "$DATA/point_cloud_test_pos.obj" >"$T/points.obj"
-check_rejected "$VNC" "$T/points.obj" "$T/none.off" "$T/keep.off"
-check "point cloud: says so" grep -q "points.obj: 4 vertices and no faces (f), a point cloud" "$T/stderr"
+run "$VNC" "$T/points.obj" "$T/points.off"
+check "point cloud to OFF: exit 0" [ $rc -eq 0 ]
+check "point cloud to OFF: the 4 vertices, no faces" [ "$(sed -n 2p "$T/points.off")" = "4 0 0" ]
+check "point cloud to OFF: positions" [ "$(sed -n 3p "$T/points.off" | cut -d' ' -f1-3)" = "38.63804626464844 19.29371452331543 1.3447389602661133" ]
+run "$VNC" "$T/points.obj" "$T/points_out.obj"
+vlines() { awk '/^v / { printf "%.6f %.6f %.6f\n", $2, $3, $4 }' "$1"; }
+check "point cloud to OBJ: its v lines, the same numbers" [ "$(vlines "$T/points_out.obj")" = "$(vlines "$T/points.obj")" ]
+check "point cloud to OBJ: a zero vn line a vertex (no normals in the input)" [ "$(grep -c '^vn 0 0 0$' "$T/points_out.obj")" = 4 ]
+check "point cloud to OBJ: no faces" not grep -q '^f' "$T/points_out.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 1 0 0\nvt 0.5 0.25\nvt 1 1\nvt 0 0\nvn 0 0 1\nvn 0 1 0\nvn 1 0 0\n' >"$T/scan.obj"
+run "$VNC" "$T/scan.obj" "$T/scan_out.obj"
+check "point cloud with vt and vn to OBJ: every line, in order (two points at one place too)" [ "$(cat "$T/scan_out.obj")" = "$(printf 'v 0 0 0\nv 1 0 0\nv 1 0 0\nvt 0.5 0.25\nvt 1 1\nvt 0 0\nvn 0 0 1\nvn 0 1 0\nvn 1 0 0')" ]
+check "point cloud with vn: the input's normals kept, said so" grep -q "3 of 3 vertices have no normal .*the input's normal kept" "$T/stderr"
+run "$VNC" "$T/scan_out.obj" "$T/scan_again.obj"
+check "point cloud OBJ to OBJ again: the same bytes" cmp -s "$T/scan_out.obj" "$T/scan_again.obj"
+run "$VNC" "$T/scan.obj" "$T/scan.off"
+check "point cloud with vt and vn to OFF" [ "$(sed -n 3,5p "$T/scan.off" | tr '\n' '|')" = "0 0 0 0 0 1 0.5 0.25|1 0 0 0 1 0 1 1|1 0 0 1 0 0 0 0|" ]
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\n' >"$T/onevn.obj"
+check_rejected "$VNC" "$T/onevn.obj" "$T/none.off" "$T/keep.off"
+check "point cloud with fewer vn lines than v lines: says so" grep -q "onevn.obj: a point cloud (no faces) of 3 v lines and 1 vn lines: without faces, vn (and Draco) read one vn line for each v line" "$T/stderr"
 refused() { printf "$2" >"$T/$1.obj"; check_rejected "$VNC" "$T/$1.obj" "$T/none.obj" "$T/keep.obj"; check "$1: $3" grep -qF "$3" "$T/stderr"; }
 tri='v 0 0 0\nv 1 0 0\nv 0 1 0\n'
 refused range "${tri}f 1 2 9\n" "range.obj:4: face corner 3 refers to vertex 9, but the file has 3 vertices (v)"

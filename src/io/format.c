@@ -38,7 +38,7 @@ static const vn_io_format formats[] = {
     {"off", "OFF", "OFF", ".off", "Geomview Object File Format (reads ASCII and binary, writes ASCII)",
      vn_io_off_read, vn_io_off_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_face_colors |
-         vn_io_holds_polygons | vn_io_holds_loose_vertices | vn_io_holds_no_faces,
+         vn_io_holds_polygons | vn_io_holds_loose_vertices | vn_io_holds_no_faces | vn_io_holds_nothing,
      vn_io_path_mesh, 0, "the zero vector",
      {{vn_io_holds_colors, "vertex colours", NULL},
       {vn_io_holds_colors | vn_io_holds_color_alpha, "their alpha", "vertex colour alpha (named)"},
@@ -50,7 +50,7 @@ static const vn_io_format formats[] = {
      "Wavefront OBJ (read through Draco: v/vt/vn, polygons, usemtl, o; written with per-corner vn)",
      vn_io_obj_read, vn_io_obj_write,
      vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_polygons | vn_io_holds_loose_vertices |
-         vn_io_holds_face_names,
+         vn_io_holds_face_names | vn_io_holds_no_faces,
      vn_io_path_mesh, 0, "the zero vector (`vn 0 0 0`)",
      {{vn_io_holds_texcoords, "texture coordinates", NULL},
       {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"},
@@ -63,7 +63,8 @@ static const vn_io_format formats[] = {
      "Stanford polygon file (reads ASCII and binary, either byte order; writes binary little-endian)",
      vn_io_ply_read, vn_io_ply_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
-         vn_io_holds_face_colors | vn_io_holds_polygons | vn_io_holds_loose_vertices | vn_io_holds_no_faces,
+         vn_io_holds_face_colors | vn_io_holds_polygons | vn_io_holds_loose_vertices | vn_io_holds_no_faces |
+         vn_io_holds_nothing,
      vn_io_path_mesh, 0, "the zero vector",
      {{vn_io_holds_colors, "vertex colours (red green blue)", NULL},
       {vn_io_holds_colors | vn_io_holds_color_alpha, "their alpha", "vertex colour alpha (named)"},

@@ -23,10 +23,14 @@
  * and cannot tell the split pieces of a long face apart).
  *
  * A vertex is one (v, vt, vn) combination after Draco merges equal values.
+ * A file without faces (f) or lines (l) is a point cloud: a vertex a v line,
+ * with the vt and vn lines of the same number (Draco's reading; so their
+ * counts must be 0 or the v lines').
  *
  * Writer: v (with "r g b" when the mesh has colours), vt and vn lines, each
  * value once (a vertex split for its normal or texture coordinate shares its
- * v line), then faces as v/vt/vn with `o` and `usemtl` where they change.
+ * v line), then faces as v/vt/vn with `o` and `usemtl` where they change. A
+ * point cloud: a v line a vertex, and as many vt and vn lines.
  */
 #include "obj.h"
 
@@ -662,6 +666,38 @@ bool untextured_faces(const scanner& s, vn_io_mesh* mesh)
 
 /* Draco's mesh into *mesh: a vertex per (v, vt, vn), polygons as the file
  * had them. */
+/* A point cloud: Draco's points are the v lines, in order. */
+vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
+{
+	using draco::GeometryAttribute;
+	const draco::PointAttribute* pos = m.GetNamedAttribute(GeometryAttribute::POSITION);
+	const draco::PointAttribute* tex = m.GetNamedAttribute(GeometryAttribute::TEX_COORD);
+	const draco::PointAttribute* nrm = m.GetNamedAttribute(GeometryAttribute::NORMAL);
+	const size_t n = m.num_points();
+	if (!pos || int64_t(n) != s.total[0])
+		return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader found %zu of its %" PRId64 " vertices",
+		                  s.name, pos ? n : 0, s.total[0]);
+	std::vector<double> positions(3 * n), normals(nrm ? 3 * n : 0);
+	std::vector<float> texcoords(tex ? 2 * n : 0);
+	for (size_t i = 0; i < n; i++) {
+		const draco::PointIndex p(static_cast<uint32_t>(i));
+		float v[3];
+		pos->ConvertValue<float, 3>(pos->mapped_index(p), v);
+		positions[3 * i] = v[0], positions[3 * i + 1] = v[1], positions[3 * i + 2] = v[2];
+		if (tex)
+			tex->ConvertValue<float, 2>(tex->mapped_index(p), &texcoords[2 * i]);
+		if (nrm) {
+			nrm->ConvertValue<float, 3>(nrm->mapped_index(p), v);
+			normals[3 * i] = v[0], normals[3 * i + 1] = v[1], normals[3 * i + 2] = v[2];
+		}
+	}
+	mesh->vertex_count = n;
+	if (!(mesh->positions = copy_out(positions)) || !(mesh->face_offsets = copy_out(std::vector<uint32_t>{0})) ||
+	    (nrm && !(mesh->normals = copy_out(normals))) || (tex && !(mesh->texcoords = copy_out(texcoords))))
+		return out_of_memory(s.name, error);
+	return vn_io_success;
+}
+
 vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
 {
 	using draco::GeometryAttribute;
@@ -803,9 +839,12 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 			                  "%s: %" PRId64 " vertices and %" PRIu64 " lines (l), but no faces (f): vn computes the "
 			                  "normals of faces",
 			                  name, s.total[0], s.polylines);
-		return vn_io_fail(error, vn_io_error_unsupported,
-		                  "%s: %" PRId64 " vertices and no faces (f), a point cloud: vn computes the normals of faces",
-		                  name, s.total[0]);
+		for (int k = 1; k < 3; k++)
+			if (s.total[k] && s.total[k] != s.total[0])
+				return vn_io_fail(error, vn_io_error_unsupported,
+				                  "%s: a point cloud (no faces) of %" PRId64 " v lines and %" PRId64
+				                  " %s lines: without faces, vn (and Draco) read one %s line for each v line",
+				                  name, s.total[0], s.total[k], k == 1 ? "vt" : "vn", k == 1 ? "vt" : "vn");
 	}
 	draco::DecoderBuffer buffer;
 	buffer.Init(text.data(), text.size());
@@ -815,7 +854,7 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 	const draco::Status status = decoder.DecodeFromBuffer(&buffer, &m);
 	if (!status.ok())
 		return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader: %s", name, status.error_msg());
-	const vn_io_result r = to_mesh(m, s, mesh, error);
+	const vn_io_result r = s.triangles ? to_mesh(m, s, mesh, error) : cloud_to_mesh(m, s, mesh, error);
 	if (r != vn_io_success)
 		return r;
 	std::string warnings;
@@ -985,12 +1024,8 @@ void put_name(vn_io_text_out* w, const char* keyword, const vn_io_face_names& na
 
 vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error)
 {
-	if (mesh->face_count == 0)
-		return vn_io_fail(error, vn_io_error_unsupported,
-		                  "%s: the mesh has no faces, and vn reads an OBJ without faces as an error: write OFF for a "
-		                  "point cloud",
-		                  path);
 	const size_t n = mesh->vertex_count;
+	const bool cloud = mesh->face_count == 0; /* every vertex its own v, vt and vn lines, in order */
 	std::vector<char> used(n, 0), textured(n, 0); /* used by a face; by one written with vt */
 	auto untextured = [&](size_t f) { return mesh->face_untextured && mesh->face_untextured[f]; };
 	for (size_t f = 0; f < mesh->face_count; f++)
@@ -1009,10 +1044,11 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 	for (size_t i = 0; i < n && !w.failed; i++) {
 		const double* p = mesh->positions + 3 * i;
 		const float* rgb = mesh->colors ? mesh->colors + 4 * i : nullptr;
-		bool fresh;
-		v[i] = positions.of({bits(p[0]), bits(p[1]), bits(p[2]), rgb ? bits(rgb[0]) : 0, rgb ? bits(rgb[1]) : 0,
-		                     rgb ? bits(rgb[2]) : 0},
-		                    &fresh);
+		bool fresh = true;
+		v[i] = cloud ? uint32_t(i + 1)
+		             : positions.of({bits(p[0]), bits(p[1]), bits(p[2]), rgb ? bits(rgb[0]) : 0,
+		                             rgb ? bits(rgb[1]) : 0, rgb ? bits(rgb[2]) : 0},
+		                            &fresh);
 		if (!fresh)
 			continue;
 		vn_io_put(&w, "v");
@@ -1026,7 +1062,7 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 	for (size_t i = 0; mesh->texcoords && i < n && !w.failed; i++) {
 		const float* t = mesh->texcoords + 2 * i;
 		bool fresh;
-		if (!textured[i] || (vt[i] = texcoords.of({bits(t[0]), bits(t[1])}, &fresh), !fresh))
+		if (!cloud && (!textured[i] || (vt[i] = texcoords.of({bits(t[0]), bits(t[1])}, &fresh), !fresh)))
 			continue;
 		vn_io_put(&w, "vt");
 		put_obj_float(&w, t[0]);
@@ -1037,7 +1073,7 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 	for (size_t i = 0; mesh->normals && i < n && !w.failed; i++) {
 		const double* d = mesh->normals + 3 * i;
 		bool fresh;
-		if (!used[i] || (vn[i] = normals.of({bits(d[0]), bits(d[1]), bits(d[2])}, &fresh), !fresh))
+		if (!cloud && (!used[i] || (vn[i] = normals.of({bits(d[0]), bits(d[1]), bits(d[2])}, &fresh), !fresh)))
 			continue;
 		vn_io_put(&w, "vn");
 		for (int k = 0; k < 3; k++)

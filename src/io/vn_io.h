@@ -224,7 +224,8 @@ enum {
 	vn_io_holds_loose_vertices = 32, /* vertices no face uses (else only the vertices faces use are written) */
 	vn_io_holds_face_names = 64,     /* `materials`, `objects`, `material_library` and its folder */
 	vn_io_holds_color_alpha = 128,   /* the alpha of `colors` (OBJ's `v x y z r g b` has none) */
-	vn_io_holds_no_faces = 256       /* a mesh without faces: a point cloud, or nothing at all */
+	vn_io_holds_no_faces = 256,      /* a mesh without faces but with vertices: a point cloud */
+	vn_io_holds_nothing = 512        /* a mesh without vertices: an empty file vn reads back */
 };
 
 /* How vnconvert converts between two formats of one family (both ends with
