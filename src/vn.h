@@ -184,10 +184,10 @@ typedef enum vn_method {
 	 * Memory: about 9 bytes a corner + 1 a face + 32 a vertex (ADAPTIVE 112)
 	 * + 4 a 1-ring member (JET, ADAPTIVE) + 4 a vertex per thread from the
 	 * allocator (the workspace serves the seed pass only), + 128 bytes a
-	 * 2-ring member per thread. Cost on one thread: QUADRIC about 12-17x
-	 * MWSELR's, JET about 30x, ADAPTIVE about 30x where the jet is exact
-	 * to 1e-4 h and about 90-140x elsewhere, where it fits the 4-ring as
-	 * well (docs/PERFORMANCE.md). Per corner
+	 * 2-ring member per thread. Cost on one thread, on a smooth torus:
+	 * QUADRIC about 11x MWSELR's, JET about 25x, ADAPTIVE about 45x (less
+	 * where the jet is exact to 1e-4 h, which skips the 4-ring's fits;
+	 * docs/PERFORMANCE.md). Per corner
 	 * (vn_corner_normals, vn_polygon_corner_normals): a
 	 * corner whose fan is its vertex's whole star (one fan, no degenerate
 	 * face, with face strengths all equally strong) gets the vertex's
