@@ -267,11 +267,20 @@ check "int_point_cloud to OFF: the file's coordinates" [ "$(sed -n 3p "$T/cloud.
 printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nproperty float intensity\nend_header\n0 0 0 0 0 1 255 0 0 0.5\n1 0 0 0 1 0 0 255 0 0.25\n' >"$T/scan.ply"
 run "$VNC" "$T/scan.ply" "$T/scan_out.ply"
 check "scanned point cloud to PLY: exit 0" [ $rc -eq 0 ]
-check "scanned point cloud: the input's normals kept, said so" grep -q "2 of 2 vertices have no normal .*the input's normal kept" "$T/stderr"
+check "scanned point cloud: the input's normals kept, said so" grep -q "scan.ply has no faces (a point cloud): vn computes no normals; the input's are kept$" "$T/stderr"
 check "scanned point cloud: colours and intensity kept" $PLYTOOL same "$T/scan.ply" "$T/scan_out.ply"
 check "scanned point cloud: normals kept" [ "$($PLYTOOL column "$T/scan_out.ply" nz 0) $($PLYTOOL column "$T/scan_out.ply" ny 1)" = "1.0 1.0" ]
 run "$VNC" "$T/scan.ply" "$T/scan_out.off"
 check "scanned point cloud to OFF: normals and colours" [ "$(sed -n 3p "$T/scan_out.off")" = "0 0 0 0 0 1 255 0 0 255" ]
+# double normals (Open3D's writer makes them) are the file's: kept exactly
+# in PLY and OFF; a double property beyond float's range is said to be
+printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\nproperty double z\nproperty double nx\nproperty double ny\nproperty double nz\nproperty double big\nend_header\n0 0 0 0.1 0.2 0.9746794344808963 1e300\n1 0 0 0.6 0 0.8 1e-320\n' >"$T/dn.ply"
+run "$VNC" "$T/dn.ply" "$T/dn_out.ply"
+check "double normals of a point cloud: written as double" grep -aq "^property double nx$" "$T/dn_out.ply"
+check "double normals of a point cloud: kept exactly" [ "$($PLYTOOL column "$T/dn_out.ply" nz 0) $($PLYTOOL column "$T/dn_out.ply" nx 1)" = "0.9746794344808963 0.6" ]
+check "a double beyond float's range: said so" grep -q "vertex property 'big' is double, kept as float: 2 of its 2 values rounded, 2 of them beyond float's range (now infinite, or 0)" "$T/stderr"
+run "$VNC" "$T/dn.ply" "$T/dn_out.off"
+check "double normals of a point cloud to OFF: kept exactly" [ "$(sed -n 3p "$T/dn_out.off")" = "0 0 0 0.1 0.2 0.9746794344808963" ]
 rejected_text() { printf "$2" >"$T/$1"; check_rejected "$VNC" "$T/$1" "$T/none.off" "$T/keep.off"; }
 HEADER='ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n'
 rejected_text index.ply "${HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"

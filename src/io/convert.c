@@ -522,7 +522,10 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	char lost[512];
 	if (vn_io_mesh_losses(mesh, c->out_format, lost, sizeof lost))
 		add(&c->warnings, "%s cannot hold %s: not written\n", c->out, lost);
-	if (st.zero_normals && c->out_format->no_normal)
+	if (st.zero_normals && c->out_format->no_normal && !mesh->face_count)
+		add(&c->warnings, "%s has no faces (a point cloud): vn computes no normals; %s%s\n", c->in,
+		    had_normals ? "the input's are kept" : "written as ", had_normals ? "" : c->out_format->no_normal);
+	else if (st.zero_normals && c->out_format->no_normal)
 		add(&c->warnings,
 		    "%zu of %zu %s %s no normal " NO_NORMAL_CAUSES "; %s%s\n",
 		    st.zero_normals, mesh->vertex_count, noun(mesh->vertex_count, "vertex", "vertices"),

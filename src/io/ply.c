@@ -860,16 +860,20 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 			memcpy(a->data, p->column, n * types[p->type].size);
 			continue;
 		}
-		size_t rounded = 0;
+		size_t rounded = 0, beyond = 0;
 		for (size_t i = 0; i < n; i++) {
 			const double x = value_at(p, i);
 			const float f = (float)x;
 			rounded += (double)f != x && x == x;
+			beyond += (isinf(f) && !isinf(x)) || (f == 0 && x != 0);
 			((float*)a->data)[i] = f;
 		}
-		char text[PLY_NAME_MAX + 96];
-		snprintf(text, sizeof text, "vertex property '%s' is double, kept as float: %zu of its %zu values rounded",
-		         p->name, rounded, n);
+		char text[PLY_NAME_MAX + 192];
+		int at = snprintf(text, sizeof text, "vertex property '%s' is double, kept as float: %zu of its %zu values rounded",
+		                  p->name, rounded, n);
+		if (beyond && at > 0 && (size_t)at < sizeof text)
+			snprintf(text + at, sizeof text - (size_t)at,
+			         ", %zu of them beyond float's range (now infinite, or 0)", beyond);
 		if (rounded && !warn(r, text))
 			result = out_of_memory(r);
 	}
@@ -1093,11 +1097,17 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	const int count_type = largest > 255 ? PLY_UINT32 : PLY_UINT8;
 	const int index_type = n > INT32_MAX ? PLY_UINT32 : PLY_INT32;
 
+	/* A point cloud's normals are the file's (vn computes none): double
+	 * where float would round them. */
+	int double_normals = 0;
+	for (size_t i = 0; mesh->normals && !mesh->face_count && i < 3 * n && !double_normals; i++)
+		double_normals = (double)(float)mesh->normals[i] != mesh->normals[i];
 	fprintf(out, "ply\nformat binary_little_endian 1.0\ncomment written by vn\nelement vertex %zu\n", n);
 	const char* position = doubles ? "double" : "float";
 	fprintf(out, "property %s x\nproperty %s y\nproperty %s z\n", position, position, position);
+	const char* normal = double_normals ? "double" : "float";
 	if (mesh->normals)
-		fprintf(out, "property float nx\nproperty float ny\nproperty float nz\n");
+		fprintf(out, "property %s nx\nproperty %s ny\nproperty %s nz\n", normal, normal, normal);
 	if (mesh->colors)
 		header_colour(out, mesh->colors_are_bytes);
 	const char* const* tex = texcoord_names(mesh);
@@ -1107,7 +1117,7 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	if (!names)
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);
 	const char* name = names;
-	size_t record_size = 3 * (doubles ? 8u : 4u) + (mesh->normals ? 12u : 0u) +
+	size_t record_size = 3 * (doubles ? 8u : 4u) + (mesh->normals ? (double_normals ? 24u : 12u) : 0u) +
 	                     (mesh->colors ? (mesh->colors_are_bytes ? 4u : 16u) : 0u) +
 	                     (mesh->texcoords ? 8u : 0u);
 	for (size_t a = 0; a < mesh->attribute_count; a++) {
@@ -1138,7 +1148,7 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 		for (int k = 0; k < 3; k++)
 			put(&b, doubles ? PLY_FLOAT64 : PLY_FLOAT32, mesh->positions[3 * i + k]);
 		for (int k = 0; k < 3 && mesh->normals; k++)
-			put(&b, PLY_FLOAT32, mesh->normals[3 * i + k]);
+			put(&b, double_normals ? PLY_FLOAT64 : PLY_FLOAT32, mesh->normals[3 * i + k]);
 		if (mesh->colors)
 			put_colour(&b, mesh->colors + 4 * i, mesh->colors_are_bytes);
 		for (int k = 0; k < 2 && mesh->texcoords; k++)
