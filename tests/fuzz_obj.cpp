@@ -29,8 +29,9 @@ static void check_names(const vn_io_face_names& n, size_t faces)
 
 static void check_mesh(const vn_io_mesh& m)
 {
-	if (!m.positions || !m.face_offsets || !m.indices || m.face_offsets[0] != 0 || m.face_count == 0)
-		abort();
+	if (!m.positions || !m.face_offsets || !m.indices || m.face_offsets[0] != 0 ||
+	    (m.face_count == 0 && m.vertex_count == 0))
+		abort(); /* a point cloud has vertices */
 	for (size_t f = 0; f < m.face_count; f++)
 		if (m.face_offsets[f + 1] < m.face_offsets[f] + 3)
 			abort();
@@ -67,6 +68,10 @@ static void check_round_trip(const vn_io_mesh& m)
 	for (uint32_t c = 0; c < corners; c++)
 		if (memcmp(back.positions + 3 * back.indices[c], m.positions + 3 * m.indices[c], 3 * sizeof(double)) != 0)
 			abort();
+	/* A point cloud: every vertex back, in order. */
+	if (!m.face_count && (back.vertex_count != m.vertex_count ||
+	                      memcmp(back.positions, m.positions, 3 * m.vertex_count * sizeof(double)) != 0))
+		abort();
 	vn_io_mesh_free(&back);
 	free(text);
 }

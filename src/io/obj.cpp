@@ -693,7 +693,8 @@ vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* m
 	}
 	mesh->vertex_count = n;
 	if (!(mesh->positions = copy_out(positions)) || !(mesh->face_offsets = copy_out(std::vector<uint32_t>{0})) ||
-	    (nrm && !(mesh->normals = copy_out(normals))) || (tex && !(mesh->texcoords = copy_out(texcoords))))
+	    !(mesh->indices = copy_out(std::vector<uint32_t>{})) || (nrm && !(mesh->normals = copy_out(normals))) ||
+	    (tex && !(mesh->texcoords = copy_out(texcoords))))
 		return out_of_memory(s.name, error);
 	return vn_io_success;
 }

@@ -631,7 +631,9 @@ static vn_io_result prepare(ply_reader* r, vn_io_mesh* m)
 			if (p->count_type < 0 && !(p->column = malloc((size_t)r->vertex->count * types[p->type].size + 1)))
 				return out_of_memory(r);
 		}
-		if (!r->strips && !(m->face_offsets = calloc(1, sizeof *m->face_offsets)))
+		/* A point cloud: no faces, as OFF's reader gives them. */
+		if (!r->strips && (!(m->face_offsets = calloc(1, sizeof *m->face_offsets)) ||
+		                   !(m->indices = malloc(sizeof *m->indices))))
 			return out_of_memory(r);
 		return vn_io_success;
 	}
