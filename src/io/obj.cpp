@@ -664,8 +664,6 @@ bool untextured_faces(const scanner& s, vn_io_mesh* mesh)
 	return true;
 }
 
-/* Draco's mesh into *mesh: a vertex per (v, vt, vn), polygons as the file
- * had them. */
 /* A point cloud: Draco's points are the v lines, in order. */
 vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
 {
@@ -699,6 +697,8 @@ vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* m
 	return vn_io_success;
 }
 
+/* Draco's mesh into *mesh: a vertex per (v, vt, vn), polygons as the file
+ * had them. */
 vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
 {
 	using draco::GeometryAttribute;
