@@ -283,6 +283,8 @@ run "$VNC" "$T/dn.ply" "$T/dn_out.off"
 check "double normals of a point cloud to OFF: kept exactly" [ "$(sed -n 3p "$T/dn_out.off")" = "0 0 0 0.1 0.2 0.9746794344808963" ]
 rejected_text() { printf "$2" >"$T/$1"; check_rejected "$VNC" "$T/$1" "$T/none.off" "$T/keep.off"; }
 HEADER='ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n'
+rejected_text ctrlname.ply 'ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nproperty float \001q\nend_header\n0 0 0 1\n'
+check "a property name with a control character (fuzz_ply): file, line, why" grep -q "ctrlname.ply:7: property name '.q' has a control character" "$T/stderr"
 rejected_text index.ply "${HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"
 check "index out of range: file, line, face" grep -q "index.ply:13: face 0 has index 3, but the file has 3 vertices" "$T/stderr"
 rejected_text short.ply "${HEADER}0 0 0\n1 0 0\n"

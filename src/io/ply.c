@@ -273,13 +273,19 @@ static vn_io_result add_property(ply_reader* r, token* w, size_t count)
 		return fail(r, vn_io_error_parse, "unknown property type '%s'", quote(w[list ? 3 : 1]).text);
 	if (list && (count_type < 0 || is_real(count_type)))
 		return fail(r, vn_io_error_parse, "'%s' is not an integer type for a list's length", quote(w[2]).text);
+	/* A name is kept as the file spells it and written back: a control
+	 * character (a NUL ends it early) would make a header no reader reads. */
+	const token name = w[list ? 4 : 2];
+	for (size_t i = 0; i < name.n; i++)
+		if ((unsigned char)name.p[i] < 0x20 || name.p[i] == 0x7f)
+			return fail(r, vn_io_error_parse, "property name '%s' has a control character", quote(name).text);
 	ply_property* grown = realloc(e->properties, (e->property_count + 1) * sizeof *grown);
 	if (!grown)
 		return out_of_memory(r);
 	e->properties = grown;
 	ply_property* p = &grown[e->property_count++];
 	memset(p, 0, sizeof *p);
-	copy_name(p->name, w[list ? 4 : 2]);
+	copy_name(p->name, name);
 	p->type = type;
 	p->count_type = count_type;
 	return vn_io_success;
