@@ -23,6 +23,7 @@
 
 #include "off.h"
 #include "test_files.h"
+#include "text.h"
 #include "vn_io.h"
 
 /* ------------------------------------------------------------------ helpers */
@@ -1021,6 +1022,119 @@ static void test_write_exact_text(void** state)
 	free(text);
 }
 
+/* vn_io_format_g against literal printf texts: ties to even on the exact
+ * value, carries to a new power of 10, both styles, and values past the
+ * integer path (printf's text there). */
+static void test_format_g_literals(void** state)
+{
+	(void)state;
+	static const struct {
+		double v;
+		int digits;
+		const char* text;
+	} cases[] = {
+	    {0.1, 17, "0.10000000000000001"},   {0.125, 2, "0.12"},        {0.375, 2, "0.38"},
+	    {2.5, 1, "2"},                      {3.5, 1, "4"},             {999.6, 3, "1e+03"},
+	    {9.9999, 3, "10"},                  {123456.0, 9, "123456"},   {1200.0, 4, "1200"},
+	    {1200.0, 2, "1.2e+03"},             {0.0001, 6, "0.0001"},     {0.00001, 6, "1e-05"},
+	    {1.5e-7, 9, "1.5e-07"},             {-0.0, 9, "-0"},           {0.0, 17, "0"},
+	    {-2.75, 2, "-2.8"},                 {1e300, 9, "1e+300"},      {5e-324, 17, "4.9406564584124654e-324"},
+	    {9999999999.9999962, 16, "9999999999.999996"},                 {9999999999.9999962, 17, "9999999999.9999962"},
+	    {0.30000000000000004, 16, "0.3"}, {1.0 / 3.0, 9, "0.333333333"},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+		char text[VN_IO_NUMBER_SIZE];
+		const size_t n = vn_io_format_g(text, cases[i].v, cases[i].digits);
+		assert_string_equal(text, cases[i].text);
+		assert_int_equal(n, strlen(cases[i].text));
+	}
+	char text[VN_IO_NUMBER_SIZE];
+	vn_io_format_g(text, NAN, 9);
+	assert_string_equal(text, "nan");
+	vn_io_format_g(text, -INFINITY, 9);
+	assert_string_equal(text, "-inf");
+}
+
+/* A reproducible stream of doubles: every bit pattern, values near 1,
+ * short decimals (as text files hold them), floats, dyadic fractions (exact
+ * ties at some digit count) and the neighbours of powers of 10. */
+static double test_value(uint64_t* state, unsigned kind)
+{
+	uint64_t x = *state;
+	x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+	*state = x;
+	double v;
+	switch (kind % 6) {
+	case 0:
+		memcpy(&v, &x, sizeof v);
+		return isfinite(v) ? v : 1.0;
+	case 1: return ldexp(1.0 + (double)(x >> 11) * 0x1p-53, (int)(x % 90) - 40) * (x & 1 ? -1 : 1);
+	case 2: return (double)(x % 1000000000) / pow(10.0, (double)(x >> 40 & 15));
+	case 3: return (double)(float)((double)(x % 1000000) / pow(10.0, (double)(x >> 40 & 7)));
+	case 4: return (double)(x % 100000) / (double)(1u << (x >> 40 & 15));
+	default: v = pow(10.0, (double)((int)(x % 36) - 14));
+		for (int k = (int)(x >> 40 & 7) - 3; k != 0; k += k < 0 ? 1 : -1)
+			v = nextafter(v, k < 0 ? 0.0 : INFINITY);
+		return v;
+	}
+}
+
+static void test_format_g_matches_printf(void** state)
+{
+	(void)state;
+	uint64_t seed = 88172645463325252ull;
+	for (unsigned i = 0; i < 120000; ++i) {
+		const double v = test_value(&seed, i);
+		const int digits = 1 + (int)(i / 6 % 17);
+		char ours[VN_IO_NUMBER_SIZE], theirs[64];
+		vn_io_format_g(ours, v, digits);
+		snprintf(theirs, sizeof theirs, "%.*g", digits, v);
+		if (strcmp(ours, theirs) != 0)
+			fail_msg("%a at %d digits: '%s', printf '%s'", v, digits, ours, theirs);
+	}
+}
+
+/* The shortest of 15 to 17 digits that strtod reads back: literals, then
+ * the stream against that definition. */
+static void test_format_exact(void** state)
+{
+	(void)state;
+	static const struct {
+		double v;
+		const char* text;
+	} cases[] = {
+	    {0.1, "0.1"},
+	    {0.30000000000000004, "0.30000000000000004"},
+	    {1.0 / 3.0, "0.3333333333333333"},
+	    {(double)0.1f, "0.10000000149011612"},
+	    {9999999999.9999962, "9999999999.999996"},
+	    {1e-300, "1e-300"},
+	    {-0.0, "-0"},
+	    {123456789.0, "123456789"},
+	    /* 16 digits, 5.960464477539062e-08, lie below 2^-24 within half an
+	     * ulp but past the quarter that is half the gap to the double below */
+	    {0x1p-24, "5.9604644775390625e-08"},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+		char text[VN_IO_NUMBER_SIZE];
+		vn_io_format_exact(text, cases[i].v);
+		assert_string_equal(text, cases[i].text);
+	}
+	uint64_t seed = 2463534242ull;
+	for (unsigned i = 0; i < 60000; ++i) {
+		const double v = test_value(&seed, i);
+		char ours[VN_IO_NUMBER_SIZE], theirs[64];
+		vn_io_format_exact(ours, v);
+		for (int digits = 15;; ++digits) {
+			snprintf(theirs, sizeof theirs, "%.*g", digits, v);
+			if (digits == 17 || strtod(theirs, NULL) == v)
+				break;
+		}
+		if (strcmp(ours, theirs) != 0)
+			fail_msg("%a: '%s', the shortest that reads back '%s'", v, ours, theirs);
+	}
+}
+
 static void test_write_colours_in_source_style(void** state)
 {
 	(void)state;
@@ -1575,6 +1689,9 @@ int main(void)
 	    cmocka_unit_test(test_error_colour_styles_mixed),
 	    cmocka_unit_test(test_error_trailing_content),
 	    cmocka_unit_test(test_write_exact_text),
+	    cmocka_unit_test(test_format_g_literals),
+	    cmocka_unit_test(test_format_g_matches_printf),
+	    cmocka_unit_test(test_format_exact),
 	    cmocka_unit_test(test_write_colours_in_source_style),
 	    cmocka_unit_test(test_round_trip_is_exact),
 	    cmocka_unit_test(test_round_trip_keeps_byte_colours),

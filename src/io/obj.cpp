@@ -888,9 +888,9 @@ uint64_t bits(double x)
  * from strtod's, which vn_io_put_float checks with), else 9. */
 void put_obj_float(vn_io_text_out* w, float v)
 {
-	char text[40];
+	char text[VN_IO_NUMBER_SIZE + 1] = " ";
 	for (int digits = 6; digits <= 12; digits++) {
-		snprintf(text, sizeof text, " %.*g", digits, (double)v);
+		vn_io_format_g(text + 1, double(v), digits);
 		const char* q = text + 1 + (text[1] == '-');
 		const char* end = text + std::strlen(text);
 		double back;
@@ -901,8 +901,7 @@ void put_obj_float(vn_io_text_out* w, float v)
 			return;
 		}
 	}
-	snprintf(text, sizeof text, " %.9g", (double)v);
-	vn_io_put(w, text);
+	vn_io_put_float9(w, double(v));
 }
 
 void put_coordinate(vn_io_text_out* w, double x)
@@ -910,7 +909,7 @@ void put_coordinate(vn_io_text_out* w, double x)
 	if (std::fabs(x) <= FLT_MAX && double(float(x)) == x)
 		put_obj_float(w, float(x));
 	else
-		vn_io_put_exact(w, " ", x);
+		vn_io_put_exact(w, 1, x);
 }
 
 /* 1-based numbers for values, equal values (bit for bit) sharing one. */

@@ -846,14 +846,14 @@ vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	vn_io_put(&w, text);
 	for (size_t i = 0; i < mesh->vertex_count && !w.failed; i++) {
 		for (size_t k = 0; k < 3; k++)
-			vn_io_put_exact(&w, k ? " " : "", mesh->positions[3 * i + k]);
+			vn_io_put_exact(&w, k != 0, mesh->positions[3 * i + k]);
 		/* Normals are unit vectors made for rendering: float precision; a
 		 * point cloud's are the input's (vn computes none): as they are. */
 		for (size_t k = 0; k < 3 && mesh->normals; k++) {
 			if (mesh->face_count)
 				vn_io_put_float9(&w, mesh->normals[3 * i + k]);
 			else
-				vn_io_put_exact(&w, " ", mesh->normals[3 * i + k]);
+				vn_io_put_exact(&w, 1, mesh->normals[3 * i + k]);
 		}
 		if (mesh->colors)
 			put_colour(&w, mesh->colors + 4 * i, mesh->colors_are_bytes);

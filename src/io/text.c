@@ -5,6 +5,8 @@
 
 #include <errno.h>
 #include <locale.h>
+#include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -34,31 +36,207 @@ void vn_io_put(vn_io_text_out* w, const char* text)
 
 void vn_io_put_float9(vn_io_text_out* w, double v)
 {
-	char text[40];
-	snprintf(text, sizeof text, " %.9g", v);
+	char text[VN_IO_NUMBER_SIZE + 1] = " ";
+	vn_io_format_g(text + 1, v, 9);
 	vn_io_put(w, text);
 }
 
 void vn_io_put_float(vn_io_text_out* w, float v)
 {
-	char text[40];
+	char text[VN_IO_NUMBER_SIZE + 1] = " ";
 	for (int digits = 6;; digits++) {
-		snprintf(text, sizeof text, " %.*g", digits, (double)v);
+		vn_io_format_g(text + 1, (double)v, digits);
 		if (digits == 9 || (float)strtod(text, NULL) == v)
 			break;
 	}
 	vn_io_put(w, text);
 }
 
-void vn_io_put_exact(vn_io_text_out* w, const char* separator, double v)
+void vn_io_put_exact(vn_io_text_out* w, int space, double v)
 {
-	char text[40];
-	for (int digits = 15;; digits++) {
-		snprintf(text, sizeof text, "%s%.*g", separator, digits, v);
-		if (digits == 17 || strtod(text, NULL) == v)
-			break;
-	}
+	char text[VN_IO_NUMBER_SIZE + 1] = " ";
+	vn_io_format_exact(text + (space != 0), v);
 	vn_io_put(w, text);
+}
+
+/* ---------------------------------------------------------------- %g */
+
+#ifdef __SIZEOF_INT128__
+__extension__ typedef unsigned __int128 vn_u128;
+
+static const uint64_t POWER_OF_10[18] = {
+	1ull, 10ull, 100ull, 1000ull,
+	10000ull, 100000ull, 1000000ull, 10000000ull,
+	100000000ull, 1000000000ull, 10000000000ull, 100000000000ull,
+	1000000000000ull, 10000000000000ull, 100000000000000ull, 1000000000000000ull,
+	10000000000000000ull, 100000000000000000ull,
+};
+
+static const uint64_t POWER_OF_5[28] = {
+	1ull, 5ull, 25ull, 125ull,
+	625ull, 3125ull, 15625ull, 78125ull,
+	390625ull, 1953125ull, 9765625ull, 48828125ull,
+	244140625ull, 1220703125ull, 6103515625ull, 30517578125ull,
+	152587890625ull, 762939453125ull, 3814697265625ull, 19073486328125ull,
+	95367431640625ull, 476837158203125ull, 2384185791015625ull, 11920928955078125ull,
+	59604644775390625ull, 298023223876953125ull, 1490116119384765625ull, 7450580596923828125ull,
+};
+
+/* a (finite, > 0) as m 2^e, m its 53-bit significand; 0 for a subnormal. */
+static int split(double a, uint64_t* m, int* e)
+{
+	uint64_t bits;
+	memcpy(&bits, &a, sizeof bits);
+	const int biased = (int)(bits >> 52);
+	*m = (bits & (((uint64_t)1 << 52) - 1)) | (uint64_t)1 << 52;
+	*e = biased - 1075;
+	return biased != 0;
+}
+
+/* a's p significant digits (1 <= p <= 17) as printf makes them, rounded to
+ * nearest, ties to even, from the exact binary value: a = q 10^(x - p + 1)
+ * with q in [10^(p - 1), 10^p), q exact in integers, and a 10^(p - 1 - x)
+ * = M / 2^sh exactly. */
+typedef struct digits {
+	uint64_t q, m;
+	int x, sh;
+	vn_u128 M;
+} digits;
+
+/* The digits where M = m 5^s fits (s = p - 1 - x in [0, 27]: 5^27 < 2^63)
+ * and sh is in [1, 69], which the rounding and reads_back need; 0
+ * elsewhere (a far from 1: the callers use the C library). x is
+ * floor(log10 a) or one less. */
+static int round_digits(double a, int p, int x, digits* d)
+{
+	uint64_t m;
+	int e;
+	if (!split(a, &m, &e))
+		return 0;
+	/* q >= 10^p: x is one too small, or a's digits round up to 10^p; either
+	 * way x + 1. q = 10^(p - 1): a is at or above 10^x, or below it and
+	 * rounded up; x - 1 tells them apart (there, digits below 10^p are
+	 * a's). */
+	for (int tries = 0, below = 0; tries < 4; ++tries) {
+		const int s = p - 1 - x, sh = -e - s; /* a 10^s = m 5^s 2^(e + s) */
+		if (s < 0 || s > 27 || sh < 1 || sh > 69)
+			return 0;
+		const vn_u128 M = (vn_u128)m * POWER_OF_5[s], whole = M >> sh;
+		const vn_u128 half = (vn_u128)1 << (sh - 1), r = M & ((half << 1) - 1);
+		const vn_u128 q = whole + (r > half || (r == half && (whole & 1)));
+		if (q >= POWER_OF_10[p] && !below) {
+			++x;
+			continue;
+		}
+		if (q < POWER_OF_10[p] && (q > POWER_OF_10[p - 1] || below)) {
+			d->q = (uint64_t)q, d->m = m, d->x = x, d->sh = sh, d->M = M;
+			return 1;
+		}
+		if (below) /* x - 1 rounds up to 10^p: x's 10^(p - 1) stands */
+			return 1;
+		if (q == POWER_OF_10[p - 1])
+			d->q = (uint64_t)q, d->m = m, d->x = x, d->sh = sh, d->M = M, below = 1;
+		--x;
+	}
+	return 0;
+}
+
+/* floor(log10 a) or one less, from a's binary exponent: a in [2^k, 2^(k + 1)). */
+static int decimal_exponent(double a)
+{
+	uint64_t m;
+	int e;
+	split(a, &m, &e);
+	return (int)floor((e + 52) * 0.30102999566398120);
+}
+
+/* Whether q 10^(x - p + 1) reads back as a (strtod rounds to nearest): it
+ * is nearer to a than half the gap to a's neighbour on its side. In units
+ * of 2^-(sh + 1) 10^-s (s = p - 1 - x): |q - a 10^s| against half an ulp,
+ * 5^s (a 10^s = M / 2^sh, ulp(a) 10^s = 5^s / 2^sh); against a quarter
+ * below a power of 2, whose lower neighbour is half an ulp away. No tie is
+ * possible here: a midpoint between two doubles whose lowest bit is 2^-1 or
+ * finer (sh >= 1) is an odd multiple of a power of 2 of at least 54 bits
+ * and needs more than 17 digits. */
+static int reads_back(const digits* d, int p)
+{
+	const vn_u128 at = (vn_u128)d->q << (d->sh + 1), twice = d->M << 1; /* q < 2^57, sh + 1 <= 70 */
+	const vn_u128 diff = at > twice ? at - twice : twice - at;
+	const uint64_t five = POWER_OF_5[p - 1 - d->x];
+	if (at < twice && d->m == (uint64_t)1 << 52)
+		return 2 * diff < five;
+	return diff < five;
+}
+
+/* printf's "%.*g" text of the digits: exponent style where x < -4 or x >=
+ * p, trailing zeros of the fraction (and a bare point) dropped. */
+static size_t format_digits(char* out, int negative, const digits* d, int p)
+{
+	char s[17];
+	uint64_t q = d->q;
+	for (int i = p - 1; i >= 0; --i)
+		s[i] = (char)('0' + q % 10), q /= 10;
+	const int x = d->x, point = x < -4 || x >= p ? 1 : x >= 0 ? x + 1 : 0; /* digits before the point */
+	int k = p;
+	while (k > point && k > 1 && s[k - 1] == '0')
+		--k;
+	char* o = out;
+	if (negative)
+		*o++ = '-';
+	if (x < 0 && x >= -4) { /* 0.000ddd */
+		*o++ = '0', *o++ = '.';
+		for (int i = 0; i < -x - 1; ++i)
+			*o++ = '0';
+		memcpy(o, s, (size_t)k), o += k;
+	} else {
+		memcpy(o, s, (size_t)point), o += point;
+		if (k > point)
+			*o++ = '.', memcpy(o, s + point, (size_t)(k - point)), o += k - point;
+		if (point == 1 && (x < -4 || x >= p)) {
+			const int e = x < 0 ? -x : x;
+			*o++ = 'e', *o++ = x < 0 ? '-' : '+';
+			if (e >= 100)
+				*o++ = (char)('0' + e / 100);
+			*o++ = (char)('0' + e / 10 % 10), *o++ = (char)('0' + e % 10);
+		}
+	}
+	*o = '\0';
+	return (size_t)(o - out);
+}
+#endif
+
+size_t vn_io_format_g(char* out, double v, int p)
+{
+#ifdef __SIZEOF_INT128__
+	digits d;
+	if (v == 0.0 && p >= 1 && p <= 17) {
+		strcpy(out, signbit(v) ? "-0" : "0");
+		return strlen(out);
+	}
+	if (isfinite(v) && p >= 1 && p <= 17 && round_digits(fabs(v), p, decimal_exponent(fabs(v)), &d))
+		return format_digits(out, signbit(v) != 0, &d, p);
+#endif
+	return (size_t)snprintf(out, VN_IO_NUMBER_SIZE, "%.*g", p, v);
+}
+
+size_t vn_io_format_exact(char* out, double v)
+{
+#ifdef __SIZEOF_INT128__
+	const int x = v != 0.0 && isfinite(v) ? decimal_exponent(fabs(v)) : 0;
+#endif
+	for (int p = 15;; p++) {
+#ifdef __SIZEOF_INT128__
+		digits d;
+		if (v != 0.0 && isfinite(v) && round_digits(fabs(v), p, x, &d)) {
+			if (p == 17 || reads_back(&d, p))
+				return format_digits(out, signbit(v) != 0, &d, p);
+			continue;
+		}
+#endif
+		const size_t n = vn_io_format_g(out, v, p);
+		if (p == 17 || strtod(out, NULL) == v)
+			return n;
+	}
 }
 
 int vn_io_parse_real(const unsigned char* p, size_t n, double* out)

@@ -40,10 +40,26 @@ void vn_io_put_float9(vn_io_text_out* w, double v);
 /* " v" for a float: the shortest of 6 to 9 significant digits that reads back
  * as the same float, so that 0.2 stays "0.2" rather than "0.200000003". */
 void vn_io_put_float(vn_io_text_out* w, float v);
-/* separator, then v: the shortest of 15, 16 or 17 significant digits that
- * reads back as the same double, so that 0.1 stays "0.1" and every double
- * survives a round trip exactly. */
-void vn_io_put_exact(vn_io_text_out* w, const char* separator, double v);
+/* v as vn_io_format_exact writes it, after a space where `space` is set. */
+void vn_io_put_exact(vn_io_text_out* w, int space, double v);
+
+/* Room for any number vn_io_format_g or vn_io_format_exact writes, with
+ * its terminating NUL. */
+#define VN_IO_NUMBER_SIZE 32
+/* The text of snprintf(out, VN_IO_NUMBER_SIZE, "%.*g", digits, v), byte for
+ * byte; returns its length. Where v is finite and not far from 1 (about
+ * 1e-9 <= |v| < 1e8 at 9 digits, 1e-11 <= |v| < 1e15 at 17: 128-bit
+ * integers then hold v's exact value times the power of 10 that leaves
+ * `digits` digits), they are rounded there as printf rounds them, without
+ * printf's arbitrary precision, which made a text file of a million
+ * numbers take seconds to write. */
+size_t vn_io_format_g(char* out, double v, int digits);
+/* v as the shortest of 15, 16 or 17 significant digits ("%.*g") that reads
+ * back as the same double, so that 0.1 stays "0.1" and every double
+ * survives a round trip exactly; returns the length. Whether it reads back
+ * is decided exactly in integers where vn_io_format_g rounds in them, by
+ * strtod elsewhere. */
+size_t vn_io_format_exact(char* out, double v);
 
 /* The longest number token the readers take; longer ones are an error
  * rather than cut short. */
