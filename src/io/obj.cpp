@@ -644,6 +644,46 @@ struct corner_hash {
 	}
 };
 
+/* A corner without a texture coordinate (corner_key's v[1]). */
+constexpr uint32_t NO_TEX = UINT32_MAX;
+
+/* The key of Draco's point p: its value indices, without the texture
+ * coordinate where untextured (or tex is NULL). */
+corner_key key_of(draco::PointIndex p, const draco::PointAttribute* pos, const draco::PointAttribute* tex,
+                  const draco::PointAttribute* nrm, bool untextured)
+{
+	return {{pos->mapped_index(p).value(), tex && !untextured ? tex->mapped_index(p).value() : NO_TEX,
+	         nrm ? nrm->mapped_index(p).value() : 0}};
+}
+
+/* The vertices' values, a vertex a key: positions and normals as doubles
+ * (3 each; no normals without nrm), texture coordinates (2; none without
+ * tex, left 0 for a key without one). */
+struct vertex_values {
+	std::vector<double> positions, normals;
+	std::vector<float> texcoords;
+};
+
+vertex_values values_of(const std::vector<corner_key>& vertices, const draco::PointAttribute* pos,
+                        const draco::PointAttribute* tex, const draco::PointAttribute* nrm)
+{
+	const size_t n = vertices.size();
+	vertex_values out{std::vector<double>(3 * n), std::vector<double>(nrm ? 3 * n : 0),
+	                  std::vector<float>(tex ? 2 * n : 0)};
+	for (size_t i = 0; i < n; i++) {
+		float v[3];
+		pos->ConvertValue<float, 3>(draco::AttributeValueIndex(vertices[i].v[0]), v);
+		std::copy(v, v + 3, &out.positions[3 * i]);
+		if (tex && vertices[i].v[1] != NO_TEX)
+			tex->ConvertValue<float, 2>(draco::AttributeValueIndex(vertices[i].v[1]), &out.texcoords[2 * i]);
+		if (nrm) {
+			nrm->ConvertValue<float, 3>(draco::AttributeValueIndex(vertices[i].v[2]), v);
+			std::copy(v, v + 3, &out.normals[3 * i]);
+		}
+	}
+	return out;
+}
+
 vn_io_result out_of_memory(const char* name, vn_io_error* error)
 {
 	return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
@@ -675,24 +715,15 @@ vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* m
 	if (!pos || int64_t(n) != s.total[0])
 		return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader found %zu of its %" PRId64 " vertices",
 		                  s.name, pos ? n : 0, s.total[0]);
-	std::vector<double> positions(3 * n), normals(nrm ? 3 * n : 0);
-	std::vector<float> texcoords(tex ? 2 * n : 0);
-	for (size_t i = 0; i < n; i++) {
-		const draco::PointIndex p(static_cast<uint32_t>(i));
-		float v[3];
-		pos->ConvertValue<float, 3>(pos->mapped_index(p), v);
-		positions[3 * i] = v[0], positions[3 * i + 1] = v[1], positions[3 * i + 2] = v[2];
-		if (tex)
-			tex->ConvertValue<float, 2>(tex->mapped_index(p), &texcoords[2 * i]);
-		if (nrm) {
-			nrm->ConvertValue<float, 3>(nrm->mapped_index(p), v);
-			normals[3 * i] = v[0], normals[3 * i + 1] = v[1], normals[3 * i + 2] = v[2];
-		}
-	}
+	std::vector<corner_key> points(n);
+	for (size_t i = 0; i < n; i++)
+		points[i] = key_of(draco::PointIndex(static_cast<uint32_t>(i)), pos, tex, nrm, false);
+	const vertex_values values = values_of(points, pos, tex, nrm);
 	mesh->vertex_count = n;
-	if (!(mesh->positions = copy_out(positions)) || !(mesh->face_offsets = copy_out(std::vector<uint32_t>{0})) ||
-	    !(mesh->indices = copy_out(std::vector<uint32_t>{})) || (nrm && !(mesh->normals = copy_out(normals))) ||
-	    (tex && !(mesh->texcoords = copy_out(texcoords))))
+	if (!(mesh->positions = copy_out(values.positions)) ||
+	    !(mesh->face_offsets = copy_out(std::vector<uint32_t>{0})) ||
+	    !(mesh->indices = copy_out(std::vector<uint32_t>{})) || (nrm && !(mesh->normals = copy_out(values.normals))) ||
+	    (tex && !(mesh->texcoords = copy_out(values.texcoords))))
 		return out_of_memory(s.name, error);
 	return vn_io_success;
 }
@@ -717,7 +748,6 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	/* A corner of a face without vt is Draco's point with the first vt, but
 	 * a vertex of its own (no texture coordinate, NO_TEX), so that it is not
 	 * merged with the first vt's corners of textured faces. */
-	constexpr uint32_t NO_TEX = UINT32_MAX;
 	std::vector<uint32_t> untextured_vertex_of_point;
 	auto vertex = [&](draco::PointIndex p, bool untextured) {
 		std::vector<uint32_t>& cache = untextured ? untextured_vertex_of_point : vertex_of_point;
@@ -725,9 +755,7 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 			cache.assign(m.num_points(), UINT32_MAX);
 		uint32_t& v = cache[p.value()];
 		if (v == UINT32_MAX) {
-			const corner_key k = {{pos->mapped_index(p).value(),
-			                       tex && !untextured ? tex->mapped_index(p).value() : NO_TEX,
-			                       nrm ? nrm->mapped_index(p).value() : 0}};
+			const corner_key k = key_of(p, pos, tex, nrm, untextured);
 			v = vertex_of.emplace(k, uint32_t(vertices.size())).first->second;
 			if (v == vertices.size())
 				vertices.push_back(k);
@@ -753,25 +781,12 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 		t += k - 2;
 	}
 
-	const size_t n = vertices.size();
-	std::vector<double> positions(3 * n), normals(nrm ? 3 * n : 0);
-	std::vector<float> texcoords(tex ? 2 * n : 0);
-	for (size_t i = 0; i < n; i++) {
-		float v[3];
-		pos->ConvertValue<float, 3>(draco::AttributeValueIndex(vertices[i].v[0]), v);
-		positions[3 * i] = v[0], positions[3 * i + 1] = v[1], positions[3 * i + 2] = v[2];
-		if (tex && vertices[i].v[1] != NO_TEX)
-			tex->ConvertValue<float, 2>(draco::AttributeValueIndex(vertices[i].v[1]), &texcoords[2 * i]);
-		if (nrm) {
-			nrm->ConvertValue<float, 3>(draco::AttributeValueIndex(vertices[i].v[2]), v);
-			normals[3 * i] = v[0], normals[3 * i + 1] = v[1], normals[3 * i + 2] = v[2];
-		}
-	}
-	mesh->vertex_count = n;
+	const vertex_values values = values_of(vertices, pos, tex, nrm);
+	mesh->vertex_count = vertices.size();
 	mesh->face_count = first_triangle.size();
-	if (!(mesh->positions = copy_out(positions)) || !(mesh->face_offsets = copy_out(offsets)) ||
-	    !(mesh->indices = copy_out(indices)) || (nrm && !(mesh->normals = copy_out(normals))) ||
-	    (tex && !(mesh->texcoords = copy_out(texcoords))) ||
+	if (!(mesh->positions = copy_out(values.positions)) || !(mesh->face_offsets = copy_out(offsets)) ||
+	    !(mesh->indices = copy_out(indices)) || (nrm && !(mesh->normals = copy_out(values.normals))) ||
+	    (tex && !(mesh->texcoords = copy_out(values.texcoords))) ||
 	    (tex && !untextured_faces(s, mesh)) ||
 	    !face_names(m, "material", first_triangle, s.first_material, &mesh->materials) ||
 	    !face_names(m, "sub_obj", first_triangle, s.first_object, &mesh->objects) ||
