@@ -3,9 +3,10 @@
  * tests/data/draco). Debian's libdraco is not instrumented, so coverage
  * guides only through vn's side; a crash inside libdraco still shows.
  *
- * Besides the sanitizers' checks, every accepted stream must give a
- * consistent geometry: indices within the points, attribute data present;
- * and encoding it again (its grids and metadata) must not crash.
+ * Besides the sanitizers' checks, every accepted stream (a mesh or a point
+ * cloud) must give a consistent geometry: indices within the points,
+ * attribute data present; and encoding it again (its grids and metadata)
+ * must not crash.
  */
 #include <cstdint>
 #include <cstdlib>
@@ -18,7 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
 	vn_drc_geometry g;
 	vn_io_error error;
-	if (vn_drc_decode(data, size, "fuzz.drc", &g, &error) == vn_io_success) {
+	if (vn_drc_decode_any(data, size, "fuzz.drc", &g, &error) == vn_io_success) {
 		for (size_t i = 0; i < 3 * g.triangle_count; i++)
 			if (g.indices[i] >= g.point_count)
 				abort();

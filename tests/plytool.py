@@ -2,6 +2,7 @@
 
   plytool.py same A B      every vertex property of A but nx ny nz is in B
                            with the same values, and so are the faces
+  plytool.py same_normals A B  the same, nx ny nz included
   plytool.py count A       "VERTICES FACES TRIANGLES" (fan-triangulated)
   plytool.py column A NAME I  vertex I's value of property NAME
   plytool.py big A B       A rewritten as binary_big_endian (same header)
@@ -70,12 +71,12 @@ def main():
     elif cmd == "column":
         _, _, e, _, _ = read(sys.argv[2])
         print(repr(float(e["vertex"][1][sys.argv[3]][int(sys.argv[4])])))
-    elif cmd == "same":
+    elif cmd in ("same", "same_normals"):
         _, _, a, _, _ = read(sys.argv[2])
         _, _, b, _, _ = read(sys.argv[3])
         bad = []
         for p, values in a["vertex"][1].items():
-            if p in ("nx", "ny", "nz") or isinstance(a["vertex"][0][p], list):
+            if (cmd == "same" and p in ("nx", "ny", "nz")) or isinstance(a["vertex"][0][p], list):
                 continue
             if p not in b["vertex"][1]:
                 bad.append("no property " + p)

@@ -332,6 +332,14 @@ static size_t header(uint8_t* b, int major, int minor, int method, int flags)
 	return 11;
 }
 
+/* A point cloud stream's header (geometry type 0). */
+static size_t cloud_header(uint8_t* b, int major, int minor, int method, int flags)
+{
+	const size_t n = header(b, major, minor, method, flags);
+	b[7] = 0;
+	return n;
+}
+
 static size_t u32(uint8_t* b, uint32_t v)
 {
 	for (int i = 0; i < 4; ++i)
@@ -398,11 +406,32 @@ static void test_declared_counts(void** state)
 		assert_int_equal(faces, 1000);
 		assert_int_equal(vertices, 700);
 	}
-	/* Not a mesh, an unknown version: left to Draco. */
+	/* Point clouds, sequential (0) and kd-tree (1), up to 2.3: an int32
+	 * point count, no faces (a negative count is a huge one to Draco). */
+	for (int method = 0; method <= 1; ++method) {
+		size_t n = cloud_header(b, 2, 3, method, 0);
+		n += u32(b + n, 123456);
+		assert_true(vn_drc_declared_counts(b, n, &faces, &vertices));
+		assert_int_equal(faces, 0);
+		assert_int_equal(vertices, 123456);
+		n = cloud_header(b, 2, 3, method, 0);
+		n += u32(b + n, (uint32_t)-5);
+		assert_true(vn_drc_declared_counts(b, n, &faces, &vertices));
+		assert_int_equal(vertices, 0xFFFFFFFBu);
+		assert_false(vn_drc_declared_counts(b, n - 1, &faces, &vertices));
+	}
+	/* Neither a mesh nor a point cloud, an unknown method or version: left
+	 * to Draco. */
 	size_t n = edgebreaker(b, 2, 2, 0, 99, 170, 17);
-	b[7] = 0;
+	b[7] = 2;
 	assert_false(vn_drc_declared_counts(b, n, &faces, &vertices));
 	n = edgebreaker(b, 2, 3, 0, 99, 170, 17);
+	assert_false(vn_drc_declared_counts(b, n, &faces, &vertices));
+	n = cloud_header(b, 2, 3, 2, 0);
+	n += u32(b + n, 10);
+	assert_false(vn_drc_declared_counts(b, n, &faces, &vertices));
+	n = cloud_header(b, 2, 4, 0, 0);
+	n += u32(b + n, 10);
 	assert_false(vn_drc_declared_counts(b, n, &faces, &vertices));
 	/* A real 2.2 stream. */
 	vn_drc_geometry g = octahedron();
@@ -433,6 +462,42 @@ static void test_hostile_counts(void** state)
 		assert_int_equal(vn_drc_decode(b, n, "dense.drc", &d, &e), vn_io_error_parse);
 		assert_null(strstr(e.message, "declares"));
 	}
+	/* A point cloud declaring 2^31 points in 16 bytes: refused before
+	 * Draco sizes its attributes from them. */
+	for (int method = 0; method <= 1; ++method) {
+		size_t n = cloud_header(b, 2, 3, method, 0);
+		n += u32(b + n, 0x80000000u);
+		b[n++] = 1;
+		assert_int_equal(vn_drc_decode_any(b, n, "hostile.drc", &d, &e), vn_io_error_parse);
+		assert_non_null(strstr(e.message, "hostile.drc: the stream declares 2147483648 points in 16 bytes: corrupt"));
+	}
+}
+
+/* A point cloud stream (points.drc: a unit cube's 8 corners with normals):
+ * vn_drc_decode refuses it, vn_drc_decode_any gives its points in Draco's
+ * order and no triangles. */
+static void test_point_cloud(void** state)
+{
+	(void)state;
+	char* data;
+	size_t size;
+	vn_io_error e;
+	assert_int_equal(vn_io_read_all("data/draco/points.drc", &data, &size, &e), vn_io_success);
+	vn_drc_geometry d;
+	assert_int_equal(vn_drc_decode(data, size, "points.drc", &d, &e), vn_io_error_unsupported);
+	assert_string_equal(e.message, "points.drc: a Draco point cloud, not a mesh");
+	assert_int_equal(vn_drc_decode_any(data, size, "points.drc", &d, &e), vn_io_success);
+	assert_int_equal(d.point_count, 8);
+	assert_int_equal(d.triangle_count, 0);
+	assert_int_equal(d.attribute_count, 2);
+	assert_int_equal(d.attributes[0].semantic, vn_drc_position);
+	assert_int_equal(d.attributes[1].semantic, vn_drc_normal);
+	static const float expected[24] = {1, 1, 1, 1, 1, 0, 1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 1, 0, 0, 0, 0, 0, 1};
+	const float* p = (const float*)d.attributes[0].data;
+	for (int i = 0; i < 24; ++i)
+		assert_float_equal(p[i], expected[i], 0.0);
+	vn_drc_geometry_free(&d);
+	free(data);
 }
 
 /* ------------------------------------------------------------------ generation loss */
@@ -712,6 +777,7 @@ int main(void)
 	    cmocka_unit_test(test_format_table),
 	    cmocka_unit_test(test_declared_counts),
 	    cmocka_unit_test(test_hostile_counts),
+	    cmocka_unit_test(test_point_cloud),
 	    cmocka_unit_test(test_grid_kept),
 	    cmocka_unit_test(test_nonfinite),
 	    cmocka_unit_test(test_attributes_to_mesh),

@@ -150,10 +150,27 @@ for offset in (12, 100, 1000):
 EOF
 draco_encoder -point_cloud -i "$T/in-cube_att.obj" -o "$T/points.drc" >/dev/null
 mkdir -p "$T/errors"
-for bad in truncated header text flipped12 flipped100 flipped1000 points; do
+for bad in truncated header text flipped12 flipped100 flipped1000; do
   check_rejected "$VNC" "$T/$bad.drc" "$T/errors/none.drc" "$T/errors/keep.off"
 done
-check "a point cloud is unsupported" grep -q "point cloud" "$T/stderr"
+# A Draco point cloud (draco_encoder -point_cloud: kd-tree, quantized) is
+# read as draco_decoder decodes it: every point, in its order, with its
+# normal, as OFF and PLY; written as Draco (or glTF) it is refused in one
+# line naming what holds a point cloud.
+draco_decoder -i "$T/points.drc" -o "$T/points-ref.ply" >/dev/null
+for x in ply off; do
+  run "$VNC" "$T/points.drc" "$T/points.$x"
+  check "point cloud -> $x: exits 0" [ $rc -eq 0 ]
+  check "point cloud -> $x: says it computes no normals" grep -q "points.drc has no faces (a point cloud): vn computes no normals; the input's are kept" "$T/stderr"
+done
+check "point cloud -> ply: draco_decoder's points and normals" python3 "$HERE/plytool.py" same_normals "$T/points-ref.ply" "$T/points.ply"
+check "point cloud -> ply: no faces" [ "$(python3 "$HERE/plytool.py" count "$T/points.ply")" = "$(python3 "$HERE/plytool.py" count "$T/points-ref.ply" | cut -d' ' -f1) 0 0" ]
+check "point cloud -> off: as many points, no faces" [ "$(sed -n 2p "$T/points.off")" = "$(python3 "$HERE/plytool.py" count "$T/points-ref.ply" | cut -d' ' -f1) 0 0" ]
+mkdir -p "$T/cloud"
+for x in drc glb; do
+  check_rejected "$VNC" "$T/points.drc" "$T/cloud/none.$x" "$T/cloud/keep.$x"
+  check "point cloud -> $x: says what holds one" grep -q "points.drc has [0-9]* [a-z]* and no faces (a point cloud), and vn writes .* only with faces: write OFF, PLY or OBJ to keep a point cloud" "$T/stderr"
+done
 # A 163-byte stream declaring 387M faces (found by fuzzing: libdraco would
 # allocate 4.6 GB before noticing) is refused before decoding.
 check_rejected "$VNC" "$HERE/data/draco/hostile-counts.drc" "$T/errors/none.drc" "$T/errors/keep.off"

@@ -120,15 +120,15 @@ static std::vector<quantization> quantizations(const void* data, size_t size, st
 	draco::Decoder decoder;
 	for (int t = draco::GeometryAttribute::POSITION; t < draco::GeometryAttribute::NAMED_ATTRIBUTES_COUNT; ++t)
 		decoder.SetSkipAttributeTransform(static_cast<draco::GeometryAttribute::Type>(t));
-	auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+	auto decoded = decoder.DecodePointCloudFromBuffer(&buffer); /* a mesh too */
 	if (!decoded.ok()) {
 		const std::string& why = decoded.status().error_msg_string();
 		*failure = why.empty() ? "cannot decode" : why;
 		return found;
 	}
-	const draco::Mesh& mesh = *decoded.value();
-	for (int i = 0; i < mesh.num_attributes(); ++i) {
-		const draco::PointAttribute& a = *mesh.attribute(i);
+	const draco::PointCloud& geometry = *decoded.value();
+	for (int i = 0; i < geometry.num_attributes(); ++i) {
+		const draco::PointAttribute& a = *geometry.attribute(i);
 		draco::AttributeQuantizationTransform q;
 		draco::AttributeOctahedronTransform o;
 		quantization f{a.unique_id(), 0, vn_drc_grid{}};
@@ -148,28 +148,33 @@ static std::vector<quantization> quantizations(const void* data, size_t size, st
 	return found;
 }
 
-/* The counts a mesh stream declares, read as Draco 1.5.5 reads them
- * (point_cloud_decoder.cc, mesh_sequential_decoder.cc,
+/* The counts a stream declares, read as Draco 1.5.5 reads them
+ * (point_cloud_decoder.cc, point_cloud_sequential_decoder.cc,
+ * point_cloud_kd_tree_decoder.cc, mesh_sequential_decoder.cc,
  * mesh_edgebreaker_decoder.cc and mesh_edgebreaker_decoder_impl.cc):
  *
  *   header: "DRACO", major, minor, geometry type, method, uint16 flags;
  *   metadata from 1.3 when flagged;
+ *   point cloud (either method): int32 points;
  *   sequential: faces, points: uint32 before 2.2, varints from 2.2;
  *   edgebreaker: uint8 traversal decoder type; before 2.2 the new vertex
  *   count (uint32 before 2.0, varint in 2.0 and 2.1); encoded vertices,
  *   faces; uint8 attribute data count; encoded symbols, split symbols:
  *   uint32 before 2.0, varints from 2.0.
  *
- * Draco accepts major versions 1 and 2 up to 2.2 for meshes. */
+ * Draco accepts major versions 1 and 2 up to 2.2 for meshes, 2.3 for point
+ * clouds. */
 static bool declared_counts(const void* data, size_t size, uint32_t* faces, uint64_t* vertices)
 {
 	draco::DecoderBuffer b;
 	b.Init(static_cast<const char*>(data), size);
 	draco::DracoHeader h;
-	if (!draco::PointCloudDecoder::DecodeHeader(&b, &h).ok() || h.encoder_type != draco::TRIANGULAR_MESH)
+	if (!draco::PointCloudDecoder::DecodeHeader(&b, &h).ok() ||
+	    (h.encoder_type != draco::TRIANGULAR_MESH && h.encoder_type != draco::POINT_CLOUD))
 		return false;
+	const bool cloud = h.encoder_type == draco::POINT_CLOUD;
 	const unsigned version = unsigned(h.version_major) << 8 | h.version_minor;
-	if (h.version_major < 1 || version > 0x0202)
+	if (h.version_major < 1 || version > (cloud ? 0x0203u : 0x0202u))
 		return false;
 	b.set_bitstream_version(uint16_t(version));
 	if (version >= 0x0103 && (h.flags & METADATA_FLAG_MASK)) {
@@ -177,6 +182,16 @@ static bool declared_counts(const void* data, size_t size, uint32_t* faces, uint
 		draco::MetadataDecoder reader;
 		if (!reader.DecodeGeometryMetadata(&b, &metadata))
 			return false;
+	}
+	if (cloud) { /* sequential and kd-tree: an int32 point count (a negative one reads as uint32) */
+		int32_t points;
+		if ((h.encoder_method != draco::POINT_CLOUD_SEQUENTIAL_ENCODING &&
+		     h.encoder_method != draco::POINT_CLOUD_KD_TREE_ENCODING) ||
+		    !b.Decode(&points))
+			return false;
+		*faces = 0;
+		*vertices = uint32_t(points);
+		return true;
 	}
 	/* A count stored as uint32 before version `varint_from`, a varint from it. */
 	auto count = [&](unsigned varint_from, uint32_t* out) {
@@ -223,8 +238,8 @@ static std::string implausible(const void* data, size_t size)
 	const bool dense = faces > max_per_byte * size || vertices > max_per_byte * size;
 	if (!dense || 40 * uint64_t(faces) + 16 * vertices <= memory_cap)
 		return "";
-	return "the stream declares " + std::to_string(faces) + " faces and " + std::to_string(vertices) +
-	       " points in " + std::to_string(size) + " bytes: corrupt or hostile";
+	return "the stream declares " + (faces ? std::to_string(faces) + " faces and " : std::string()) +
+	       std::to_string(vertices) + " points in " + std::to_string(size) + " bytes: corrupt or hostile";
 }
 
 const char* const semantic_names[] = {"POSITION", "NORMAL", "COLOR", "TEX_COORD", "GENERIC",
@@ -233,7 +248,8 @@ static_assert(sizeof semantic_names / sizeof semantic_names[0] == vn_drc_semanti
                   int(vn_drc_semantic_count) == int(draco::GeometryAttribute::NAMED_ATTRIBUTES_COUNT),
               "a name per Draco attribute type");
 
-static vn_io_result decode(const void* data, size_t size, const char* name, vn_drc_geometry* g, vn_io_error* error)
+static vn_io_result decode(const void* data, size_t size, const char* name, bool clouds, vn_drc_geometry* g,
+                           vn_io_error* error)
 {
 	const std::string refused = implausible(data, size);
 	if (!refused.empty())
@@ -244,10 +260,10 @@ static vn_io_result decode(const void* data, size_t size, const char* name, vn_d
 	if (!kind.ok())
 		return vn_io_fail(error, vn_io_error_parse, "%s: not a Draco stream (%s)", name,
 		                  kind.status().error_msg());
-	if (kind.value() == draco::POINT_CLOUD)
+	if (kind.value() == draco::POINT_CLOUD && !clouds)
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: a Draco point cloud, not a mesh", name);
-	if (kind.value() != draco::TRIANGULAR_MESH)
-		return vn_io_fail(error, vn_io_error_parse, "%s: not a Draco mesh", name);
+	if (kind.value() != draco::TRIANGULAR_MESH && kind.value() != draco::POINT_CLOUD)
+		return vn_io_fail(error, vn_io_error_parse, "%s: not a Draco mesh or point cloud", name);
 	/* Read first: Draco's decoder needs several times the decoded mesh,
 	 * which is then not in memory yet. */
 	std::string failure;
@@ -255,24 +271,25 @@ static vn_io_result decode(const void* data, size_t size, const char* name, vn_d
 	if (!failure.empty())
 		return vn_io_fail(error, vn_io_error_parse, "%s: corrupt Draco stream (%s)", name, failure.c_str());
 	draco::Decoder decoder;
-	auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+	auto decoded = decoder.DecodePointCloudFromBuffer(&buffer); /* a Mesh where the stream is one */
 	if (!decoded.ok())
 		return vn_io_fail(error, vn_io_error_parse, "%s: corrupt Draco stream (%s)", name,
 		                  decoded.status().error_msg());
-	const draco::Mesh& mesh = *decoded.value();
+	const draco::PointCloud& points = *decoded.value();
+	const draco::Mesh* faces = kind.value() == draco::TRIANGULAR_MESH ? static_cast<const draco::Mesh*>(&points) : nullptr;
 
-	g->point_count = mesh.num_points();
-	g->triangle_count = mesh.num_faces();
+	g->point_count = points.num_points();
+	g->triangle_count = faces ? faces->num_faces() : 0;
 	g->indices = static_cast<uint32_t*>(std::malloc(3 * g->triangle_count * sizeof(uint32_t) + 1));
 	g->attributes =
-	    static_cast<vn_drc_attribute*>(std::calloc(size_t(mesh.num_attributes()) + 1, sizeof(vn_drc_attribute)));
+	    static_cast<vn_drc_attribute*>(std::calloc(size_t(points.num_attributes()) + 1, sizeof(vn_drc_attribute)));
 	if (!g->indices || !g->attributes)
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
-	if (mesh.GetMetadata())
-		g->metadata = new draco::GeometryMetadata(*mesh.GetMetadata());
-	for (draco::FaceIndex f(0); f < mesh.num_faces(); ++f)
+	if (points.GetMetadata())
+		g->metadata = new draco::GeometryMetadata(*points.GetMetadata());
+	for (draco::FaceIndex f(0); faces && f < faces->num_faces(); ++f)
 		for (int k = 0; k < 3; ++k) {
-			const uint32_t v = mesh.face(f)[k].value();
+			const uint32_t v = faces->face(f)[k].value();
 			if (v >= g->point_count)
 				return vn_io_fail(error, vn_io_error_parse, "%s: face %u has point %u of %zu", name, f.value(), v,
 				                  g->point_count);
@@ -281,11 +298,11 @@ static vn_io_result decode(const void* data, size_t size, const char* name, vn_d
 	/* Streams before version 1.3 carry no unique ids (Draco 1.5.5 leaves
 	 * them all 0): such attributes are numbered in their order. */
 	bool numbered = true;
-	for (int i = 0; i < mesh.num_attributes(); ++i)
+	for (int i = 0; i < points.num_attributes(); ++i)
 		for (int j = 0; j < i; ++j)
-			numbered = numbered && mesh.attribute(i)->unique_id() != mesh.attribute(j)->unique_id();
-	for (int i = 0; i < mesh.num_attributes(); ++i) {
-		const draco::PointAttribute& a = *mesh.attribute(i);
+			numbered = numbered && points.attribute(i)->unique_id() != points.attribute(j)->unique_id();
+	for (int i = 0; i < points.num_attributes(); ++i) {
+		const draco::PointAttribute& a = *points.attribute(i);
 		vn_drc_attribute& out = g->attributes[g->attribute_count];
 		out.unique_id = numbered ? a.unique_id() : uint32_t(i);
 		out.semantic = a.attribute_type();
@@ -296,7 +313,7 @@ static vn_io_result decode(const void* data, size_t size, const char* name, vn_d
 		    out.components < 1 || out.components > 4)
 			return vn_io_fail(error, vn_io_error_unsupported,
 			                  "%s: attribute %u has a type or size vn does not handle", name, out.unique_id);
-		if (found.size() == size_t(mesh.num_attributes()) && found[size_t(i)].unique_id == a.unique_id() &&
+		if (found.size() == size_t(points.num_attributes()) && found[size_t(i)].unique_id == a.unique_id() &&
 		    out.component_type == vn_drc_float32) {
 			const quantization& q = found[size_t(i)];
 			out.quantization_bits = q.bits;
@@ -311,7 +328,7 @@ static vn_io_result decode(const void* data, size_t size, const char* name, vn_d
 		if (!out.data)
 			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 		++g->attribute_count;
-		for (draco::PointIndex p(0); p < mesh.num_points(); ++p)
+		for (draco::PointIndex p(0); p < points.num_points(); ++p)
 			std::memcpy(static_cast<char*>(out.data) + n * p.value(), a.GetAddress(a.mapped_index(p)), n);
 	}
 	return vn_io_success;
@@ -550,18 +567,29 @@ void vn_drc_geometry_free(vn_drc_geometry* g)
 	*g = vn_drc_geometry{};
 }
 
-vn_io_result vn_drc_decode(const void* data, size_t size, const char* name, vn_drc_geometry* g, vn_io_error* error)
+static vn_io_result decode_or_free(const void* data, size_t size, const char* name, bool clouds, vn_drc_geometry* g,
+                                   vn_io_error* error)
 {
 	*g = vn_drc_geometry{};
 	vn_io_result r;
 	try {
-		r = decode(data, size, name, g, error);
+		r = decode(data, size, name, clouds, g, error);
 	} catch (const std::bad_alloc&) {
 		r = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	}
 	if (r != vn_io_success)
 		vn_drc_geometry_free(g);
 	return r;
+}
+
+vn_io_result vn_drc_decode(const void* data, size_t size, const char* name, vn_drc_geometry* g, vn_io_error* error)
+{
+	return decode_or_free(data, size, name, false, g, error);
+}
+
+vn_io_result vn_drc_decode_any(const void* data, size_t size, const char* name, vn_drc_geometry* g, vn_io_error* error)
+{
+	return decode_or_free(data, size, name, true, g, error);
 }
 
 vn_io_result vn_drc_encode(const vn_drc_geometry* g, int compression_level, int keep_order, const char* name,

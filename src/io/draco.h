@@ -12,7 +12,7 @@
  *    (positions, normals, the first 2-component float TEX_COORD in
  *    `texcoords`, the first RGB(A) COLOR in `colors`, every other attribute
  *    in `attributes`; polygons fan-triangulated on writing). A point cloud
- *    is refused as unsupported.
+ *    is read (a mesh without faces), not written.
  *
  *  - vn_drc_convert: .drc to .drc keeping everything but NORMAL (every
  *    attribute with its type, unique id, grid and metadata).
@@ -115,6 +115,11 @@ void vn_drc_geometry_free(vn_drc_geometry* g);
  * Draco sizes tables from them (vn_drc_declared_counts). `name` starts
  * error messages. */
 vn_io_result vn_drc_decode(const void* data, size_t size, const char* name, vn_drc_geometry* g, vn_io_error* error);
+/* As vn_drc_decode, and a point cloud stream too (Draco's sequential or
+ * kd-tree point cloud methods): its points and attributes, triangle_count
+ * 0. */
+vn_io_result vn_drc_decode_any(const void* data, size_t size, const char* name, vn_drc_geometry* g,
+                               vn_io_error* error);
 
 /* Encodes g as a Draco mesh at compression level 0..10 (draco_encoder's -cl:
  * 10 - level is Draco's speed) into a malloc'ed *data the caller frees.

@@ -389,12 +389,22 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 		vn_io_result r = vn_io_read_all(in, &data, &size, error);
 		if (r != vn_io_success)
 			return r;
-		r = vn_drc_decode(data, size, in, &d.g, error);
+		r = vn_drc_decode_any(data, size, in, &d.g, error);
 		std::free(data);
 		if (r != vn_io_success)
 			return r;
 	}
 	const vn_drc_geometry& g = d.g;
+	/* As vn_io_convert says it for every format that holds no point cloud
+	 * (Draco would refuse a mesh stream of points and no faces). */
+	if (g.triangle_count == 0 && g.point_count == 0)
+		return vn_io_fail(error, vn_io_error_unsupported, "%s: vn read no points and no faces from %s: nothing to write",
+		                  out, in);
+	if (g.triangle_count == 0)
+		return vn_io_fail(error, vn_io_error_unsupported,
+		                  "%s: %s has %zu %s and no faces (a point cloud), and vn writes Draco only with faces: write "
+		                  "OFF, PLY or OBJ to keep a point cloud",
+		                  out, in, g.point_count, g.point_count == 1 ? "vertex" : "vertices");
 	const vn_drc_attribute* position = first(g, vn_drc_position);
 	if (!readable_position(position))
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: no 3-component POSITION", in);
@@ -539,7 +549,7 @@ vn_io_result vn_drc_read_file(const char* path, vn_io_mesh* mesh, vn_drc_options
 	if (r != vn_io_success)
 		return r;
 	vn_drc_geometry g;
-	r = vn_drc_decode(data, size, path, &g, error);
+	r = vn_drc_decode_any(data, size, path, &g, error);
 	std::free(data);
 	if (r != vn_io_success)
 		return r;
