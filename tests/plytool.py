@@ -3,6 +3,8 @@
   plytool.py same A B      every vertex property of A but nx ny nz is in B
                            with the same values, and so are the faces
   plytool.py same_normals A B  the same, nx ny nz included
+  plytool.py same_set A B  A and B have the same vertex properties and the
+                           same vertices (every property's value), in any order
   plytool.py count A       "VERTICES FACES TRIANGLES" (fan-triangulated)
   plytool.py column A NAME I  vertex I's value of property NAME
   plytool.py big A B       A rewritten as binary_big_endian (same header)
@@ -89,6 +91,14 @@ def main():
             bad.append("faces differ")
         print("\n".join(bad))
         sys.exit(1 if bad else 0)
+    elif cmd == "same_set":
+        _, _, a, _, _ = read(sys.argv[2])
+        _, _, b, _, _ = read(sys.argv[3])
+        names = sorted(a["vertex"][1])
+        if names != sorted(b["vertex"][1]):
+            sys.exit("properties differ: %s, %s" % (names, sorted(b["vertex"][1])))
+        rows = [sorted(zip(*(np.asarray(e["vertex"][1][p], float).tolist() for p in names))) for e in (a, b)]
+        sys.exit(0 if rows[0] == rows[1] else "vertices differ")
     elif cmd == "big":
         fmt, elements, e, header, _ = read(sys.argv[2])
         out = [header.replace(fmt.encode(), b"binary_big_endian", 1)]
@@ -104,4 +114,5 @@ def main():
         open(sys.argv[3], "wb").write(b"".join(out))
 
 
-main()
+if __name__ == "__main__":
+    main()

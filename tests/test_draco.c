@@ -41,7 +41,7 @@ static vn_drc_attribute attributes[4] = {
 
 static vn_drc_geometry octahedron(void)
 {
-	vn_drc_geometry g = {6, 8, indices, 4, attributes, NULL};
+	vn_drc_geometry g = {6, 8, indices, 4, attributes, NULL, 0};
 	return g;
 }
 
@@ -173,7 +173,7 @@ static void test_isolated_points(void** state)
 		p[i] = (float)(i * 7 % 11), q[i] = i % 3 == 2 ? 1.0f : 0.0f;
 	const uint32_t t[6] = {0, 1, 2, 2, 1, 3};
 	vn_drc_attribute a[2] = {{0, vn_drc_position, vn_drc_float32, 3, 0, 14, p, {0}}, {1, vn_drc_normal, vn_drc_float32, 3, 0, 10, q, {0}}};
-	vn_drc_geometry g = {7, 2, (uint32_t*)t, 2, a, NULL};
+	vn_drc_geometry g = {7, 2, (uint32_t*)t, 2, a, NULL, 0};
 	void* data;
 	size_t size;
 	vn_io_error e;
@@ -234,7 +234,7 @@ static void test_integer_normals(void** state)
 		memcpy(t, indices, sizeof indices);
 		vn_drc_attribute a[2] = {{7, vn_drc_position, vn_drc_int16, 3, 0, 0, p, {0}},
 		                         {3, vn_drc_normal, vn_drc_int8, 3, 1, 0, n, {0}}};
-		vn_drc_geometry g = {6, 8, t, 2, a, NULL};
+		vn_drc_geometry g = {6, 8, t, 2, a, NULL, 0};
 		vn_drc_encoder* encoder;
 		vn_io_error e;
 		assert_int_equal(vn_drc_encoder_new(&g, "int", &encoder, &e), vn_io_success);
@@ -462,15 +462,35 @@ static void test_hostile_counts(void** state)
 		assert_int_equal(vn_drc_decode(b, n, "dense.drc", &d, &e), vn_io_error_parse);
 		assert_null(strstr(e.message, "declares"));
 	}
-	/* A point cloud declaring 2^31 points in 16 bytes: refused before
-	 * Draco sizes its attributes from them. */
+	/* A point cloud declaring 2^31 points in 16 bytes, or 65537 (more than
+	 * 4096 a byte: a point cloud's attributes, read after the counts, are
+	 * bounded by no cap), refused before Draco sizes its attributes from
+	 * them; 65536 are left to Draco (which finds no attribute data). */
 	for (int method = 0; method <= 1; ++method) {
 		size_t n = cloud_header(b, 2, 3, method, 0);
 		n += u32(b + n, 0x80000000u);
 		b[n++] = 1;
 		assert_int_equal(vn_drc_decode_any(b, n, "hostile.drc", &d, &e), vn_io_error_parse);
 		assert_non_null(strstr(e.message, "hostile.drc: the stream declares 2147483648 points in 16 bytes: corrupt"));
+		n = cloud_header(b, 2, 3, method, 0);
+		n += u32(b + n, 65537);
+		b[n++] = 1;
+		assert_int_equal(vn_drc_decode_any(b, n, "dense.drc", &d, &e), vn_io_error_parse);
+		assert_non_null(strstr(e.message, "dense.drc: the stream declares 65537 points in 16 bytes: corrupt"));
+		n = cloud_header(b, 2, 3, method, 0);
+		n += u32(b + n, 65536);
+		b[n++] = 1;
+		assert_int_equal(vn_drc_decode_any(b, n, "dense.drc", &d, &e), vn_io_error_parse);
+		assert_null(strstr(e.message, "declares"));
 	}
+	/* A kd-tree point cloud before bitstream 2.3 (a point count libdraco
+	 * reads unchecked inside its attribute data): refused, saying so. */
+	size_t n = cloud_header(b, 2, 2, 1, 0);
+	n += u32(b + n, 4);
+	b[n++] = 1;
+	assert_int_equal(vn_drc_decode_any(b, n, "old.drc", &d, &e), vn_io_error_unsupported);
+	assert_string_equal(e.message, "old.drc: a kd-tree point cloud of bitstream 2.2, which vn does not read (libdraco "
+	                               "would size it from counts vn cannot check): encode it again with Draco 1.4 or later");
 }
 
 /* A point cloud stream (points.drc: a unit cube's 8 corners with normals):
@@ -527,7 +547,7 @@ static vn_drc_geometry grid_mesh(vn_drc_attribute* a)
 	const vn_drc_attribute init[2] = {{5, vn_drc_position, vn_drc_float32, 3, 0, 14, grid_positions, {0}},
 	                                  {9, vn_drc_texcoord, vn_drc_float32, 2, 0, 12, grid_uv, {0}}};
 	memcpy(a, init, sizeof init);
-	vn_drc_geometry g = {GRID_POINTS, t / 3, grid_indices, 2, a, NULL};
+	vn_drc_geometry g = {GRID_POINTS, t / 3, grid_indices, 2, a, NULL, 0};
 	return g;
 }
 
@@ -704,7 +724,7 @@ static void test_attributes_to_mesh(void** state)
 	    {25, vn_drc_color, vn_drc_uint8, 3, 0, 0, bytes3, {0}}, /* not normalized: not a glTF colour */
 	    {26, vn_drc_tangent, vn_drc_float32, 2, 0, 0, uv1, {0}},
 	};
-	vn_drc_geometry g = {6, 8, indices, 9, a, NULL};
+	vn_drc_geometry g = {6, 8, indices, 9, a, NULL, 0};
 	void* data;
 	size_t size;
 	vn_io_error e;

@@ -155,22 +155,46 @@ for bad in truncated header text flipped12 flipped100 flipped1000; do
 done
 # A Draco point cloud (draco_encoder -point_cloud: kd-tree, quantized) is
 # read as draco_decoder decodes it: every point, in its order, with its
-# normal, as OFF and PLY; written as Draco (or glTF) it is refused in one
-# line naming what holds a point cloud.
+# normal, as OFF and PLY; written as Draco it stays a point cloud with
+# every attribute (kd-tree sorts its points; the sequential method, level
+# 10, keeps their order); glTF output refuses it in one line.
 draco_decoder -i "$T/points.drc" -o "$T/points-ref.ply" >/dev/null
-for x in ply off; do
-  run "$VNC" "$T/points.drc" "$T/points.$x"
+for x in ply off drc; do
+  run "$VNC" "$T/points.drc" "$T/points-out.$x"
   check "point cloud -> $x: exits 0" [ $rc -eq 0 ]
   check "point cloud -> $x: says it computes no normals" grep -q "points.drc has no faces (a point cloud): vn computes no normals; the input's are kept" "$T/stderr"
 done
-check "point cloud -> ply: draco_decoder's points and normals" python3 "$HERE/plytool.py" same_normals "$T/points-ref.ply" "$T/points.ply"
-check "point cloud -> ply: no faces" [ "$(python3 "$HERE/plytool.py" count "$T/points.ply")" = "$(python3 "$HERE/plytool.py" count "$T/points-ref.ply" | cut -d' ' -f1) 0 0" ]
-check "point cloud -> off: as many points, no faces" [ "$(sed -n 2p "$T/points.off")" = "$(python3 "$HERE/plytool.py" count "$T/points-ref.ply" | cut -d' ' -f1) 0 0" ]
+check "point cloud -> ply: draco_decoder's points and normals" python3 "$HERE/plytool.py" same_normals "$T/points-ref.ply" "$T/points-out.ply"
+check "point cloud -> ply: no faces" [ "$(python3 "$HERE/plytool.py" count "$T/points-out.ply")" = "$(python3 "$HERE/plytool.py" count "$T/points-ref.ply" | cut -d' ' -f1) 0 0" ]
+check "point cloud -> off: as many points, no faces" [ "$(sed -n 2p "$T/points-out.off")" = "$(python3 "$HERE/plytool.py" count "$T/points-ref.ply" | cut -d' ' -f1) 0 0" ]
+check "point cloud -> drc: a point cloud stream" [ "$(od -An -tu1 -j7 -N1 "$T/points-out.drc" | tr -d ' ')" = 0 ]
+draco_decoder -i "$T/points-out.drc" -o "$T/points-drc.ply" >/dev/null
+check "point cloud -> drc: the same points and normals" python3 "$HERE/plytool.py" same_set "$T/points-ref.ply" "$T/points-drc.ply"
+run "$VNC" "$T/points.drc" "$T/points-seq.drc" --draco-cl 10
+draco_decoder -i "$T/points-seq.drc" -o "$T/points-seq.ply" >/dev/null
+check "point cloud -> drc at level 10: in order" python3 "$HERE/plytool.py" same_normals "$T/points-ref.ply" "$T/points-seq.ply"
+# A PLY point cloud to Draco and back: its points in order, within the
+# quantization (20 bits on a box of 2: 2e-6); without normals, none are
+# added (Draco would decode a zero normal as (1, 0, 0)).
+run "$VNC" "$T/points-out.ply" "$T/points-ply.drc" --draco-cl 10 --draco-qp 20
+draco_decoder -i "$T/points-ply.drc" -o "$T/points-ply.ply" >/dev/null
+check "ply point cloud -> drc: its points, in order" python3 - "$HERE" "$T/points-ref.ply" "$T/points-ply.ply" <<'EOF'
+import sys
+import numpy as np
+sys.path.insert(0, sys.argv[1])
+import plytool
+a, b = (plytool.read(f)[2]["vertex"][1] for f in sys.argv[2:4])
+p, q = (np.array([v["x"], v["y"], v["z"]], float) for v in (a, b))
+sys.exit(not (p.shape == q.shape and np.abs(p - q).max() <= 2e-6))
+EOF
+printf 'OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0.5\n' >"$T/bare.off"
+run "$VNC" "$T/bare.off" "$T/bare.drc"
+check "off point cloud -> drc: says no normals are written" grep -q "none written (Draco would decode a zero normal as (1, 0, 0))" "$T/stderr"
+draco_decoder -i "$T/bare.drc" -o "$T/bare.ply" >/dev/null
+check "off point cloud -> drc: 3 points, no NORMAL" [ "$(grep -ac "property float n" "$T/bare.ply")" = 0 ] && check "off point cloud -> drc: 3 points" [ "$(python3 "$HERE/plytool.py" count "$T/bare.ply")" = "3 0 0" ]
 mkdir -p "$T/cloud"
-for x in drc glb; do
-  check_rejected "$VNC" "$T/points.drc" "$T/cloud/none.$x" "$T/cloud/keep.$x"
-  check "point cloud -> $x: says what holds one" grep -q "points.drc has [0-9]* [a-z]* and no faces (a point cloud), and vn writes .* only with faces: write OFF, PLY or OBJ to keep a point cloud" "$T/stderr"
-done
+check_rejected "$VNC" "$T/points.drc" "$T/cloud/none.glb" "$T/cloud/keep.glb"
+check "point cloud -> glb: says what holds one" grep -q "points.drc has 24 vertices and no faces (a point cloud), and vn writes GLB only with faces: write OFF, PLY, OBJ or Draco to keep a point cloud" "$T/stderr"
 # A 163-byte stream declaring 387M faces (found by fuzzing: libdraco would
 # allocate 4.6 GB before noticing) is refused before decoding.
 check_rejected "$VNC" "$HERE/data/draco/hostile-counts.drc" "$T/errors/none.drc" "$T/errors/keep.off"

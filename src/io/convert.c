@@ -428,7 +428,10 @@ static vn_io_result convert_drc(conversion* c, vn_io_error* error)
 	r->read_seconds = st.read_seconds;
 	r->normals_seconds = st.normals_seconds;
 	r->write_seconds = st.write_seconds;
-	if (st.normals.zero_normals)
+	if (st.point_cloud)
+		add(&c->warnings, "%s has no faces (a point cloud): vn computes no normals; %s\n", c->in,
+		    st.input_normals ? "the input's are kept" : "it has none");
+	else if (st.normals.zero_normals)
 		add(&c->warnings,
 		    "%zu of %zu %s %s no normal " NO_NORMAL_CAUSES "; %s\n",
 		    st.normals.zero_normals, st.points, noun(st.points, "vertex", "vertices"),
@@ -439,7 +442,8 @@ static vn_io_result convert_drc(conversion* c, vn_io_error* error)
 	stats_head(c);
 	add(&c->stats, "vertices:           %zu\n", st.points);
 	add(&c->stats, "faces:              %zu (triangles)\n", st.normals.faces);
-	add(&c->stats, "attributes:         %zu (NORMAL replaced, the others kept)\n", st.attributes);
+	add(&c->stats, "attributes:         %zu (%s)\n", st.attributes,
+	    st.point_cloud ? "every one kept: a point cloud" : "NORMAL replaced, the others kept");
 	add(&c->stats, "degenerate faces:   %zu\n", st.normals.degenerate_faces);
 	add(&c->stats, "zero normals:       %zu\n", st.normals.zero_normals);
 	add(&c->stats, "non-finite vertices: %zu\n", st.normals.nonfinite_vertices);
@@ -449,7 +453,8 @@ static vn_io_result convert_drc(conversion* c, vn_io_error* error)
 	add(&c->stats, "time write:         %.3f ms\n", 1e3 * st.write_seconds);
 	add(&c->stats, "draco settings:     qp=%d qn=%d qt=%d qc=%d cl=%d\n", st.used.position_bits, st.used.normal_bits,
 	    st.used.texcoord_bits, st.used.color_bits, st.used.compression_level);
-	report_normal_error(c, &st.normal_error, st.used.normal_bits);
+	if (!st.point_cloud)
+		report_normal_error(c, &st.normal_error, st.used.normal_bits);
 	return vn_io_success;
 }
 
@@ -490,7 +495,7 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 			                  "%s: vn read no vertices and no faces from %s: nothing to write", c->out, c->in);
 		return vn_io_fail(error, vn_io_error_unsupported,
 		                  "%s: %s has %zu %s and no faces (a point cloud), and vn writes %s only with faces: write "
-		                  "OFF, PLY or OBJ to keep a point cloud",
+		                  "OFF, PLY, OBJ or Draco to keep a point cloud",
 		                  c->out, c->in, mesh->vertex_count, noun(mesh->vertex_count, "vertex", "vertices"),
 		                  c->out_format->title);
 	}
@@ -524,7 +529,10 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 		add(&c->warnings, "%s cannot hold %s: not written\n", c->out, lost);
 	if (st.zero_normals && c->out_format->no_normal && !mesh->face_count)
 		add(&c->warnings, "%s has no faces (a point cloud): vn computes no normals; %s%s\n", c->in,
-		    had_normals ? "the input's are kept" : "written as ", had_normals ? "" : c->out_format->no_normal);
+		    had_normals ? "the input's are kept"
+		    : drc_out   ? "none written (Draco would decode a zero normal as (1, 0, 0))"
+		                : "written as ",
+		    had_normals || drc_out ? "" : c->out_format->no_normal);
 	else if (st.zero_normals && c->out_format->no_normal)
 		add(&c->warnings,
 		    "%zu of %zu %s %s no normal " NO_NORMAL_CAUSES "; %s%s\n",
@@ -533,8 +541,9 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 		    had_normals ? "" : c->out_format->no_normal);
 	const size_t corners = 3 * (size_t)vn_io_mesh_triangle_count(mesh);
 	/* Draco 1.5.5's decoder refuses more points than 3 per triangle: the
-	 * writer then keeps only the vertices faces use. */
-	if (!(c->out_format->holds & vn_io_holds_loose_vertices) && mesh->vertex_count > corners)
+	 * writer then keeps only the vertices faces use (every one of a point
+	 * cloud, written as one). */
+	if (!(c->out_format->holds & vn_io_holds_loose_vertices) && mesh->face_count && mesh->vertex_count > corners)
 		add(&c->warnings,
 		    "%zu vertices and %zu %s: only the vertices faces use are written, as %s cannot store more than 3 "
 		    "points per triangle\n",

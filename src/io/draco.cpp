@@ -33,7 +33,8 @@
 /* A geometry copied into Draco's mesh, with how to quantize each float
  * attribute: what vn_drc_encoder_new makes and vn_drc_encoder_encode encodes. */
 struct vn_drc_encoder {
-	draco::Mesh mesh;
+	draco::Mesh mesh; /* no faces for a point cloud, encoded as one where cloud */
+	bool cloud;
 	/* Draco attribute id, the attribute (its data not kept), whether it is
 	 * quantized on its own grid. */
 	struct quantized {
@@ -164,7 +165,7 @@ static std::vector<quantization> quantizations(const void* data, size_t size, st
  *
  * Draco accepts major versions 1 and 2 up to 2.2 for meshes, 2.3 for point
  * clouds. */
-static bool declared_counts(const void* data, size_t size, uint32_t* faces, uint64_t* vertices)
+static bool declared_counts(const void* data, size_t size, uint32_t* faces, uint64_t* vertices, bool* is_cloud)
 {
 	draco::DecoderBuffer b;
 	b.Init(static_cast<const char*>(data), size);
@@ -173,6 +174,7 @@ static bool declared_counts(const void* data, size_t size, uint32_t* faces, uint
 	    (h.encoder_type != draco::TRIANGULAR_MESH && h.encoder_type != draco::POINT_CLOUD))
 		return false;
 	const bool cloud = h.encoder_type == draco::POINT_CLOUD;
+	*is_cloud = cloud;
 	const unsigned version = unsigned(h.version_major) << 8 | h.version_minor;
 	if (h.version_major < 1 || version > (cloud ? 0x0203u : 0x0202u))
 		return false;
@@ -223,8 +225,13 @@ static bool declared_counts(const void* data, size_t size, uint32_t* faces, uint
  * vertices per byte of stream: edgebreaker's best ratios on real meshes are
  * a few triangles per byte) and more than Draco could allocate room for
  * under memory_cap (about 40 bytes per face and 16 per vertex of tables):
- * a stream within the cap is always left to Draco, so that no valid stream
- * is called hostile. Returns why a stream is refused, or an empty string
+ * a mesh stream within the cap is always left to Draco. A point cloud's
+ * memory is its attributes (up to 255 components of 8 bytes a point, read
+ * after the counts), so no cap bounds it: a point cloud is refused when it
+ * is dense at all. A valid stream can be that dense: 17M identical points
+ * fit in 58 bytes, but no real mesh or scan compresses to 4096 points a
+ * byte (fuzzing found libdraco decoding a cloud of 16M points from 60 bytes
+ * into gigabytes). Returns why a stream is refused, or an empty string
  * (also when the counts cannot be read: the decoder then says why). */
 constexpr uint64_t max_per_byte = 4096;
 constexpr uint64_t memory_cap = uint64_t(1) << 28;
@@ -233,10 +240,11 @@ static std::string implausible(const void* data, size_t size)
 {
 	uint32_t faces;
 	uint64_t vertices;
-	if (!declared_counts(data, size, &faces, &vertices))
+	bool cloud;
+	if (!declared_counts(data, size, &faces, &vertices, &cloud))
 		return "";
 	const bool dense = faces > max_per_byte * size || vertices > max_per_byte * size;
-	if (!dense || 40 * uint64_t(faces) + 16 * vertices <= memory_cap)
+	if (!dense || (!cloud && 40 * uint64_t(faces) + 16 * vertices <= memory_cap))
 		return "";
 	return "the stream declares " + (faces ? std::to_string(faces) + " faces and " : std::string()) +
 	       std::to_string(vertices) + " points in " + std::to_string(size) + " bytes: corrupt or hostile";
@@ -264,6 +272,17 @@ static vn_io_result decode(const void* data, size_t size, const char* name, bool
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: a Draco point cloud, not a mesh", name);
 	if (kind.value() != draco::TRIANGULAR_MESH && kind.value() != draco::POINT_CLOUD)
 		return vn_io_fail(error, vn_io_error_parse, "%s: not a Draco mesh or point cloud", name);
+	/* A kd-tree point cloud before bitstream 2.3 (Draco before 1.4) carries
+	 * a second point count inside its attribute data, which libdraco sizes
+	 * the attributes from unchecked (fuzzing found 50 GB asked for by 49
+	 * bytes), and which vn cannot read before it does. */
+	const unsigned char* head = static_cast<const unsigned char*>(data);
+	if (kind.value() == draco::POINT_CLOUD && size >= 9 && head[8] == draco::POINT_CLOUD_KD_TREE_ENCODING &&
+	    (unsigned(head[5]) << 8 | head[6]) < 0x0203)
+		return vn_io_fail(error, vn_io_error_unsupported,
+		                  "%s: a kd-tree point cloud of bitstream %u.%u, which vn does not read (libdraco would size "
+		                  "it from counts vn cannot check): encode it again with Draco 1.4 or later",
+		                  name, unsigned(head[5]), unsigned(head[6]));
 	/* Read first: Draco's decoder needs several times the decoded mesh,
 	 * which is then not in memory yet. */
 	std::string failure;
@@ -280,6 +299,7 @@ static vn_io_result decode(const void* data, size_t size, const char* name, bool
 
 	g->point_count = points.num_points();
 	g->triangle_count = faces ? faces->num_faces() : 0;
+	g->point_cloud = !faces;
 	g->indices = static_cast<uint32_t*>(std::malloc(3 * g->triangle_count * sizeof(uint32_t) + 1));
 	g->attributes =
 	    static_cast<vn_drc_attribute*>(std::calloc(size_t(points.num_attributes()) + 1, sizeof(vn_drc_attribute)));
@@ -409,9 +429,13 @@ static vn_io_result prepare(const vn_drc_geometry* g, const char* name, vn_drc_e
 {
 	if (g->point_count > UINT32_MAX / 2)
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: too many points for Draco", name);
+	if (g->point_cloud && g->triangle_count)
+		return vn_io_fail(error, vn_io_error_unsupported, "%s: a point cloud with %zu triangles", name,
+		                  g->triangle_count);
+	e->cloud = g->point_cloud != 0;
 	/* Draco 1.5.5's decoders refuse such a stream (sequential connectivity):
 	 * writing one would make a file nobody can read. */
-	if (g->point_count > 3 * g->triangle_count)
+	if (!e->cloud && g->point_count > 3 * g->triangle_count)
 		return vn_io_fail(error, vn_io_error_unsupported,
 		                  "%s: %zu points and %zu triangles: Draco cannot store more points than 3 per triangle "
 		                  "(remove the unused vertices)", name, g->point_count, g->triangle_count);
@@ -496,8 +520,10 @@ static vn_io_result prepare(const vn_drc_geometry* g, const char* name, vn_drc_e
 	 * connects triangles through shared POSITION values only, so with one
 	 * value a point every seam was a cut. That lost the polygons of a
 	 * --preserve_polygons file (its "added_edges" marks are read across
-	 * edges) and compressed worse. The points and their values are unchanged. */
-	if (!mesh.DeduplicateAttributeValues())
+	 * edges) and compressed worse. The points and their values are unchanged.
+	 * A point cloud has no connectivity to gain (kd-tree codes positions, not
+	 * value indices), and libdraco's hashing of 2M values took 20 s. */
+	if (!e->cloud && !mesh.DeduplicateAttributeValues())
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: Draco cannot index this mesh's attribute values", name);
 	return vn_io_success;
 }
@@ -508,11 +534,16 @@ static vn_io_result run(const vn_drc_encoder& e, int level, bool keep_order, con
 {
 	if (level < 0 || level > 10)
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: compression level %d is not 0 to 10", name, level);
-	/* Levels below 10 pick edgebreaker, which splits non-manifold vertices
-	 * and drops degenerate triangles; the sequential method keeps every point
-	 * and triangle, so it is the fallback when edgebreaker changed a count. */
+	/* Levels below 10 pick edgebreaker (kd-tree for a point cloud, where its
+	 * attributes allow), which splits non-manifold vertices and drops
+	 * degenerate triangles; the sequential method keeps every point and
+	 * triangle, so it is the fallback when the other changed a count. */
 	for (const bool sequential : {level == 10 || keep_order, true}) {
-		draco::ExpertEncoder encoder(e.mesh);
+		/* As a point cloud where one: Draco's encoder picks its methods by
+		 * the constructor's type (a point cloud keeps its order only with the
+		 * sequential method; kd-tree sorts the points). */
+		draco::ExpertEncoder encoder = e.cloud ? draco::ExpertEncoder(static_cast<const draco::PointCloud&>(e.mesh))
+		                                       : draco::ExpertEncoder(e.mesh);
 		for (const vn_drc_encoder::quantized& q : e.quantize)
 			if (q.on_grid)
 				set_grid(&encoder, q.id, q.a);
@@ -522,7 +553,8 @@ static vn_io_result run(const vn_drc_encoder& e, int level, bool keep_order, con
 			encoder.SetAttributePredictionScheme(id, draco::PREDICTION_DIFFERENCE);
 		encoder.SetSpeedOptions(10 - level, 10 - level);
 		if (sequential)
-			encoder.SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);
+			encoder.SetEncodingMethod(e.cloud ? int(draco::POINT_CLOUD_SEQUENTIAL_ENCODING)
+			                                  : int(draco::MESH_SEQUENTIAL_ENCODING));
 		draco::EncoderBuffer out;
 		const draco::Status status = encoder.EncodeToBuffer(&out);
 		if (!status.ok())
@@ -533,6 +565,12 @@ static vn_io_result run(const vn_drc_encoder& e, int level, bool keep_order, con
 			break;
 		draco::DecoderBuffer check;
 		check.Init(bytes->data(), bytes->size());
+		if (e.cloud) {
+			auto decoded = draco::Decoder().DecodePointCloudFromBuffer(&check);
+			if (decoded.ok() && decoded.value()->num_points() == e.mesh.num_points())
+				break;
+			continue;
+		}
 		auto decoded = draco::Decoder().DecodeMeshFromBuffer(&check);
 		if (decoded.ok() && decoded.value()->num_points() == e.mesh.num_points() &&
 		    decoded.value()->num_faces() == e.mesh.num_faces())
@@ -659,7 +697,8 @@ int vn_drc_declared_counts(const void* data, size_t size, uint32_t* faces, uint6
 	*faces = 0;
 	*vertices = 0;
 	try {
-		return declared_counts(data, size, faces, vertices);
+		bool cloud;
+		return declared_counts(data, size, faces, vertices, &cloud);
 	} catch (const std::bad_alloc&) {
 		return 0;
 	}

@@ -102,6 +102,10 @@ typedef struct vn_drc_geometry {
 	 * (vn_drc_geometry_free frees it); encoding writes it, with the
 	 * attribute metadata of the unique ids g has (others are left out). */
 	void* metadata;
+	/* A point cloud stream (no triangles): decoded from one by
+	 * vn_drc_decode_any; encoded as one (Draco's sequential or kd-tree point
+	 * cloud method) where set, else as a mesh. */
+	int point_cloud;
 } vn_drc_geometry;
 
 /* Frees what vn_drc_decode allocated and zeroes *g; NULL is fine. */
@@ -117,7 +121,7 @@ void vn_drc_geometry_free(vn_drc_geometry* g);
 vn_io_result vn_drc_decode(const void* data, size_t size, const char* name, vn_drc_geometry* g, vn_io_error* error);
 /* As vn_drc_decode, and a point cloud stream too (Draco's sequential or
  * kd-tree point cloud methods): its points and attributes, triangle_count
- * 0. */
+ * 0, point_cloud set. */
 vn_io_result vn_drc_decode_any(const void* data, size_t size, const char* name, vn_drc_geometry* g,
                                vn_io_error* error);
 
@@ -147,11 +151,13 @@ vn_io_result vn_drc_encoder_encode(const vn_drc_encoder* encoder, int compressio
 void vn_drc_encoder_free(vn_drc_encoder* encoder);
 
 /* The face and point counts a Draco stream's connectivity header declares,
- * read as Draco 1.5.5's mesh decoders read them for each bitstream version
- * they accept (1.0 to 2.2; edgebreaker and sequential): *faces and
- * *vertices (edgebreaker: encoded vertices plus split symbols, what it
- * sizes its tables with). Returns 0 when the header cannot be read that far
- * (not a mesh, unknown method or version, truncated): Draco then says why. */
+ * read as Draco 1.5.5's decoders read them for each bitstream version they
+ * accept (meshes 1.0 to 2.2, edgebreaker and sequential; point clouds to
+ * 2.3, sequential and kd-tree, with no faces): *faces and *vertices
+ * (edgebreaker: encoded vertices plus split symbols, what it sizes its
+ * tables with). Returns 0 when the header cannot be read that far (neither
+ * a mesh nor a point cloud, unknown method or version, truncated): Draco
+ * then says why. */
 int vn_drc_declared_counts(const void* data, size_t size, uint32_t* faces, uint64_t* vertices);
 
 /* ------------------------------------------------------------------ vn_io */
@@ -224,6 +230,8 @@ typedef struct vn_drc_convert_stats {
 	                      point no face gives a normal keeps its own (an integer
 	                      one as the unit vector it stands for), else it gets
 	                      the zero vector */
+	int point_cloud;   /* the input is a point cloud: its NORMAL (if any) is kept as
+	                      it is, and it is written as a point cloud */
 } vn_drc_convert_stats;
 
 /* Reads the Draco mesh `in`, recomputes its normals with options->method
@@ -231,9 +239,11 @@ typedef struct vn_drc_convert_stats {
  * else kept: every attribute with its type, unique id, bits, grid (so its
  * decoded values are the input's) and metadata, the geometry metadata. Only
  * NORMAL (the first) is replaced, or added with the next free unique id.
- * Points and triangles may come out in another order (edgebreaker), as
- * from any Draco encoder. A non-finite position is refused before anything
- * is written. stats may be NULL. */
+ * Points and triangles may come out in another order (edgebreaker, or
+ * kd-tree for a point cloud), as from any Draco encoder. A point cloud has
+ * no faces to compute normals from: it is written as a point cloud with
+ * every attribute kept, NORMAL too. A non-finite position is refused before
+ * anything is written. stats may be NULL. */
 vn_io_result vn_drc_convert(const char* in, const char* out, const vn_drc_convert_options* options,
                             vn_drc_convert_stats* stats, vn_io_error* error);
 

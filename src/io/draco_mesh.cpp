@@ -78,15 +78,19 @@ struct geometry_builder {
  * their attribute metadata as "name" without the leading underscore, and
  * lossless, as are integers), polygons fan-triangulated. Draco's decoders
  * refuse more points than 3 per triangle, so a mesh with that many keeps
- * only the vertices faces use (in their order; b->kept lists them). */
+ * only the vertices faces use (in their order; b->kept lists them). A mesh
+ * without faces is a point cloud: every vertex, and normals only where some
+ * is not zero (vn computes none for it, and Draco would decode a zero
+ * normal as (1, 0, 0)). */
 static void build(const vn_io_mesh* mesh, const vn_drc_options& o, geometry_builder* b)
 {
 	const size_t n = mesh->vertex_count;
+	b->g.point_cloud = mesh->face_count == 0;
 	for (size_t f = 0; f < mesh->face_count; ++f)
 		for (uint32_t c = mesh->face_offsets[f] + 2; c < mesh->face_offsets[f + 1]; ++c)
 			b->indices.insert(b->indices.end(),
 			                  {mesh->indices[mesh->face_offsets[f]], mesh->indices[c - 1], mesh->indices[c]});
-	if (n > b->indices.size()) {
+	if (!b->g.point_cloud && n > b->indices.size()) {
 		std::vector<uint32_t> to(n, UINT32_MAX);
 		for (uint32_t v : b->indices)
 			to[v] = 0;
@@ -108,7 +112,8 @@ static void build(const vn_io_mesh* mesh, const vn_drc_options& o, geometry_buil
 		return out;
 	};
 	b->add(vn_drc_position, vn_drc_float32, 3, 0, o.position_bits, rows(mesh->positions, 3));
-	if (mesh->normals)
+	if (mesh->normals && (!b->g.point_cloud || std::any_of(mesh->normals, mesh->normals + 3 * n,
+	                                                         [](double x) { return x != 0.0; })))
 		b->add(vn_drc_normal, vn_drc_float32, 3, 0, o.normal_bits, rows(mesh->normals, 3));
 	if (mesh->texcoords)
 		b->add(vn_drc_texcoord, vn_drc_float32, 2, 0, o.texcoord_bits, rows(mesh->texcoords, 2));
@@ -395,16 +400,6 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 			return r;
 	}
 	const vn_drc_geometry& g = d.g;
-	/* As vn_io_convert says it for every format that holds no point cloud
-	 * (Draco would refuse a mesh stream of points and no faces). */
-	if (g.triangle_count == 0 && g.point_count == 0)
-		return vn_io_fail(error, vn_io_error_unsupported, "%s: vn read no points and no faces from %s: nothing to write",
-		                  out, in);
-	if (g.triangle_count == 0)
-		return vn_io_fail(error, vn_io_error_unsupported,
-		                  "%s: %s has %zu %s and no faces (a point cloud), and vn writes Draco only with faces: write "
-		                  "OFF, PLY or OBJ to keep a point cloud",
-		                  out, in, g.point_count, g.point_count == 1 ? "vertex" : "vertices");
 	const vn_drc_attribute* position = first(g, vn_drc_position);
 	if (!readable_position(position))
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: no 3-component POSITION", in);
@@ -430,6 +425,7 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 	std::vector<float> normals(3 * g.point_count + 3);
 	const vn_drc_attribute* input_normal = first(g, vn_drc_normal);
 	st.input_normals = readable_normal(input_normal);
+	st.point_cloud = g.point_cloud;
 	if (st.input_normals)
 		read_normals(*input_normal, g.point_count, normals.data());
 	const vn_vectors vectors = {normals.data(), 0, vn_scalar_float32};
@@ -437,15 +433,16 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 	std::memset(&vo, 0, sizeof vo);
 	vo.threads = o.threads;
 	vo.keep_existing = st.input_normals;
-	const vn_result vr =
-	    vn_triangle_normals(&vectors, &positions, g.indices, 3 * g.triangle_count, o.method, &vo, &st.normals);
+	const vn_result vr = g.point_cloud ? vn_result_success
+	                                   : vn_triangle_normals(&vectors, &positions, g.indices, 3 * g.triangle_count,
+	                                                         o.method, &vo, &st.normals);
 	if (vr != vn_result_success)
 		return vn_io_fail(error, vr == vn_result_out_of_memory ? vn_io_error_memory : vn_io_error_unsupported,
 		                  "%s: %s", in, vn_result_string(vr));
 	const double t2 = now();
 
-	/* Every attribute as decoded, NORMAL replaced (or added), bits given
-	 * for a semantic replacing the stream's. */
+	/* Every attribute as decoded, NORMAL replaced (or added; a point
+	 * cloud's kept), bits given for a semantic replacing the stream's. */
 	vn_drc_options defaults;
 	vn_drc_default_options(&defaults);
 	const vn_drc_options& given = o.given;
@@ -456,7 +453,7 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 			normal = &a;
 			break;
 		}
-	if (!normal) {
+	if (!normal && !g.point_cloud) {
 		vn_drc_attribute a{};
 		for (const vn_drc_attribute& b : attributes)
 			a.unique_id = std::max(a.unique_id, b.unique_id + 1);
@@ -465,15 +462,17 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 		normal = &attributes.back();
 	}
 	const int normal_bits = given.normal_bits >= 0 ? given.normal_bits
-	                        : normal->component_type == vn_drc_float32 && normal->quantization_bits > 0
+	                        : normal && normal->component_type == vn_drc_float32 && normal->quantization_bits > 0
 	                            ? normal->quantization_bits
 	                            : defaults.normal_bits;
-	normal->component_type = vn_drc_float32;
-	normal->components = 3;
-	normal->normalized = 0;
-	normal->quantization_bits = normal_bits;
-	normal->grid = vn_drc_grid{};
-	normal->data = normals.data();
+	if (!g.point_cloud) {
+		normal->component_type = vn_drc_float32;
+		normal->components = 3;
+		normal->normalized = 0;
+		normal->quantization_bits = normal_bits;
+		normal->grid = vn_drc_grid{};
+		normal->data = normals.data();
+	}
 	for (vn_drc_attribute& a : attributes) {
 		const int bits = vn_drc_given_bits(&given, a.semantic, a.component_type);
 		if (bits >= 0)
@@ -525,7 +524,7 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 	st.normals_seconds = t2 - t1;
 	st.write_seconds = t3 - t2;
 
-	if (o.normal_error) {
+	if (o.normal_error && !g.point_cloud) {
 		const std::vector<double> xyz(p, p + 3 * g.point_count), nxyz(normals.begin(), normals.begin() + 3 * g.point_count);
 		if ((r = vn_drc_triangle_normal_error(xyz.data(), nxyz.data(), g.point_count, g.indices, g.triangle_count,
 		                                      &st.used, out, &st.normal_error, error)) != vn_io_success)

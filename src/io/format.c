@@ -93,9 +93,11 @@ static const vn_io_format formats[] = {
          vn_io_holds_loose_vertices,
      vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
      GLTF_DOCUMENT_LOSES, NULL},
-    {"drc", "Draco", "Draco", ".drc", "Draco mesh (triangles; positions, normals, texcoords, colours; quantized)",
+    {"drc", "Draco", "Draco", ".drc",
+     "Draco mesh or point cloud (triangles; positions, normals, texcoords, colours; quantized)",
      vn_io_drc_read, vn_io_drc_write,
-     vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes,
+     vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
+         vn_io_holds_no_faces,
      vn_io_path_drc, vn_io_draco_output, "the zero vector (Draco's octahedral coding decodes it as (1, 0, 0))",
      {{vn_io_holds_texcoords, "the first TEX_COORD (2 floats)", NULL},
       {vn_io_holds_colors, "the first COLOR", NULL},

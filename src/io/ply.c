@@ -1059,8 +1059,9 @@ static int role_name(const vn_io_mesh* m, const char* const* tex, const char* na
  * of the property the attribute was read from (source_name), else its name
  * in lower case without the leading '_' ("_CONFIDENCE" is "confidence"),
  * "_c" after it for more than one component; "_<a>" after that where the
- * name is taken (by what the writer writes, or an earlier component). Each
- * name is compared with the ones before it, once. */
+ * name is taken (by what the writer writes, or an earlier component), and
+ * "_<a + 1>", ... while that is taken too (two attributes named "x_1" and
+ * "x": the second's "x_1" was). */
 static char* property_names(const vn_io_mesh* m, const char* const* tex)
 {
 	size_t total = 0;
@@ -1081,11 +1082,16 @@ static char* property_names(const vn_io_mesh* m, const char* const* tex)
 			name[n] = '\0';
 			if (at->components > 1)
 				snprintf(name + n, PROPERTY_NAME_SIZE - n, "_%d", c);
-			int taken = role_name(m, tex, name, !own);
-			for (const char* other = names; other < name && !taken; other += PROPERTY_NAME_SIZE)
-				taken = !strcmp(other, name);
-			if (taken)
-				snprintf(name + strlen(name), PROPERTY_NAME_SIZE - strlen(name), "_%zu", a);
+			/* Room for a suffix of up to 20 digits, so that each try differs. */
+			const size_t base = strlen(name) < PROPERTY_NAME_SIZE - 22 ? strlen(name) : PROPERTY_NAME_SIZE - 22;
+			for (size_t k = a;; k++) {
+				int taken = role_name(m, tex, name, !own);
+				for (const char* other = names; other < name && !taken; other += PROPERTY_NAME_SIZE)
+					taken = !strcmp(other, name);
+				if (!taken)
+					break;
+				snprintf(name + base, PROPERTY_NAME_SIZE - base, "_%zu", k);
+			}
 		}
 	return names;
 }
