@@ -125,17 +125,19 @@ vn_io_result vn_drc_decode(const void* data, size_t size, const char* name, vn_d
 vn_io_result vn_drc_decode_any(const void* data, size_t size, const char* name, vn_drc_geometry* g,
                                vn_io_error* error);
 
-/* Encodes g as a Draco mesh at compression level 0..10 (draco_encoder's -cl:
- * 10 - level is Draco's speed) into a malloc'ed *data the caller frees.
- * Unique ids must differ. Decoding gives back as many points and triangles,
- * in another order below level 10 (edgebreaker) unless keep_order; where
- * edgebreaker would change a count (non-manifold vertices, degenerate
- * triangles), at level 10, and with keep_order (what data kept outside the
- * stream, such as glTF morph targets, need) the sequential method, which
- * keeps points and triangles in order, is used. Draco 1.5.5's decoder refuses
- * more points than 3 per triangle: such g is unsupported, as is a
- * non-finite value in a float attribute to be quantized (the error names
- * the attribute and the point). `name` starts error messages. */
+/* Encodes g as a Draco mesh (a point cloud where g->point_cloud) at
+ * compression level 0..10 (draco_encoder's -cl: 10 - level is Draco's
+ * speed) into a malloc'ed *data the caller frees. Unique ids must differ.
+ * Decoding gives back as many points and triangles, in another order below
+ * level 10 (edgebreaker; kd-tree for a point cloud whose attributes allow
+ * it) unless keep_order; where edgebreaker would change a count
+ * (non-manifold vertices, degenerate triangles), at level 10, and with
+ * keep_order (what data kept outside the stream, such as glTF morph
+ * targets, need) the sequential method, which keeps points and triangles in
+ * order, is used. Draco 1.5.5's decoder refuses more points than 3 per
+ * triangle: such a mesh is unsupported, as is a non-finite value in a float
+ * attribute to be quantized (the error names the attribute and the point).
+ * `name` starts error messages. */
 vn_io_result vn_drc_encode(const vn_drc_geometry* g, int compression_level, int keep_order, const char* name,
                            void** data, size_t* size, vn_io_error* error);
 
