@@ -8,7 +8,7 @@
 # and an OFF without), converted to OFF, glTF, GLB and
 # Draco; outputs read by tests/keep_normals.py (OFF, glTF) and the npm
 # draco3d decoder (.drc). A point cloud (normals, no faces) keeps its normals
-# in OFF and is refused, in one line, by the formats that need faces.
+# in OFF and Draco and is refused, in one line, by glTF.
 #   test_keep_normals.sh PATH/TO/vnconvert NODE_MODULES
 set -u
 VNC=$1
@@ -77,12 +77,27 @@ run "$VNC" "$DATA/loose.off" "$T/text.off"
 check "loose.off -> off: the loose lines as in the input" \
   diff <(loose_lines "$DATA/loose.off") <(loose_lines "$T/text.off")
 
-# A point cloud: the normals kept in OFF; glTF and Draco refuse it.
+# A point cloud: the normals kept in OFF, and in Draco (a point cloud
+# stream, to its quantization); glTF refuses it.
 run "$VNC" "$DATA/points.off" "$T/points.off"
 check "points.off -> off exits 0" [ $rc -eq 0 ]
 check "points.off -> off: every normal kept" \
   diff <(loose_lines "$DATA/points.off" -1) <(loose_lines "$T/points.off" -1)
-for ext in gltf glb drc; do
+run "$VNC" "$DATA/points.off" "$T/points.drc" --draco-cl 10
+check "points.off -> drc exits 0" [ $rc -eq 0 ]
+draco_decoder -i "$T/points.drc" -o "$T/points-drc.ply" >/dev/null
+check "points.off -> drc: every normal kept, within 1 degree" python3 - "$HERE" "$T/points-drc.ply" <<'EOF'
+import sys
+import numpy as np
+sys.path.insert(0, sys.argv[1])
+import plytool
+v = plytool.read(sys.argv[2])[2]["vertex"][1]
+n = np.array([v["nx"], v["ny"], v["nz"]], float).T
+want = np.array([[0.6, 0, 0.8], [0, -0.6, 0.8], [0, 0, -1]])
+cos = (n * want).sum(1) / np.linalg.norm(n, axis=1)
+sys.exit(not (n.shape == (3, 3) and np.degrees(np.arccos(np.clip(cos, -1, 1))).max() < 1))
+EOF
+for ext in gltf glb; do
   run "$VNC" "$DATA/points.off" "$T/points.$ext" -q
   check "points.off -> $ext exits 1" [ $rc -eq 1 ]
   check "points.off -> $ext: one line" one_line_err
