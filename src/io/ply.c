@@ -1096,14 +1096,22 @@ static char* property_names(const vn_io_mesh* m, const char* const* tex)
 	return names;
 }
 
+/* Whether some of the count values would not come back from a float (so
+ * are written as double). */
+static int float_rounds(const double* v, size_t count)
+{
+	for (size_t i = 0; i < count; i++)
+		if ((double)(float)v[i] != v[i])
+			return 1;
+	return 0;
+}
+
 vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings,
                              vn_io_error* error)
 {
 	(void)settings; /* PLY has none */
 	const size_t n = mesh->vertex_count;
-	int doubles = 0;
-	for (size_t i = 0; i < 3 * n && !doubles; i++)
-		doubles = (double)(float)mesh->positions[i] != mesh->positions[i];
+	const int doubles = float_rounds(mesh->positions, 3 * n);
 	uint32_t largest = 0;
 	for (size_t f = 0; f < mesh->face_count; f++)
 		if (mesh->face_offsets[f + 1] - mesh->face_offsets[f] > largest)
@@ -1113,9 +1121,7 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 
 	/* A point cloud's normals are the file's (vn computes none): double
 	 * where float would round them. */
-	int double_normals = 0;
-	for (size_t i = 0; mesh->normals && !mesh->face_count && i < 3 * n && !double_normals; i++)
-		double_normals = (double)(float)mesh->normals[i] != mesh->normals[i];
+	const int double_normals = mesh->normals && !mesh->face_count && float_rounds(mesh->normals, 3 * n);
 	fprintf(out, "ply\nformat binary_little_endian 1.0\ncomment written by vn\nelement vertex %zu\n", n);
 	const char* position = doubles ? "double" : "float";
 	fprintf(out, "property %s x\nproperty %s y\nproperty %s z\n", position, position, position);
