@@ -422,11 +422,11 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 	/* A point no face gives a normal keeps the input's (keep_existing): a
 	 * float normal as decoded (re-encoded on the same bits it decodes the
 	 * same), an integer one as the unit vector it stands for. */
-	std::vector<float> normals(3 * g.point_count + 3);
+	std::vector<float> normals(g.point_cloud ? 0 : 3 * g.point_count + 3); /* a point cloud's are kept as they are */
 	const vn_drc_attribute* input_normal = first(g, vn_drc_normal);
 	st.input_normals = readable_normal(input_normal);
 	st.point_cloud = g.point_cloud;
-	if (st.input_normals)
+	if (st.input_normals && !g.point_cloud)
 		read_normals(*input_normal, g.point_count, normals.data());
 	const vn_vectors vectors = {normals.data(), 0, vn_scalar_float32};
 	vn_options vo;
