@@ -5,9 +5,11 @@
  *   1. ring: the vertices sharing a usable face with v (a triangle's other
  *      two corners; a polygon's other corners when it has at most
  *      RING_ALL_MAX, else its two edge neighbours); the 2-ring adds the
- *      rings of those but a hub's (RING_HUB_MAX). Unusable faces (the
- *      seven's degenerate faces: zero or non-finite area) add nothing, so a
- *      non-finite coordinate never enters.
+ *      rings of those but a hub's (RING_HUB_MAX). A face is usable when
+ *      every corner's coordinates are finite (a polygon: and it has 3
+ *      corners or more), so a non-finite coordinate never enters; a face of
+ *      zero area still joins its corners, which are samples of the surface
+ *      like any other (the fits weigh points, not faces).
  *   2. h = the mean distance from v to its 1-ring members; every coordinate
  *      is divided by h, so the system's entries are O(1) at any scale.
  *   3. fit (vn_fit_frame): in the frame (t1, t2, a), weighted least squares
@@ -36,7 +38,7 @@
  * for any thread count.
  *
  * Work memory, from the allocator (the workspace serves the seed pass):
- * 24 bytes a vertex (seeds) + 8 a corner + 1 a face + 8 a vertex + 4 a
+ * 24 bytes a vertex (seeds) + 8 a corner + 9 a vertex + 1 a polygon + 4 a
  * 1-ring member + 4 a vertex per thread + ring scratch.
  *
  * ADAPTIVE (vn.h) adds the 4-ring, gathered past the 2-ring up to the ring
@@ -615,7 +617,8 @@ typedef struct fit_job {
 	const double* seed;    /* 3 per vertex */
 	const double* rough;   /* ADAPTIVE: 3 per vertex, ADAPTIVE_ROUGH's normals */
 	double* pick;          /* ADAPTIVE: 7 per vertex: the outcomes (adaptive_lanes), log T */
-	unsigned char* usable; /* per face */
+	unsigned char* finite; /* per vertex: its coordinates are finite */
+	unsigned char* usable; /* polygons: per face, its corners are finite and at least 3 */
 	uint32_t* face_of;     /* polygons: per corner */
 	uint32_t* start;       /* nv + 1: counts, then where each vertex's corners end */
 	uint32_t* list;        /* corners by vertex, in corner order (phase_list) */
@@ -636,27 +639,27 @@ VN_INLINE uint32_t corner_count(const vn_work* w)
 	return w->offsets ? w->offsets[w->face_count] : (uint32_t)(3 * w->face_count);
 }
 
-/* Faces' usability and each worker's vertices' corner counts. */
+/* Each worker's vertices' finiteness and corner counts; polygons'
+ * usability. A triangle's is read from its corners' finiteness by
+ * phase_list: one flag a vertex instead of three positions a face. */
 static void phase_count(void* ctx, unsigned t)
 {
 	fit_job* j = (fit_job*)ctx;
 	const vn_work* w = &j->w;
 	const uint32_t nf = (uint32_t)w->face_count;
-	for (uint32_t f = range_lo(nf, t, j->nt), f1 = range_lo(nf, t + 1, j->nt); f < f1; ++f) {
-		double n[3];
-		if (w->offsets) {
+	if (w->offsets)
+		for (uint32_t f = range_lo(nf, t, j->nt), f1 = range_lo(nf, t + 1, j->nt); f < f1; ++f) {
 			const uint32_t b = w->offsets[f], k = w->offsets[f + 1] - b;
-			j->usable[f] = (unsigned char)(k >= 3 && vn_face_normal(w, w->indices + b, k, n));
-			for (uint32_t c = b; c < b + k; ++c)
+			int ok = k >= 3;
+			for (uint32_t c = b; c < b + k; ++c) {
+				ok &= vn_finite_at(w, w->indices[c]);
 				j->face_of[c] = f;
-		} else {
-			double p[3][3], e01[3], e12[3], e20[3];
-			for (int i = 0; i < 3; ++i)
-				vn_load(w, w->type, w->indices[3 * (size_t)f + i], p[i]);
-			j->usable[f] = (unsigned char)vn_usable(vn_triangle_edges(p[0], p[1], p[2], e01, e12, e20, n));
+			}
+			j->usable[f] = (unsigned char)ok;
 		}
-	}
 	const uint32_t v0 = range_lo(w->vertex_count, t, j->nt), span = range_lo(w->vertex_count, t + 1, j->nt) - v0;
+	for (uint32_t v = v0; v < v0 + span; ++v)
+		j->finite[v] = (unsigned char)vn_finite_at(w, v);
 	uint32_t* count = j->start + 1;
 	memset(count + v0, 0, sizeof(uint32_t) * span);
 	const uint32_t n = corner_count(w);
@@ -700,7 +703,7 @@ static void phase_list(void* ctx, unsigned t)
 		for (uint32_t f = 0; f < n / 3; ++f) {
 			const uint32_t a = idx[3 * f], b = idx[3 * f + 1], c = idx[3 * f + 2];
 			const uint32_t corner[3][3] = {{a, b, c}, {b, c, a}, {c, a, b}}; /* v, next, previous */
-			const int ok = j->usable[f];
+			const int ok = j->finite[a] & j->finite[b] & j->finite[c];
 			for (int at = 0; at < 3; ++at) {
 				const uint32_t v = corner[at][0];
 				if (v - v0 >= v1 - v0)
@@ -734,12 +737,14 @@ static uint32_t gather(const fit_job* j, scratch* s, uint32_t u, uint32_t m)
 	const uint32_t tag = s->tag;
 	if (!j->w.offsets) { /* triangles: each corner's next and previous vertex (phase_list) */
 		/* Without a branch on the stamp, as in expand: in a closed fan
-		 * every neighbour comes twice. */
+		 * every neighbour comes twice. A corner's two at a time. */
 		uint32_t *stamp = s->stamp, *ring = s->ring;
 		const uint32_t *e = j->list + 2 * (size_t)(u ? j->start[u - 1] : 0), *end = j->list + 2 * (size_t)j->start[u];
-		for (; e < end; ++e) {
-			const uint32_t x = *e, fresh = stamp[x] != tag;
+		for (; e < end; e += 2) {
+			const uint32_t x = e[0], fresh = stamp[x] != tag;
 			stamp[x] = tag, ring[m] = x, m += fresh;
+			const uint32_t y = e[1], new_y = stamp[y] != tag;
+			stamp[y] = tag, ring[m] = y, m += new_y;
 		}
 		return m;
 	}
@@ -1125,7 +1130,8 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 	/* start, list (two words a triangle corner; one a polygon corner, plus
 	 * its face in face_of), top, nstart. */
 	const size_t words = 2 * ((size_t)nv + 1) + 2 * (size_t)nc + nt;
-	const size_t bytes = sizeof(scratch) * nt + sizeof(uint32_t) * words + nf;
+	const size_t polygons = work->offsets ? nf : 0;
+	const size_t bytes = sizeof(scratch) * nt + sizeof(uint32_t) * words + nv + polygons;
 	unsigned char* block = r == vn_result_success ? (unsigned char*)heap.allocate(heap.user, bytes) : NULL;
 	if (r == vn_result_success && !block)
 		r = vn_result_out_of_memory;
@@ -1136,7 +1142,8 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 		j.top = j.list + (work->offsets ? nc : 2 * (size_t)nc);
 		j.nstart = j.top + nt;
 		j.face_of = work->offsets ? j.nstart + nv + 1 : NULL;
-		j.usable = (unsigned char*)(j.start + words);
+		j.finite = (unsigned char*)(j.start + words);
+		j.usable = work->offsets ? j.finite + nv : NULL;
 		vn_parallel(nt, phase_count, &j);
 		/* start[v + 1] holds v's count: make start[v] where v's corners begin. */
 		uint32_t sum = 0;

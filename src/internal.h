@@ -301,15 +301,20 @@ VN_INLINE void vn_store(const vn_vectors* out, size_t i, const double v[3])
 	}
 }
 
+/* Whether vertex v's coordinates are all finite. */
+VN_INLINE int vn_finite_at(const vn_work* w, uint32_t v)
+{
+	double p[3];
+	vn_load(w, w->type, v, p);
+	return isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]);
+}
+
 /* The vertices in [lo, hi) with a NaN or infinite coordinate. */
 VN_INLINE size_t vn_count_nonfinite(const vn_work* w, uint32_t lo, uint32_t hi)
 {
 	size_t bad = 0;
-	for (uint32_t v = lo; v < hi; ++v) {
-		double p[3];
-		vn_load(w, w->type, v, p);
-		bad += !(isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]));
-	}
+	for (uint32_t v = lo; v < hi; ++v)
+		bad += !vn_finite_at(w, v);
 	return bad;
 }
 

@@ -163,9 +163,10 @@ typedef enum vn_method {
 	                      chosen with vneval (docs/ACCURACY.md): the scheme
 	                      to use when unsure. */
 	/* The fits (QUADRIC, JET, ADAPTIVE): rings are the vertices sharing a
-	 * non-degenerate face (a polygon's corners when it has at most 8, else
-	 * its two edge neighbours); degenerate faces add nothing, so NaN never
-	 * enters. Wider rings do not expand through a member with more than
+	 * face (a polygon's corners when it has at most 8, else its two edge
+	 * neighbours) whose corners are all finite (a polygon: 3 or more), so
+	 * NaN never enters; a face of zero area joins its corners, samples of
+	 * the surface like any other. Wider rings do not expand through a member with more than
 	 * 256 ring members (a fan's hub), so that a fan of any size costs
 	 * linear time (its rim vertices' 2-rings would be the whole fan).
 	 * The tangent frame of a unit axis a = (x, y, z) is Duff et al. 2017's: with s the sign of z (-0 negative), A = -1 / (s + z) and
@@ -181,11 +182,11 @@ typedef enum vn_method {
 	 * ones the union of their sheets. A vertex whose S is zero gets zero
 	 * (ADAPTIVE: MWAAT's, zero as well unless the sums cancel); every
 	 * other fitted normal is unit with a positive dot product with S.
-	 * Memory: about 9 bytes a corner + 1 a face + 32 a vertex (ADAPTIVE 112)
+	 * Memory: about 9 bytes a corner + 1 a polygon + 33 a vertex (ADAPTIVE 113)
 	 * + 4 a 1-ring member (JET, ADAPTIVE) + 4 a vertex per thread from the
 	 * allocator (the workspace serves the seed pass only), + 128 bytes a
 	 * 2-ring member per thread. Cost on one thread, on a smooth torus:
-	 * QUADRIC about 11x MWSELR's, JET about 25x, ADAPTIVE about 45x (less
+	 * QUADRIC about 10x MWSELR's, JET about 25x, ADAPTIVE about 45x (less
 	 * where the jet is exact to 1e-4 h, which skips the 4-ring's fits;
 	 * docs/PERFORMANCE.md). Per corner
 	 * (vn_corner_normals, vn_polygon_corner_normals): a

@@ -310,15 +310,29 @@ static void smewcsa_normals(const tables* t, double* out, double* cond, unsigned
 	free(h);
 }
 
-/* Appends to ring (n members so far) the vertices sharing a usable face with
- * u that are not marked yet, and marks them: a triangle's other corners, a
- * polygon's other corners up to RING_ALL_MAX corners, else its corners next
- * to u. */
+/* Whether face f joins its corners to the fits' rings: 3 corners or more,
+ * every coordinate finite (its area may be zero: vn.h). */
+static int joins_rings(const tables* t, size_t f)
+{
+	size_t begin = t->face_offsets[f], k = t->face_offsets[f + 1] - begin;
+	if (k < 3)
+		return 0;
+	for (size_t i = begin; i < begin + k; i++)
+		for (int d = 0; d < 3; d++)
+			if (!isfinite(t->positions[3 * (size_t)t->indices[i] + d]))
+				return 0;
+	return 1;
+}
+
+/* Appends to ring (n members so far) the vertices sharing a face with u
+ * that joins rings (joins_rings) and are not marked yet, and marks them: a
+ * triangle's other corners, a polygon's other corners up to RING_ALL_MAX
+ * corners, else its corners next to u. */
 static size_t add_ring(const tables* t, uint32_t u, char* mark, uint32_t* ring, size_t n)
 {
 	for (size_t j = t->first[u]; j < t->first[u + 1]; j++) {
 		size_t c = t->corners[j], f = t->corner_face[c];
-		if (!t->valid[f])
+		if (!joins_rings(t, f))
 			continue;
 		size_t begin = t->face_offsets[f], k = t->face_offsets[f + 1] - begin, i = c - begin;
 		for (size_t o = 0; o < k; o++) {

@@ -515,6 +515,35 @@ static void nonfinite_vertex_as_if_absent(void** state)
 	grid_free(&g);
 }
 
+/* A face of zero area joins its corners to the rings: they are samples of
+ * the surface like any other. The origin on z = xy has three triangles (3
+ * members and itself: too few for the quadric's 6 unknowns, so alone it
+ * keeps MWA's normal) and a sliver along the x axis, where z = xy is 0, to
+ * (0.5, 0, 0) and (1.2, 0, 0). With those two, QUADRIC is the quadric fit
+ * over all five members (vn_fit_frame in MWA's frame, then in the
+ * result's), 22 degrees from MWA's; JET (whose 2-ring has no more points)
+ * and ADAPTIVE fall back to it. The sliver's other corners have no area at
+ * all: zero, as with MWA. */
+static void zero_area_face_joins_rings(void** state)
+{
+	(void)state;
+	const double pos[] = {0, 0, 0, 1, 0.2, 0.2, -0.6, 0.9, -0.54, -0.3, -1, 0.3, 0.5, 0, 0, 1.2, 0, 0};
+	const uint32_t idx[] = {0, 1, 2, 0, 2, 3, 0, 3, 1, 0, 4, 5};
+	double mwa[18], out[18], first[3], fit[3], scratch[16 * 5], h = 0;
+	for (int i = 1; i < 6; ++i)
+		h += sqrt(pos[3 * i] * pos[3 * i] + pos[3 * i + 1] * pos[3 * i + 1] + pos[3 * i + 2] * pos[3 * i + 2]) / 5;
+	assert_int_equal(tri(pos, 6, idx, 12, vn_method_mwa, 1, mwa), vn_result_success);
+	assert_true(vn_fit_frame(pos + 3, 5, h, scratch, mwa, 2, first, NULL));
+	assert_true(vn_fit_frame(pos + 3, 5, h, scratch, first, 2, fit, NULL));
+	assert_true(fit[0] * mwa[0] + fit[1] * mwa[1] + fit[2] * mwa[2] < cos(20 * PI / 180));
+	for (size_t k = 1; k < sizeof(fits) / sizeof(fits[0]); ++k) {
+		assert_int_equal(tri(pos, 6, idx, 12, fits[k], 1, out), vn_result_success);
+		assert_vec(out, fit[0], fit[1], fit[2], 1e-14);
+		assert_vec(out + 12, 0, 0, 0, 0);
+		assert_vec(out + 15, 0, 0, 0, 0);
+	}
+}
+
 /* A tetrahedron (valence 3), one triangle, an isolated vertex (6), and a
  * vertex (7) whose 1-ring (8..12) is collinear: too few points or an
  * ill-conditioned system, so QUADRIC, JET and ADAPTIVE give the seed, MWA's
@@ -705,6 +734,7 @@ int main(void)
 	    cmocka_unit_test(threads_bit_identical),
 	    cmocka_unit_test(nonfinite_vertex_as_if_absent),
 	    cmocka_unit_test(degenerate_rings),
+	    cmocka_unit_test(zero_area_face_joins_rings),
 	    cmocka_unit_test(hubs_not_expanded),
 	    cmocka_unit_test(adaptive_cone_rim),
 	    cmocka_unit_test(adaptive_unfit_is_jets_fallback),
