@@ -439,7 +439,7 @@ VN_INLINE void fit_lanes(const double* q, const uint32_t m[LANES], const int act
 	f->t2[0] = B, f->t2[1] = sign + y * y * A, f->t2[2] = -y;
 	f->a[0] = x, f->a[1] = y, f->a[2] = z;
 	UNROLL for (int l = 0; l < LANES; ++l)
-		f->ok[l] = act[l] && m[l] + 1 >= (uint32_t)k;
+		f->ok[l] = (act[l] != 0) & (m[l] + 1 >= (uint32_t)k);
 	lanes acc[MOMENTS];
 	moments(q, m, f, kind != 0, acc); /* zero where a lane fails: fails the first pivot */
 	const lanes *s = acc, *t = acc + S_MAX, *zz = acc + ZZ;
@@ -639,6 +639,15 @@ VN_INLINE uint32_t corner_count(const vn_work* w)
 	return w->offsets ? w->offsets[w->face_count] : (uint32_t)(3 * w->face_count);
 }
 
+/* Adds 1 to count[v] for each corner of a vertex v in [v0, v0 + span), of
+ * every vertex where all is set (one worker: no test a corner). */
+VN_INLINE void count_corners(const uint32_t* idx, uint32_t n, uint32_t v0, uint32_t span, int all, uint32_t* count)
+{
+	for (uint32_t c = 0; c < n; ++c)
+		if (all || idx[c] - v0 < span)
+			++count[idx[c]];
+}
+
 /* Each worker's vertices' finiteness and corner counts; polygons'
  * usability. A triangle's is read from its corners' finiteness by
  * phase_list: one flag a vertex instead of three positions a face. */
@@ -662,10 +671,10 @@ static void phase_count(void* ctx, unsigned t)
 		j->finite[v] = (unsigned char)vn_finite_at(w, v);
 	uint32_t* count = j->start + 1;
 	memset(count + v0, 0, sizeof(uint32_t) * span);
-	const uint32_t n = corner_count(w);
-	for (uint32_t c = 0; c < n; ++c)
-		if (w->indices[c] - v0 < span)
-			++count[w->indices[c]];
+	if (j->nt == 1)
+		count_corners(w->indices, corner_count(w), v0, span, 1, count);
+	else
+		count_corners(w->indices, corner_count(w), v0, span, 0, count);
 }
 
 /* The face of corner c, its first corner and its size. */
@@ -678,6 +687,26 @@ VN_INLINE uint32_t face_at(const fit_job* j, uint32_t c, uint32_t* b, uint32_t* 
 	const uint32_t f = j->face_of[c];
 	*b = j->w.offsets[f], *k = j->w.offsets[f + 1] - *b;
 	return f;
+}
+
+/* Lists the corners of the triangles' vertices in [v0, v1) (of every
+ * vertex where all is set: one worker, no test a corner) as phase_list
+ * describes. */
+VN_INLINE void list_triangles(const fit_job* j, uint32_t v0, uint32_t v1, int all)
+{
+	const uint32_t* idx = j->w.indices;
+	for (uint32_t f = 0; f < (uint32_t)j->w.face_count; ++f) {
+		const uint32_t a = idx[3 * f], b = idx[3 * f + 1], c = idx[3 * f + 2];
+		const uint32_t corner[3][3] = {{a, b, c}, {b, c, a}, {c, a, b}}; /* v, next, previous */
+		const int ok = j->finite[a] & j->finite[b] & j->finite[c];
+		for (int at = 0; at < 3; ++at) {
+			const uint32_t v = corner[at][0];
+			if (!all && v - v0 >= v1 - v0)
+				continue;
+			uint32_t* e = j->list + 2 * (size_t)j->start[v]++;
+			e[0] = ok ? corner[at][1] : v, e[1] = ok ? corner[at][2] : v;
+		}
+	}
 }
 
 /* Each worker lists its vertices' corners (start[v] moves from v's first
@@ -699,19 +728,10 @@ static void phase_list(void* ctx, unsigned t)
 		for (uint32_t c = 0; c < n; ++c)
 			if (idx[c] - v0 < v1 - v0)
 				j->list[j->start[idx[c]]++] = c;
+	} else if (j->nt == 1) {
+		list_triangles(j, v0, v1, 1);
 	} else {
-		for (uint32_t f = 0; f < n / 3; ++f) {
-			const uint32_t a = idx[3 * f], b = idx[3 * f + 1], c = idx[3 * f + 2];
-			const uint32_t corner[3][3] = {{a, b, c}, {b, c, a}, {c, a, b}}; /* v, next, previous */
-			const int ok = j->finite[a] & j->finite[b] & j->finite[c];
-			for (int at = 0; at < 3; ++at) {
-				const uint32_t v = corner[at][0];
-				if (v - v0 >= v1 - v0)
-					continue;
-				uint32_t* e = j->list + 2 * (size_t)j->start[v]++;
-				e[0] = ok ? corner[at][1] : v, e[1] = ok ? corner[at][2] : v;
-			}
-		}
+		list_triangles(j, v0, v1, 0);
 	}
 	uint32_t top = 0;
 	for (uint32_t v = v0; v < v1; begin = j->start[v++]) {
