@@ -160,9 +160,10 @@ done
 # 10, keeps their order); glTF output refuses it in one line.
 draco_decoder -i "$T/points.drc" -o "$T/points-ref.ply" >/dev/null
 for x in ply off drc; do
-  run "$VNC" "$T/points.drc" "$T/points-out.$x"
+  run "$VNC" "$T/points.drc" "$T/points-out.$x" --stats
   check "point cloud -> $x: exits 0" [ $rc -eq 0 ]
   check "point cloud -> $x: says it computes no normals" grep -q "points.drc has no faces (a point cloud): vn computes no normals; the input's are kept" "$T/stderr"
+  check "point cloud -> $x: --stats says the input's normals are kept" grep -q "^zero normals: *24 (the input's kept)$" "$T/stdout"
 done
 check "point cloud -> ply: draco_decoder's points and normals" python3 "$HERE/plytool.py" same_normals "$T/points-ref.ply" "$T/points-out.ply"
 check "point cloud -> ply: no faces" [ "$(python3 "$HERE/plytool.py" count "$T/points-out.ply")" = "$(python3 "$HERE/plytool.py" count "$T/points-ref.ply" | cut -d' ' -f1) 0 0" ]

@@ -265,9 +265,10 @@ done
 check "int_point_cloud to OFF: the file's coordinates" [ "$(sed -n 3p "$T/cloud.off" | cut -d' ' -f1-3)" = "-409 249 4" ]
 # normals, colours and another property of a point cloud, through PLY and OFF
 printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nproperty float intensity\nend_header\n0 0 0 0 0 1 255 0 0 0.5\n1 0 0 0 1 0 0 255 0 0.25\n' >"$T/scan.ply"
-run "$VNC" "$T/scan.ply" "$T/scan_out.ply"
+run "$VNC" "$T/scan.ply" "$T/scan_out.ply" --stats
 check "scanned point cloud to PLY: exit 0" [ $rc -eq 0 ]
 check "scanned point cloud: the input's normals kept, said so" grep -q "scan.ply has no faces (a point cloud): vn computes no normals; the input's are kept$" "$T/stderr"
+check "scanned point cloud: --stats says the input's normals are kept" grep -q "^zero normals: *2 (the input's kept)$" "$T/stdout"
 check "scanned point cloud: colours and intensity kept" $PLYTOOL same "$T/scan.ply" "$T/scan_out.ply"
 check "scanned point cloud: normals kept" [ "$($PLYTOOL column "$T/scan_out.ply" nz 0) $($PLYTOOL column "$T/scan_out.ply" ny 1)" = "1.0 1.0" ]
 run "$VNC" "$T/scan.ply" "$T/scan_out.off"

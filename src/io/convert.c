@@ -423,7 +423,9 @@ static vn_io_result convert_drc(conversion* c, vn_io_error* error)
 	vn_convert_report* r = c->r;
 	r->vertices = st.points;
 	r->faces = r->triangles = st.normals.faces;
-	r->zero_normals = st.normals.zero_normals;
+	/* A point cloud gets no normal at any point, as through the other paths. */
+	const size_t zero = st.point_cloud ? st.points : st.normals.zero_normals;
+	r->zero_normals = zero;
 	r->degenerate_faces = st.normals.degenerate_faces;
 	r->read_seconds = st.read_seconds;
 	r->normals_seconds = st.normals_seconds;
@@ -445,7 +447,7 @@ static vn_io_result convert_drc(conversion* c, vn_io_error* error)
 	add(&c->stats, "attributes:         %zu (%s)\n", st.attributes,
 	    st.point_cloud ? "every one kept: a point cloud" : "NORMAL replaced, the others kept");
 	add(&c->stats, "degenerate faces:   %zu\n", st.normals.degenerate_faces);
-	add(&c->stats, "zero normals:       %zu\n", st.normals.zero_normals);
+	add(&c->stats, "zero normals:       %zu%s\n", zero, zero && st.input_normals ? " (the input's kept)" : "");
 	add(&c->stats, "non-finite vertices: %zu\n", st.normals.nonfinite_vertices);
 	add(&c->stats, "threads:            %u\n", c->threads);
 	add(&c->stats, "time read:          %.3f ms\n", 1e3 * st.read_seconds);
@@ -565,7 +567,8 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	add(&c->stats, "welded vertices:    %zu\n", st.welded_vertices);
 	add(&c->stats, "hard edges kept:    %zu\n", st.hard_edges);
 	add(&c->stats, "split vertices:     %zu\n", st.split_vertices);
-	add(&c->stats, "zero normals:       %zu\n", st.zero_normals);
+	add(&c->stats, "zero normals:       %zu%s\n", st.zero_normals,
+	    st.zero_normals && had_normals ? " (the input's kept)" : "");
 	add(&c->stats, "threads:            %u\n", c->threads);
 	add(&c->stats, "time read:          %.3f ms\n", 1e3 * (t1 - t0));
 	add(&c->stats, "time normals:       %.3f ms\n", 1e3 * (t2 - t1));
