@@ -648,24 +648,18 @@ VN_INLINE void count_corners(const uint32_t* idx, uint32_t n, uint32_t v0, uint3
 			++count[idx[c]];
 }
 
-/* Each worker's vertices' finiteness and corner counts; polygons'
- * usability. A triangle's is read from its corners' finiteness by
- * phase_list: one flag a vertex instead of three positions a face. */
+/* Each worker's vertices' finiteness and corner counts; polygons' corners'
+ * faces. A face's usability is read from its corners' finiteness by
+ * phase_list: one flag a corner instead of a position. */
 static void phase_count(void* ctx, unsigned t)
 {
 	fit_job* j = (fit_job*)ctx;
 	const vn_work* w = &j->w;
 	const uint32_t nf = (uint32_t)w->face_count;
 	if (w->offsets)
-		for (uint32_t f = range_lo(nf, t, j->nt), f1 = range_lo(nf, t + 1, j->nt); f < f1; ++f) {
-			const uint32_t b = w->offsets[f], k = w->offsets[f + 1] - b;
-			int ok = k >= 3;
-			for (uint32_t c = b; c < b + k; ++c) {
-				ok &= vn_finite_at(w, w->indices[c]);
+		for (uint32_t f = range_lo(nf, t, j->nt), f1 = range_lo(nf, t + 1, j->nt); f < f1; ++f)
+			for (uint32_t c = w->offsets[f]; c < w->offsets[f + 1]; ++c)
 				j->face_of[c] = f;
-			}
-			j->usable[f] = (unsigned char)ok;
-		}
 	const uint32_t v0 = range_lo(w->vertex_count, t, j->nt), span = range_lo(w->vertex_count, t + 1, j->nt) - v0;
 	for (uint32_t v = v0; v < v0 + span; ++v)
 		j->finite[v] = (unsigned char)vn_finite_at(w, v);
@@ -709,8 +703,19 @@ VN_INLINE void list_triangles(const fit_job* j, uint32_t v0, uint32_t v1, int al
 	}
 }
 
+/* Lists the polygon corners of the vertices in [v0, v1) (of every vertex
+ * where all is set: one worker, no test a corner), as their corner index. */
+VN_INLINE void list_polygon_corners(const fit_job* j, uint32_t v0, uint32_t v1, int all)
+{
+	const uint32_t* idx = j->w.indices;
+	for (uint32_t c = 0, n = corner_count(&j->w); c < n; ++c)
+		if (all || idx[c] - v0 < v1 - v0)
+			j->list[j->start[idx[c]]++] = c;
+}
+
 /* Each worker lists its vertices' corners (start[v] moves from v's first
- * to past its last) and finds its largest 1-ring candidate count. A
+ * to past its last), finds its largest 1-ring candidate count and decides
+ * the usability of its range of polygons. A
  * polygon corner is listed as its corner index; a triangle corner as the
  * triangle's next and previous vertices (two entries), read here in corner
  * order, so that gather does not look up the faces again in vertex order:
@@ -721,13 +726,21 @@ static void phase_list(void* ctx, unsigned t)
 	fit_job* j = (fit_job*)ctx;
 	const vn_work* w = &j->w;
 	const uint32_t v0 = range_lo(w->vertex_count, t, j->nt), v1 = range_lo(w->vertex_count, t + 1, j->nt);
-	const uint32_t n = corner_count(w);
 	const uint32_t* idx = w->indices;
 	uint32_t begin = v0 < v1 ? j->start[v0] : 0;
 	if (w->offsets) {
-		for (uint32_t c = 0; c < n; ++c)
-			if (idx[c] - v0 < v1 - v0)
-				j->list[j->start[idx[c]]++] = c;
+		const uint32_t nf = (uint32_t)w->face_count;
+		for (uint32_t f = range_lo(nf, t, j->nt), f1 = range_lo(nf, t + 1, j->nt); f < f1; ++f) {
+			const uint32_t b = w->offsets[f], e = w->offsets[f + 1];
+			int ok = e - b >= 3;
+			for (uint32_t c = b; c < e; ++c)
+				ok &= j->finite[idx[c]];
+			j->usable[f] = (unsigned char)ok;
+		}
+		if (j->nt == 1)
+			list_polygon_corners(j, v0, v1, 1);
+		else
+			list_polygon_corners(j, v0, v1, 0);
 	} else if (j->nt == 1) {
 		list_triangles(j, v0, v1, 1);
 	} else {

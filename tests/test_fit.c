@@ -478,8 +478,8 @@ static void threads_bit_identical(void** state)
 }
 
 /* A vertex with a NaN coordinate makes its faces unusable: the fits come
- * out as if those faces were not in the mesh, bit for bit, with the vector
- * usability test (four faces at a time) and without it. */
+ * out as if those faces were not in the mesh, bit for bit, with SIMD and
+ * without, through both entries. */
 static void nonfinite_vertex_as_if_absent(void** state)
 {
 	(void)state;
@@ -496,13 +496,25 @@ static void nonfinite_vertex_as_if_absent(void** state)
 	double* b = (double*)malloc(3 * sizeof(double) * g.nv);
 	const vn_positions p = {g.pos, g.nv, 0, vn_scalar_float64};
 	const vn_vectors oa = {a, 0, vn_scalar_float64}, ob = {b, 0, vn_scalar_float64};
-	for (int simd = 0; simd < 2; ++simd)
+	/* The polygon entry too, each triangle a face: its usability is decided
+	 * apart from the triangles'. */
+	uint32_t* offsets = (uint32_t*)malloc(sizeof(uint32_t) * (g.ni / 3 + 1));
+	for (size_t f = 0; f <= g.ni / 3; ++f)
+		offsets[f] = (uint32_t)(3 * f);
+	for (int entry = 0; entry < 4; ++entry)
 		for (size_t k = 0; k < sizeof(fits) / sizeof(fits[0]); ++k) {
 			vn_options opt;
 			memset(&opt, 0, sizeof(opt));
-			opt.simd = simd ? vn_simd_auto : vn_simd_off;
-			assert_int_equal(vn_triangle_normals(&oa, &p, g.idx, g.ni, fits[k], &opt, NULL), vn_result_success);
-			assert_int_equal(vn_triangle_normals(&ob, &p, kept, nk, fits[k], &opt, NULL), vn_result_success);
+			opt.simd = entry & 1 ? vn_simd_auto : vn_simd_off;
+			if (entry & 2) {
+				assert_int_equal(vn_polygon_normals(&oa, &p, g.idx, offsets, g.ni / 3, fits[k], &opt, NULL),
+				                 vn_result_success);
+				assert_int_equal(vn_polygon_normals(&ob, &p, kept, offsets, nk / 3, fits[k], &opt, NULL),
+				                 vn_result_success);
+			} else {
+				assert_int_equal(vn_triangle_normals(&oa, &p, g.idx, g.ni, fits[k], &opt, NULL), vn_result_success);
+				assert_int_equal(vn_triangle_normals(&ob, &p, kept, nk, fits[k], &opt, NULL), vn_result_success);
+			}
 			assert_memory_equal(a, b, 3 * sizeof(double) * g.nv);
 			assert_vec(a + 3 * bad, 0, 0, 0, 0);
 			for (size_t v = 0; v < g.nv; ++v) { /* every other vertex a unit vector */
@@ -511,7 +523,7 @@ static void nonfinite_vertex_as_if_absent(void** state)
 					fail_msg("%s, vertex %zu: (%g, %g, %g)", vn_method_name(fits[k]), v, n[0], n[1], n[2]);
 			}
 		}
-	free(a), free(b), free(kept);
+	free(a), free(b), free(kept), free(offsets);
 	grid_free(&g);
 }
 
