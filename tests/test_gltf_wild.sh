@@ -89,5 +89,15 @@ run "$VNC" "$W/no-data.gltf" "$T/out/no-data.gltf"
 check "no-data.gltf -> .gltf: kept" [ $rc -eq 0 ] && check "no-data.gltf: the buffer as it was" [ "$(q "$T/out/no-data.gltf" "d['buffers']")" = "[{'byteLength': 4}]" ]
 check_rejected "$VNC" "$W/gltf1.gltf" "$T/none.glb" "$T/keep.glb"
 check "gltf1.gltf: names the version" grep -q "gltf1.gltf: glTF 1.0 (vn reads glTF 2.0)" "$T/stderr"
+# Early glTF 1.0 writes the version as a number (assimp's CesiumMilkTruck):
+# named as 1.0 too (it was "buffers is not an array").
+printf '{"asset": {"version": 1}, "buffers": {"b": {"uri": "b.bin", "byteLength": 4}}}' >"$T/gltf1-number.gltf"
+check_rejected "$VNC" "$T/gltf1-number.gltf" "$T/none.glb" "$T/keep.glb"
+check "gltf1-number.gltf: names the version" grep -q "gltf1-number.gltf: glTF 1.0 (vn reads glTF 2.0)" "$T/stderr"
+# A buffer whose uri is "" (flywave's Splatting/uncompressed.gltf): said so
+# (it named the glTF's folder: "cannot read: Is a directory").
+printf '{"asset": {"version": "2.0"}, "buffers": [{"uri": "", "byteLength": 4}]}' >"$T/empty-uri.gltf"
+check_rejected "$VNC" "$T/empty-uri.gltf" "$T/none.glb" "$T/keep.glb"
+check "empty-uri.gltf: says the uri is empty" grep -q "empty-uri.gltf: buffers\[0\].uri is empty: it names no file$" "$T/stderr"
 
 finish

@@ -372,6 +372,9 @@ static buffer load_buffer(document& d, size_t i, const std::shared_ptr<unsigned 
 		out.owner = block(have);
 		memcpy(out.owner.get(), data.data(), have);
 	} else {
+		/* "" would name the glTF's own folder. */
+		if (text.empty())
+			fail(vn_io_error_parse, what + ".uri is empty: it names no file");
 		const std::string path = d.folder + uri_decode(text);
 		d.buffer_files.push_back(path);
 		char* raw;
@@ -512,12 +515,13 @@ document load(const std::string& path)
 	if (!d.j.is_object())
 		fail(vn_io_error_parse, "invalid JSON: the document is not an object");
 	canonical_integers(d.j);
-	/* glTF 1.0 has asset.version "1.0" (or none) and keeps its buffers,
-	 * meshes and accessors in objects, not arrays. */
+	/* glTF 1.0 has asset.version "1.0" (early files the number 1, or none)
+	 * and keeps its buffers, meshes and accessors in objects, not arrays. */
 	auto asset = d.j.find("asset");
 	const json* version = asset != d.j.end() && asset->is_object() && asset->contains("version") ? &(*asset)["version"] : nullptr;
 	auto jb = d.j.find("buffers");
 	if ((version && version->is_string() && version->get<std::string>().rfind("1.", 0) == 0) ||
+	    (version && version->is_number() && version->get<double>() < 2) ||
 	    (!version && jb != d.j.end() && jb->is_object()))
 		fail(vn_io_error_unsupported, "glTF 1.0 (vn reads glTF 2.0): convert it first, e.g. with gltf-pipeline "
 		                              "(npm): gltf-pipeline -i IN -o OUT");
