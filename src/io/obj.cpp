@@ -895,9 +895,6 @@ uint64_t bits(double x)
 	return b;
 }
 
-/* A value read from a float (OBJ, glTF, Draco) as the shortest text that
- * reads back as that float, which a float reader (every OBJ reader) gets
- * exactly; any other double in full. */
 /* " v": the shortest of 6 to 12 significant digits that Draco's parser
  * reads back as v (draco_magnitude: its arithmetic can land one float away
  * from strtod's, which vn_io_put_float checks with), else 9. */
@@ -919,6 +916,9 @@ void put_obj_float(vn_io_text_out* w, float v)
 	vn_io_put_float9(w, double(v));
 }
 
+/* A value read from a float (OBJ, glTF, Draco) as the shortest text that
+ * reads back as that float, which a float reader (every OBJ reader) gets
+ * exactly; any other double in full. */
 void put_coordinate(vn_io_text_out* w, double x)
 {
 	if (std::fabs(x) <= FLT_MAX && double(float(x)) == x)
