@@ -214,6 +214,53 @@ static void test_lossless_float(void** state)
 	free(data);
 }
 
+/* float64 attributes (PDAL writes coordinates so) come back as float64,
+ * exactly, at every level, as a mesh and as a point cloud: Draco stores
+ * them losslessly (it quantizes float32 only). */
+static void test_float64(void** state)
+{
+	(void)state;
+	double xyz[6 * 3], time[6];
+	for (int i = 0; i < 18; ++i)
+		xyz[i] = 637012.24 + positions[i] * 0.01 + i * 1e-7; /* not floats */
+	for (int i = 0; i < 6; ++i)
+		time[i] = 245000000.123456 + i;
+	vn_drc_attribute a[2] = {{7, vn_drc_position, vn_drc_float64, 3, 0, 0, xyz, {0}},
+	                         {12, vn_drc_generic, vn_drc_float64, 1, 0, 0, time, {0}}};
+	for (int cloud = 0; cloud < 2; ++cloud)
+		for (int level = 0; level <= 10; level += 5) {
+			vn_drc_geometry g = octahedron();
+			g.attributes = a;
+			g.attribute_count = 2;
+			g.point_cloud = cloud;
+			g.triangle_count = cloud ? 0 : g.triangle_count;
+			void* data;
+			size_t size;
+			vn_io_error e;
+			vn_drc_geometry d;
+			assert_int_equal(vn_drc_encode(&g, level, 0, "f64", &data, &size, &e), vn_io_success);
+			assert_int_equal(vn_drc_decode_any(data, size, "f64", &d, &e), vn_io_success);
+			assert_int_equal(d.point_count, 6);
+			const vn_drc_attribute *p = by_id(&d, 7), *t = by_id(&d, 12);
+			assert_non_null(p);
+			assert_non_null(t);
+			assert_int_equal(p->component_type, vn_drc_float64);
+			assert_int_equal(t->component_type, vn_drc_float64);
+			/* Edgebreaker (mesh, below 10) renumbers the points: the
+			 * generic attribute follows each position. */
+			for (size_t i = 0; i < 6; ++i) {
+				const double* q = (const double*)p->data + 3 * i;
+				size_t k = 0;
+				while (k < 6 && memcmp(q, xyz + 3 * k, 3 * sizeof(double)))
+					++k;
+				assert_true(k < 6);
+				assert_memory_equal((const double*)t->data + i, time + k, sizeof(double));
+			}
+			vn_drc_geometry_free(&d);
+			free(data);
+		}
+}
+
 /* KHR_mesh_quantization's integers (int16 positions, int8 normals) come
  * back exactly at every level, through the two-step encoder whose input is
  * freed before it encodes. Draco 1.5.5 predicts a NORMAL from the
@@ -791,6 +838,7 @@ int main(void)
 	    cmocka_unit_test(test_keep_order),
 	    cmocka_unit_test(test_isolated_points),
 	    cmocka_unit_test(test_lossless_float),
+	    cmocka_unit_test(test_float64),
 	    cmocka_unit_test(test_integer_normals),
 	    cmocka_unit_test(test_corrupt_streams),
 	    cmocka_unit_test(test_bad_input),

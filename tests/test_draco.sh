@@ -157,9 +157,11 @@ done
 # read as draco_decoder decodes it: every point, in its order, with its
 # normal, as OFF and PLY; written as Draco it stays a point cloud with
 # every attribute (kd-tree sorts its points; the sequential method, level
-# 10, keeps their order); glTF output refuses it in one line.
+# 10, keeps their order); as glTF it is a POINTS primitive, its normals
+# made unit vectors (glTF's; Draco's decoded ones are not quite); STL output
+# refuses it in one line.
 draco_decoder -i "$T/points.drc" -o "$T/points-ref.ply" >/dev/null
-for x in ply off drc; do
+for x in ply off drc glb; do
   run "$VNC" "$T/points.drc" "$T/points-out.$x" --stats
   check "point cloud -> $x: exits 0" [ $rc -eq 0 ]
   check "point cloud -> $x: says it computes no normals" grep -q "points.drc has no faces (a point cloud): vn computes no normals; the input's are kept" "$T/stderr"
@@ -174,6 +176,19 @@ check "point cloud -> drc: the same points and normals" python3 "$HERE/plytool.p
 run "$VNC" "$T/points.drc" "$T/points-seq.drc" --draco-cl 10
 draco_decoder -i "$T/points-seq.drc" -o "$T/points-seq.ply" >/dev/null
 check "point cloud -> drc at level 10: in order" python3 "$HERE/plytool.py" same_normals "$T/points-ref.ply" "$T/points-seq.ply"
+check "point cloud -> glb: no validator error or warning" grep -q '"errors":\[\],"warnings":\[\]' <(node "$HERE/gltf/validate.mjs" "$NODE_MODULES" "$T/points-out.glb")
+run "$VNC" "$T/points-out.glb" "$T/points-glb.ply"
+check "point cloud -> glb -> ply: as -> ply (every point in order, every attribute), the normals as unit vectors" python3 - "$HERE" "$T/points-out.ply" "$T/points-glb.ply" <<'EOF'
+import sys
+import numpy as np
+sys.path.insert(0, sys.argv[1])
+import plytool
+a, b = (plytool.read(f)[2]["vertex"][1] for f in sys.argv[2:4])
+same = sorted(a) == sorted(b) and all(np.array_equal(a[k], b[k]) for k in a if k not in ("nx", "ny", "nz"))
+n, m = (np.array([v["nx"], v["ny"], v["nz"]], float).T for v in (a, b))
+unit = n / np.linalg.norm(n, axis=1)[:, None]
+sys.exit(not (same and np.abs(m - unit).max() < 1e-7 and abs(np.linalg.norm(m, axis=1) - 1).max() < 1e-6))
+EOF
 # A PLY point cloud to Draco and back: its points in order, within the
 # quantization (20 bits on a box of 2: 2e-6); without normals, none are
 # added (Draco would decode a zero normal as (1, 0, 0)).
@@ -194,8 +209,65 @@ check "off point cloud -> drc: says no normals are written" grep -q "none writte
 draco_decoder -i "$T/bare.drc" -o "$T/bare.ply" >/dev/null
 check "off point cloud -> drc: 3 points, no NORMAL" [ "$(grep -ac "property float n" "$T/bare.ply")" = 0 ] && check "off point cloud -> drc: 3 points" [ "$(python3 "$HERE/plytool.py" count "$T/bare.ply")" = "3 0 0" ]
 mkdir -p "$T/cloud"
-check_rejected "$VNC" "$T/points.drc" "$T/cloud/none.glb" "$T/cloud/keep.glb"
-check "point cloud -> glb: says what holds one" grep -q "points.drc has 24 vertices and no faces (a point cloud), and vn writes GLB only with faces: write OFF, PLY, OBJ or Draco to keep a point cloud" "$T/stderr"
+check_rejected "$VNC" "$T/points.drc" "$T/cloud/none.stl" "$T/cloud/keep.stl"
+check "point cloud -> stl: says what holds one" grep -q "points.drc has 24 vertices and no faces (a point cloud), and vn writes STL only with faces: write OFF, PLY, OBJ, glTF or Draco to keep a point cloud" "$T/stderr"
+# float64 attributes (PDAL's Draco writer stores coordinates so; they were
+# refused: "a type or size vn does not handle"). PDAL's 1.2-with-color
+# point cloud: 1065 points, float64 POSITION and GpsTime, uint16 colours
+# and 9 more dimensions. Its coordinates are LAS integers times 0.01:
+# read as doubles, each times 100 is an integer (as floats, 637012.24 is
+# 0.01 off).
+D64=$HERE/data/draco/pdal-1.2-with-color.drc
+run "$VNC" "$D64" "$T/pdal.ply"
+check "float64 point cloud -> ply: exits 0" [ $rc -eq 0 ]
+check "float64 point cloud -> ply: GpsTime said to be rounded" grep -q "pdal-1.2-with-color.drc: attribute 11 (_GPSTIME) is double, kept as float: 1065 of its 1065 values rounded" "$T/stderr"
+check "float64 point cloud -> ply: 1065 double positions, hundredths exactly" python3 - "$HERE" "$T/pdal.ply" <<'EOF'
+import sys
+import numpy as np
+sys.path.insert(0, sys.argv[1])
+import plytool
+types, v = plytool.read(sys.argv[2])[2]["vertex"]
+x = np.array([v["x"], v["y"], v["z"]], float).T
+sys.exit(not ([types[k] for k in "xyz"] == ["double"] * 3 and x.shape == (1065, 3) and
+              np.abs(x * 100 - np.round(x * 100)).max() < 1e-6 and np.abs(x[0] - [637012.24, 849028.31, 431.66]).max() < 1e-6))
+EOF
+# .drc to .drc keeps every attribute as it is, float64 ones too.
+run "$VNC" "$D64" "$T/pdal.drc"
+check "float64 point cloud -> drc: exits 0" [ $rc -eq 0 ]
+run "$VNC" "$T/pdal.drc" "$T/pdal-drc.ply"
+check "float64 point cloud -> drc -> ply: as -> ply" python3 "$HERE/plytool.py" same_normals "$T/pdal.ply" "$T/pdal-drc.ply"
+# A float64 tetrahedron (written by vn_drc_encode): normals computed on the
+# doubles; .drc to .drc keeps them (--stats measures on them too; level
+# 10 keeps the points in order).
+run "$VNC" "$HERE/data/draco/float64-tetra.drc" "$T/f64.off"
+check "float64 mesh -> off: its coordinates and normals" [ "$(sed -n '3p;6p' "$T/f64.off")" = "637012.24 849028.31 431.66 -0.577350269 -0.577350269 -0.577350269
+637012.24 849028.31 432.66 -0.275421415 -0.275421415 0.921024478" ]
+run "$VNC" "$HERE/data/draco/float64-tetra.drc" "$T/f64.drc" --stats --draco-cl 10
+check "float64 mesh -> drc --stats: the quantization error on its positions" grep -qx "draco normal quantization error: median 0.1272 deg, max 0.1586 deg (qn=10, 4 normals)" "$T/stdout"
+run "$VNC" "$T/f64.drc" "$T/f64-drc.off"
+check "float64 mesh -> drc -> off: as -> off" cmp "$T/f64.off" "$T/f64-drc.off"
+# In glTF no accessor describes float64 data: refused in one line (it was
+# read as floats).
+python3 - "$HERE/data/draco/float64-tetra.drc" "$T/f64.glb" <<'EOF'
+import json, struct, sys
+drc = open(sys.argv[1], "rb").read()
+chunk = drc + b"\0" * (-len(drc) % 4)
+doc = {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_draco_mesh_compression"],
+       "extensionsRequired": ["KHR_draco_mesh_compression"],
+       "buffers": [{"byteLength": len(chunk)}], "bufferViews": [{"buffer": 0, "byteLength": len(drc)}],
+       "accessors": [{"componentType": 5126, "count": 4, "type": "VEC3", "min": [637012.24, 849028.31, 431.66],
+                      "max": [637013.24, 849029.31, 432.66]}, {"componentType": 5125, "count": 12, "type": "SCALAR"}],
+       "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "extensions": {
+           "KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0}}}}]}]}
+text = json.dumps(doc).encode()
+text += b" " * (-len(text) % 4)
+open(sys.argv[2], "wb").write(struct.pack("<III", 0x46546C67, 2, 28 + len(text) + len(chunk)) +
+                              struct.pack("<II", len(text), 0x4E4F534A) + text +
+                              struct.pack("<II", len(chunk), 0x004E4942) + chunk)
+EOF
+mkdir -p "$T/f64errors"
+check_rejected "$VNC" "$T/f64.glb" "$T/f64errors/none.glb" "$T/f64errors/keep.glb"
+check "float64 Draco in glTF: says why" grep -q "f64.glb: meshes\[0\].primitives\[0\]: the Draco data's POSITION is float64, which no glTF accessor describes" "$T/stderr"
 # A 163-byte stream declaring 387M faces (found by fuzzing: libdraco would
 # allocate 4.6 GB before noticing) is refused before decoding.
 check_rejected "$VNC" "$HERE/data/draco/hostile-counts.drc" "$T/errors/none.drc" "$T/errors/keep.off"

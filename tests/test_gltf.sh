@@ -268,23 +268,56 @@ for ext in drc obj stl; do
   check "a glTF with no mesh to $ext: says so" grep -q "nothing.$ext: vn read no vertices and no faces from .*nothing.gltf: nothing to write$" "$T/stderr"
   check "a glTF with no mesh to $ext: no file" [ ! -e "$T/nothing.$ext" ]
 done
-# POINTS and LINES primitives, which only glTF output keeps, are named when
-# another format leaves them out (an OFF of nothing was written without a
-# word, and PLY said the file had no vertices).
-python3 - "$T/points.gltf" <<'PYEOF'
+# POINTS primitives are read as vertices without faces (every attribute, the
+# input's normals kept: vn computes none without faces; a glTF of POINTS
+# alone is a point cloud, which an OFF came out empty of); LINES, which only
+# glTF output keeps, are named when another format leaves them out.
+python3 - "$T/points.gltf" "$T/mixed.gltf" <<'PYEOF'
 import base64, json, struct, sys
-data = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
-json.dump({"asset": {"version": "2.0"},
-           "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
-           "bufferViews": [{"buffer": 0, "byteLength": 36}],
-           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}],
-           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 0}, {"attributes": {"POSITION": 0}, "mode": 3}]}]},
-          open(sys.argv[1], "w"))
+pos = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+nrm = struct.pack("<9f", 0.6, 0, 0.8, 0, -0.6, 0.8, 0, 0, -1)
+col = struct.pack("<12B", 255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 128)
+tri = struct.pack("<9f", 2, 0, 0, 3, 0, 0, 2, 1, 0)
+data = pos + nrm + col + tri
+def doc(prims):
+    return {"asset": {"version": "2.0"},
+            "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 36},
+                            {"buffer": 0, "byteOffset": 72, "byteLength": 12}, {"buffer": 0, "byteOffset": 84, "byteLength": 36}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                          {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"},
+                          {"bufferView": 2, "componentType": 5121, "normalized": True, "count": 3, "type": "VEC4"},
+                          {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC3", "min": [2, 0, 0], "max": [3, 1, 0]}],
+            "meshes": [{"primitives": prims}]}
+points = {"attributes": {"POSITION": 0, "NORMAL": 1, "COLOR_0": 2}, "mode": 0}
+json.dump(doc([points, {"attributes": {"POSITION": 0}, "mode": 3}]), open(sys.argv[1], "w"))
+json.dump(doc([{"attributes": {"POSITION": 3}}, points]), open(sys.argv[2], "w"))
 PYEOF
 run "$VNC" "$T/points.gltf" "$T/points.off"
-check "POINTS and LINES to OFF: named" [ "$rc $err" = "0 vnconvert: warning: $T/points.gltf: primitives left out (vn reads triangles): 1 POINTS, 1 LINES (or LINE_LOOP, LINE_STRIP)" ]
+check "POINTS and LINES to OFF: exit 0" [ $rc -eq 0 ]
+check "POINTS and LINES to OFF: the LINES named" grep -qxF "vnconvert: warning: $T/points.gltf: primitives left out (vn reads triangles and points): 1 LINES (or LINE_LOOP, LINE_STRIP)" "$T/stderr"
+check "POINTS and LINES to OFF: a point cloud" grep -qxF "vnconvert: warning: $T/points.gltf has no faces (a point cloud): vn computes no normals; the input's are kept" "$T/stderr"
+check "POINTS to OFF: the 3 points, their normals and colours" [ "$(sed 1d "$T/points.off")" = "3 0 0
+0 0 0 0.6000000238418579 0 0.800000011920929 255 0 0 255
+1 0 0 0 -0.6000000238418579 0.800000011920929 0 255 0 255
+0 1 0 0 0 -1 0 0 255 128" ]
+run "$VNC" "$T/mixed.gltf" "$T/mixed.ply"
+check "a triangle and POINTS to PLY: exit 0" [ $rc -eq 0 ]
+check "a triangle and POINTS to PLY: 6 vertices, 1 face" [ "$(python3 "$HERE/plytool.py" count "$T/mixed.ply")" = "6 1 1" ]
+check "a triangle and POINTS to PLY: the points keep their normals" [ "$(for i in 3 4 5; do python3 "$HERE/plytool.py" column "$T/mixed.ply" nz $i; done | tr '\n' ' ')" = "0.800000011920929 0.800000011920929 -1.0 " ]
 run "$VNC" "$T/points.gltf" "$T/points.stl"
-check "POINTS and LINES to STL: named, then nothing to write" [ "$rc $(tail -1 "$T/stderr")" = "1 vnconvert: error: $T/points.stl: vn read no vertices and no faces from $T/points.gltf: nothing to write" ]
+check "POINTS and LINES to STL: refused, naming what holds a point cloud" [ "$rc $(tail -1 "$T/stderr")" = "1 vnconvert: error: $T/points.stl: $T/points.gltf has 3 vertices and no faces (a point cloud), and vn writes STL only with faces: write OFF, PLY, OBJ, glTF or Draco to keep a point cloud" ]
+# A point cloud written as glTF is one POINTS primitive, and reads back the same.
+for e in gltf glb; do
+  run "$VNC" "$T/points.off" "$T/points-off.$e"
+  check "point cloud OFF -> $e: exit 0" [ $rc -eq 0 ]
+  check "point cloud OFF -> $e: tinygltf reads it" "$TINYGLTF_LOAD" "$T/points-off.$e"
+  check "point cloud OFF -> $e: one POINTS primitive, no indices" python3 -c "import sys; sys.path.insert(0, '$HERE/gltf'); import gltfcheck as g
+_, d, _ = g.load(sys.argv[1]); p = [p for _, _, p in g.primitives(d)]
+sys.exit(not (len(p) == 1 and p[0]['mode'] == 0 and 'indices' not in p[0] and sorted(p[0]['attributes']) == ['COLOR_0', 'NORMAL', 'POSITION']))" "$T/points-off.$e"
+  run "$VNC" "$T/points-off.$e" "$T/points-back.off"
+  check "point cloud OFF -> $e -> OFF: the same file" cmp "$T/points.off" "$T/points-back.off"
+done
 # A bufferView past its buffer's end (invalid: BUFFER_VIEW_TOO_LONG; assimp's
 # IncorrectVertexArrays/Cube.gltf): the triangle is read, with a warning,
 # and the new NORMAL view starts after the furthest view (it started at the

@@ -321,7 +321,7 @@ run "$VNC" "$T/cloud.off" "$T/cloud.stl"
 check "point cloud to STL: exit 1" [ $rc -eq 1 ]
 check "point cloud to STL: no file" [ ! -e "$T/cloud.stl" ]
 check "point cloud to STL: one line" one_line_err
-check "point cloud to STL: says why" grep -q "cloud.stl: .*cloud.off has 3 vertices and no faces (a point cloud), and vn writes STL only with faces: write OFF, PLY, OBJ or Draco" "$T/stderr"
+check "point cloud to STL: says why" grep -q "cloud.stl: .*cloud.off has 3 vertices and no faces (a point cloud), and vn writes STL only with faces: write OFF, PLY, OBJ, glTF or Draco" "$T/stderr"
 run "$VNC" "$T/cloud.off" "$T/cloud.ply"
 check "point cloud to PLY: exit 0" [ $rc -eq 0 ]
 check "point cloud to PLY: 3 vertices, no faces" [ "$($PLYTOOL count "$T/cloud.ply")" = "3 0 0" ]

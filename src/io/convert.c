@@ -468,6 +468,7 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	progress(c, "reading", c->in);
 	const double t0 = now();
 	const int drc_out = (c->out_format->draco & vn_io_draco_output) != 0;
+	const int gltf_out = c->out_format->path == vn_io_path_gltf;
 	vn_drc_options drc;
 	vn_drc_default_options(&drc);
 	vn_io_result res = c->apply_transforms ? vn_io_gltf_read_scene(c->in, mesh, error)
@@ -497,7 +498,7 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 			                  "%s: vn read no vertices and no faces from %s: nothing to write", c->out, c->in);
 		return vn_io_fail(error, vn_io_error_unsupported,
 		                  "%s: %s has %zu %s and no faces (a point cloud), and vn writes %s only with faces: write "
-		                  "OFF, PLY, OBJ or Draco to keep a point cloud",
+		                  "OFF, PLY, OBJ, glTF or Draco to keep a point cloud",
 		                  c->out, c->in, mesh->vertex_count, noun(mesh->vertex_count, "vertex", "vertices"),
 		                  c->out_format->title);
 	}
@@ -533,8 +534,9 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 		add(&c->warnings, "%s has no faces (a point cloud): vn computes no normals; %s%s\n", c->in,
 		    had_normals ? "the input's are kept"
 		    : drc_out   ? "none written (Draco would decode a zero normal as (1, 0, 0))"
+		    : gltf_out  ? "none written (glTF's normals are unit vectors)"
 		                : "written as ",
-		    had_normals || drc_out ? "" : c->out_format->no_normal);
+		    had_normals || drc_out || gltf_out ? "" : c->out_format->no_normal);
 	else if (st.zero_normals && c->out_format->no_normal)
 		add(&c->warnings,
 		    "%zu of %zu %s %s no normal " NO_NORMAL_CAUSES "; %s%s\n",

@@ -68,7 +68,7 @@ struct type_pair {
 const type_pair types[] = {
     {vn_drc_int8, draco::DT_INT8},   {vn_drc_uint8, draco::DT_UINT8},   {vn_drc_int16, draco::DT_INT16},
     {vn_drc_uint16, draco::DT_UINT16}, {vn_drc_int32, draco::DT_INT32}, {vn_drc_uint32, draco::DT_UINT32},
-    {vn_drc_float32, draco::DT_FLOAT32},
+    {vn_drc_float32, draco::DT_FLOAT32}, {vn_drc_float64, draco::DT_FLOAT64},
 };
 
 } // namespace

@@ -50,7 +50,9 @@ typedef enum vn_drc_semantic {
 	vn_drc_semantic_count = 9
 } vn_drc_semantic;
 
-/* Component types as glTF (and OpenGL) number them. */
+/* Component types as glTF (and OpenGL) number them; float64 (OpenGL's
+ * number, not a glTF type) is Draco's DT_FLOAT64, as PDAL writes
+ * coordinates. */
 enum {
 	vn_drc_int8 = 5120,
 	vn_drc_uint8 = 5121,
@@ -58,7 +60,8 @@ enum {
 	vn_drc_uint16 = 5123,
 	vn_drc_int32 = 5124,
 	vn_drc_uint32 = 5125,
-	vn_drc_float32 = 5126
+	vn_drc_float32 = 5126,
+	vn_drc_float64 = 5130
 };
 
 /* A float attribute's quantization grid, as Draco stores it: quantized

@@ -172,6 +172,7 @@ static double component(const vn_drc_attribute& a, size_t i)
 	case vn_drc_uint16: return static_cast<const uint16_t*>(a.data)[i];
 	case vn_drc_int32: return static_cast<const int32_t*>(a.data)[i];
 	case vn_drc_uint32: return static_cast<const uint32_t*>(a.data)[i];
+	case vn_drc_float64: return static_cast<const double*>(a.data)[i];
 	default: return static_cast<const float*>(a.data)[i];
 	}
 }
@@ -187,12 +188,15 @@ static double signed_max(int type)
 	}
 }
 
-/* A NORMAL vn reads as the input's normals: 3 float components, or 3 signed
- * integer ones (quantized normals, as glTF's KHR_mesh_quantization and
- * gltfpack store them). Any other NORMAL is kept as an attribute. */
+/* A NORMAL vn reads as the input's normals: 3 float components (float32 or
+ * float64), or 3 signed integer ones (quantized normals, as glTF's
+ * KHR_mesh_quantization and gltfpack store them). Any other NORMAL is kept
+ * as an attribute. */
 static bool readable_normal(const vn_drc_attribute* a)
 {
-	return a && a->components == 3 && (a->component_type == vn_drc_float32 || signed_max(a->component_type) > 0);
+	return a && a->components == 3 &&
+	       (a->component_type == vn_drc_float32 || a->component_type == vn_drc_float64 ||
+	        signed_max(a->component_type) > 0);
 }
 
 /* The n normals of a readable_normal() attribute into out (3 per point):
@@ -333,11 +337,17 @@ static vn_io_result to_mesh(const vn_drc_geometry& g, const char* name, vn_io_me
 		for (size_t j = 0; j < mesh->attribute_count; ++j)
 			if (label == mesh->attributes[j].name)
 				label = label.substr(0, sizeof(vn_io_attribute{}.name) - 12) + "_" + std::to_string(a.unique_id);
-		vn_io_attribute* out =
-		    vn_io_mesh_add_attribute(mesh, label.c_str(), semantic, a.component_type, a.components, a.normalized);
-		if (!out)
+		/* A mesh's attributes hold no double: float64 ones as floats. */
+		const bool wide = a.component_type == vn_drc_float64;
+		vn_io_attribute* out = vn_io_mesh_add_attribute(mesh, label.c_str(), semantic,
+		                                                wide ? vn_drc_float32 : a.component_type, a.components, a.normalized);
+		if (!out || (wide && !vn_io_doubles_as_floats(static_cast<const double*>(a.data), n * size_t(a.components),
+		                                              static_cast<float*>(out->data),
+		                                              ("attribute " + std::to_string(a.unique_id) + " (" + label + ")").c_str(),
+		                                              &mesh->warnings)))
 			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
-		std::memcpy(out->data, a.data, value_bytes(a) * n);
+		if (!wide)
+			std::memcpy(out->data, a.data, value_bytes(a) * n);
 	}
 	if (found) {
 		const struct {
@@ -403,20 +413,24 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 	const vn_drc_attribute* position = first(g, vn_drc_position);
 	if (!readable_position(position))
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: no 3-component POSITION", in);
-	vn_positions positions = {position->data, g.point_count, 0, vn_scalar_float32};
+	const bool real = position->component_type == vn_drc_float32 || position->component_type == vn_drc_float64;
+	vn_positions positions = {position->data, g.point_count, 0,
+	                          position->component_type == vn_drc_float64 ? vn_scalar_float64 : vn_scalar_float32};
 	std::vector<double> integral; /* an integer POSITION as doubles */
-	if (position->component_type != vn_drc_float32) {
+	if (!real) {
 		integral.resize(3 * g.point_count);
 		for (size_t i = 0; i < integral.size(); ++i)
 			integral[i] = component(*position, i);
 		positions = {integral.data(), g.point_count, 0, vn_scalar_float64};
 	}
-	const float* p = static_cast<const float*>(position->data);
-	for (size_t i = 0; integral.empty() && i < g.point_count; ++i)
-		if (!std::isfinite(p[3 * i]) || !std::isfinite(p[3 * i + 1]) || !std::isfinite(p[3 * i + 2]))
+	for (size_t i = 0; real && i < g.point_count; ++i) {
+		const double x = component(*position, 3 * i), y = component(*position, 3 * i + 1),
+		             z = component(*position, 3 * i + 2);
+		if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
 			return vn_io_fail(error, vn_io_error_unsupported,
-			                  "%s: point %zu has a non-finite position (%g, %g, %g), which no output can hold", in, i,
-			                  double(p[3 * i]), double(p[3 * i + 1]), double(p[3 * i + 2]));
+			                  "%s: point %zu has a non-finite position (%g, %g, %g), which no output can hold", in, i, x,
+			                  y, z);
+	}
 	const double t1 = now();
 
 	/* A point no face gives a normal keeps the input's (keep_existing): a
@@ -525,7 +539,10 @@ static vn_io_result convert(const char* in, const char* out, const vn_drc_conver
 	st.write_seconds = t3 - t2;
 
 	if (o.normal_error && !g.point_cloud) {
-		const std::vector<double> xyz(p, p + 3 * g.point_count), nxyz(normals.begin(), normals.begin() + 3 * g.point_count);
+		std::vector<double> xyz(3 * g.point_count);
+		for (size_t i = 0; i < xyz.size(); ++i)
+			xyz[i] = component(*position, i);
+		const std::vector<double> nxyz(normals.begin(), normals.begin() + 3 * g.point_count);
 		if ((r = vn_drc_triangle_normal_error(xyz.data(), nxyz.data(), g.point_count, g.indices, g.triangle_count,
 		                                      &st.used, out, &st.normal_error, error)) != vn_io_success)
 			return r;
@@ -646,7 +663,8 @@ vn_io_result vn_drc_normal_error_of(const vn_io_mesh* mesh, const vn_drc_options
 		if (r != vn_io_success)
 			return r;
 		vn_drc_geometry g;
-		if ((r = vn_drc_decode(bytes.data(), bytes.size(), name, &g, error)) != vn_io_success)
+		/* A mesh without faces is encoded as a point cloud. */
+		if ((r = vn_drc_decode_any(bytes.data(), bytes.size(), name, &g, error)) != vn_io_success)
 			return r;
 		const vn_drc_attribute* normal = first(g, vn_drc_normal);
 		const vn_drc_attribute* id = nullptr;

@@ -26,7 +26,9 @@
 	 {vn_io_holds_attributes, "every other vertex attribute in its type (TEXCOORD_n, COLOR_n, JOINTS_n, "      \
 	                          "WEIGHTS_n, TANGENT, `_NAME`)",                                                  \
 	  "other vertex attributes (named)"}}
-#define GLTF_NEVER_READ "materials, nodes, skins, animations, points and lines (triangle primitives are merged)"
+#define GLTF_NEVER_READ                                                                                    \
+	"materials, nodes, skins, animations, lines (triangle primitives are merged; POINTS ones become vertices " \
+	"without faces)"
 #define GLTF_DOCUMENT_KEEPS                                                                                      \
 	"everything: the document is edited, not rebuilt (see glTF); every extension, known to vn or not; Draco and "  \
 	"meshopt compression as the input has it (only the data with new normals encoded again)"
@@ -85,12 +87,12 @@ static const vn_io_format formats[] = {
     {"gltf", "glTF", "glTF", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)",
      vn_io_gltf_read, vn_io_gltf_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
-         vn_io_holds_loose_vertices,
+         vn_io_holds_loose_vertices | vn_io_holds_no_faces,
      vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
      GLTF_DOCUMENT_LOSES, "buffers and images"},
     {"glb", "GLB", "glTF", ".glb", "glTF 2.0 binary (as gltf)", vn_io_gltf_read, vn_io_glb_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
-         vn_io_holds_loose_vertices,
+         vn_io_holds_loose_vertices | vn_io_holds_no_faces,
      vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
      GLTF_DOCUMENT_LOSES, NULL},
     {"drc", "Draco", "Draco", ".drc",

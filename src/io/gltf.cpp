@@ -48,7 +48,7 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 		const std::set<std::string> meshopt = decode_meshopt(d, &st);
 		if (options->draco == vn_gltf_draco_off)
 			decompress_draco(d);
-		std::vector<primitive> prims = triangle_primitives(d, &st);
+		std::vector<primitive> prims = triangle_primitives(d, &st, false);
 		if (options->drop_tangents)
 			for (const primitive& p : prims)
 				if (p.tangent) {

@@ -61,6 +61,10 @@ std::shared_ptr<const draco_mesh> decode_draco(const document& d, const json& pr
 			fail(vn_io_error_parse, str("%s.attributes has no %s", what.c_str(), kv.first.c_str()));
 	if (!m.by_name.count("POSITION"))
 		fail(vn_io_error_unsupported, what + ": POSITION is not in the Draco data, which vn does not handle");
+	for (auto& kv : m.by_name)
+		if (kv.second->component_type == vn_drc_float64)
+			fail(vn_io_error_parse, str("%s: the Draco data's %s is float64, which no glTF accessor describes", what.c_str(),
+			                            kv.first.c_str()));
 	/* The accessors of the Draco data only give type and count, and the
 	 * decoded data are what loaders use: a count that differs (Draco may
 	 * split points, as in Cesium's DracoCompressed/CesiumMilkTruck) is

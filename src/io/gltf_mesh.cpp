@@ -1,7 +1,7 @@
 /*
- * glTF as a vn_io format (gltf.h): every triangle primitive of a document
- * merged into one vn_io_mesh (vn_io_gltf_read), and a minimal glTF or GLB
- * written from a vn_io_mesh (vn_io_gltf_write, vn_io_glb_write).
+ * glTF as a vn_io format (gltf.h): every triangle and POINTS primitive of a
+ * document merged into one vn_io_mesh (vn_io_gltf_read), and a minimal glTF
+ * or GLB written from a vn_io_mesh (vn_io_gltf_write, vn_io_glb_write).
  */
 #include "gltf.h"
 #include "gltf_primitive.h"
@@ -200,7 +200,8 @@ static std::vector<placement> placements(const document& d, const std::vector<pr
 	return out;
 }
 
-/* Every triangle primitive merged into one mesh: positions, triangles,
+/* Every triangle primitive merged into one mesh, and every POINTS one (not
+ * Draco-compressed) as vertices without faces: positions, triangles,
  * NORMAL into normals (when any primitive has it), the first colour set
  * (COLOR_0) into colors, TEXCOORD_0 into texcoords, every other vertex
  * attribute (TEXCOORD_n, COLOR_n, JOINTS_n, WEIGHTS_n, TANGENT, _NAME)
@@ -209,16 +210,18 @@ static std::vector<placement> placements(const document& d, const std::vector<pr
 static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 {
 	vn_gltf_stats st{};
-	std::vector<primitive> prims = triangle_primitives(d, &st);
-	/* Another format holds the triangles alone: what is left out is named. */
+	std::vector<primitive> prims = triangle_primitives(d, &st, true);
+	/* Another format holds the triangles and points alone: what is left out
+	 * is named. */
 	const size_t skipped[3] = {st.skipped_points, st.skipped_lines, st.skipped_no_position};
-	static const char* const kinds[3] = {"POINTS", "LINES (or LINE_LOOP, LINE_STRIP)", "without POSITION"};
+	static const char* const kinds[3] = {"POINTS compressed with Draco", "LINES (or LINE_LOOP, LINE_STRIP)",
+	                                     "without POSITION"};
 	std::string left_out;
 	for (int k = 0; k < 3; ++k)
 		if (skipped[k])
 			left_out += str("%s%zu %s", left_out.empty() ? "" : ", ", skipped[k], kinds[k]);
 	if (!left_out.empty())
-		d.warnings.push_back("primitives left out (vn reads triangles): " + left_out);
+		d.warnings.push_back("primitives left out (vn reads triangles and points): " + left_out);
 	const std::vector<placement> at = placements(d, prims, scene);
 	size_t vertices = 0, triangles = 0;
 	for (const placement& pl : at) {
@@ -375,16 +378,19 @@ static std::string gltf_name(const vn_io_attribute& a, int* texcoords, int* colo
 /* A minimal document for mesh: one node, one mesh, one primitive with
  * POSITION, NORMAL, COLOR_0 (vertex colours), TEXCOORD_0 and every other
  * attribute (in its type; 32-bit integers, which glTF allows only for
- * indices, as floats). */
+ * indices, as floats): TRIANGLES, or for a mesh without faces (a point
+ * cloud) POINTS, every vertex a point, with NORMAL only where the mesh has
+ * a normal other than zero (vn computes none without faces). */
 static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 {
-	if (mesh->vertex_count == 0 || mesh->face_count == 0)
-		fail(vn_io_error_unsupported, "glTF needs at least one vertex and one face");
+	if (mesh->vertex_count == 0)
+		fail(vn_io_error_unsupported, "glTF needs at least one vertex");
+	const bool cloud = mesh->face_count == 0;
 	std::vector<uint32_t> indices;
 	for (size_t f = 0; f < mesh->face_count; ++f)
 		for (uint32_t c = mesh->face_offsets[f] + 1; c + 1 < mesh->face_offsets[f + 1]; ++c)
 			indices.insert(indices.end(), {mesh->indices[mesh->face_offsets[f]], mesh->indices[c], mesh->indices[c + 1]});
-	if (indices.empty())
+	if (indices.empty() && !cloud)
 		fail(vn_io_error_unsupported, "glTF needs at least one face with 3 or more corners");
 	const size_t n = mesh->vertex_count;
 	bytes bin;
@@ -425,13 +431,17 @@ static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 	/* glTF's normals are unit vectors: one that is not (an input's normal a
 	 * vertex without faces kept, from a format that allows any length) is
 	 * normalized, and none (or zero, or not finite) is written as +Z. A
-	 * unit vector is written as it is, bit for bit. */
-	add("NORMAL", 5126, 3, false, n, [&](size_t i, size_t c) {
-		const double* v = mesh->normals ? &mesh->normals[3 * i] : nullptr;
-		const double l = v ? std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) : 0;
-		if (!(l > 0) || !std::isfinite(l))
-			return c == 2 ? 1.0 : 0.0;
-		return std::fabs(l - 1) <= 1e-6 ? v[c] : v[c] / l; }, false, 34962);
+	 * unit vector is written as it is, bit for bit. A point cloud without
+	 * normals gets none. */
+	const bool normals =
+	    !cloud || (mesh->normals && std::any_of(mesh->normals, mesh->normals + 3 * n, [](double x) { return x != 0.0; }));
+	if (normals)
+		add("NORMAL", 5126, 3, false, n, [&](size_t i, size_t c) {
+			const double* v = mesh->normals ? &mesh->normals[3 * i] : nullptr;
+			const double l = v ? std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) : 0;
+			if (!(l > 0) || !std::isfinite(l))
+				return c == 2 ? 1.0 : 0.0;
+			return std::fabs(l - 1) <= 1e-6 ? v[c] : v[c] / l; }, false, 34962);
 	int texcoords = 0, colors = 0;
 	if (mesh->texcoords)
 		add(str("TEXCOORD_%d", texcoords++), 5126, 2, false, n, [&](size_t i, size_t c) { return mesh->texcoords[2 * i + c]; },
@@ -455,15 +465,17 @@ static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 			    return read_component((const unsigned char*)a.data + (i * a.components + c) * csize, a.component_type, false); },
 		    false, 34962);
 	}
-	add("", 5125, 1, false, indices.size(), [&](size_t i, size_t) { return (double)indices[i]; }, false, 34963);
+	json primitive = {{"attributes", attributes}};
+	if (!cloud) {
+		add("", 5125, 1, false, indices.size(), [&](size_t i, size_t) { return (double)indices[i]; }, false, 34963);
+		primitive["indices"] = accessors.size() - 1;
+	}
+	primitive["mode"] = cloud ? 0 : 4;
 	j = json{{"asset", {{"version", "2.0"}, {"generator", "vn"}}},
 	         {"scene", 0},
 	         {"scenes", json::array({json{{"nodes", {0}}}})},
 	         {"nodes", json::array({json{{"mesh", 0}}})},
-	         {"meshes", json::array({json{{"primitives", json::array({json{
-	                                           {"attributes", attributes},
-	                                           {"indices", accessors.size() - 1},
-	                                           {"mode", 4}}})}}})},
+	         {"meshes", json::array({json{{"primitives", json::array({primitive})}}})},
 	         {"accessors", accessors},
 	         {"bufferViews", views},
 	         {"buffers", json::array({json{{"byteLength", bin.size()}}})}};

@@ -89,8 +89,9 @@ static void check_finite(const vec3s& positions, const std::string& what)
 	}
 }
 
-/* Reads the triangle primitives; counts the others. */
-std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
+/* Reads the triangle primitives (and the POINTS ones where points is set);
+ * counts the others. */
+std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st, bool points)
 {
 	std::vector<primitive> out;
 	draco_cache decoded;
@@ -112,7 +113,10 @@ std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 			if (mode > 6)
 				fail(vn_io_error_parse, what + " has an invalid mode");
 			const json& attributes = prim["attributes"];
-			if (mode == 0 || mode == 1 || mode == 2 || mode == 3) {
+			/* A POINTS primitive compressed with Draco (which the extension
+			 * does not define for it) stays out. */
+			const bool cloud = mode == 0 && points && !draco_extension(prim);
+			if ((mode == 0 && !cloud) || mode == 1 || mode == 2 || mode == 3) {
 				if (st)
 					++(mode == 0 ? st->skipped_points : st->skipped_lines);
 				continue;
@@ -186,7 +190,7 @@ std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st)
 					r.target_normal.push_back(normal);
 				}
 			}
-			if (r.draco) {
+			if (r.draco || cloud) { /* Draco's triangles are read; POINTS have none */
 				out.push_back(std::move(r));
 				continue;
 			}

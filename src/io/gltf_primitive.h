@@ -173,8 +173,10 @@ void normal_errors(const std::map<int, quantized_normals>& quantized, const vn_g
 
 /* ------------------------------------------------------------------ normals (gltf_normals.cpp) */
 
-/* Reads the triangle primitives; counts the others (st may be null). */
-std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st);
+/* Reads the triangle primitives, and where points is set the POINTS ones
+ * (not Draco-compressed) as primitives of vertices without triangles;
+ * counts the others (st may be null). */
+std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st, bool points);
 
 /* The normals of a group of primitives (one, or a whole mesh). */
 void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_gltf_stats& st);

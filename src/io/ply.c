@@ -868,21 +868,9 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 			memcpy(a->data, p->column, n * types[p->type].size);
 			continue;
 		}
-		size_t rounded = 0, beyond = 0;
-		for (size_t i = 0; i < n; i++) {
-			const double x = value_at(p, i);
-			const float f = (float)x;
-			rounded += (double)f != x && x == x;
-			beyond += (isinf(f) && !isinf(x)) || (f == 0 && x != 0);
-			((float*)a->data)[i] = f;
-		}
-		char text[PLY_NAME_MAX + 192];
-		int at = snprintf(text, sizeof text, "vertex property '%s' is double, kept as float: %zu of its %zu values rounded",
-		                  p->name, rounded, n);
-		if (beyond && at > 0 && (size_t)at < sizeof text)
-			snprintf(text + at, sizeof text - (size_t)at,
-			         ", %zu of them beyond float's range (now infinite, or 0)", beyond);
-		if (rounded && !warn(r, text))
+		char what[PLY_NAME_MAX + 32];
+		snprintf(what, sizeof what, "vertex property '%s'", p->name);
+		if (!vn_io_doubles_as_floats((const double*)(const void*)p->column, n, (float*)a->data, what, &r->warnings))
 			result = out_of_memory(r);
 	}
 	unsigned char* face_used = NULL;

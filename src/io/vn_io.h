@@ -160,6 +160,12 @@ vn_io_attribute* vn_io_mesh_add_attribute(vn_io_mesh* mesh, const char* name, in
 /* Bytes of one component of a glTF component type (5120 ... 5126); 0 when unknown. */
 size_t vn_io_component_size(int component_type);
 
+/* The n doubles x as floats into out (attributes hold no double); when any
+ * is rounded, appends to *warnings "WHAT is double, kept as float: R of its
+ * n values rounded" (and how many went beyond float's range). 0 when out of
+ * memory. */
+int vn_io_doubles_as_floats(const double* x, size_t n, float* out, const char* what, char** warnings);
+
 /* The first vertex with a non-finite position coordinate, or vertex_count
  * when every position is finite. Every writer refuses such a mesh: no file
  * format vn writes can hold NaN or infinite positions. */
