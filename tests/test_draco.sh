@@ -220,15 +220,14 @@ check "point cloud -> stl: says what holds one" grep -q "points.drc has 24 verti
 D64=$HERE/data/draco/pdal-1.2-with-color.drc
 run "$VNC" "$D64" "$T/pdal.ply"
 check "float64 point cloud -> ply: exits 0" [ $rc -eq 0 ]
-check "float64 point cloud -> ply: GpsTime said to be rounded" grep -q "pdal-1.2-with-color.drc: attribute 11 (_GPSTIME) is double, kept as float: 1065 of its 1065 values rounded" "$T/stderr"
-check "float64 point cloud -> ply: 1065 double positions, hundredths exactly" python3 - "$HERE" "$T/pdal.ply" <<'EOF'
+check "float64 point cloud -> ply: 1065 double positions, hundredths exactly; GpsTime double" python3 - "$HERE" "$T/pdal.ply" <<'EOF'
 import sys
 import numpy as np
 sys.path.insert(0, sys.argv[1])
 import plytool
 types, v = plytool.read(sys.argv[2])[2]["vertex"]
 x = np.array([v["x"], v["y"], v["z"]], float).T
-sys.exit(not ([types[k] for k in "xyz"] == ["double"] * 3 and x.shape == (1065, 3) and
+sys.exit(not ([types[k] for k in ("x", "y", "z", "gpstime")] == ["double"] * 4 and x.shape == (1065, 3) and
               np.abs(x * 100 - np.round(x * 100)).max() < 1e-6 and np.abs(x[0] - [637012.24, 849028.31, 431.66]).max() < 1e-6))
 EOF
 # .drc to .drc keeps every attribute as it is, float64 ones too.
@@ -236,6 +235,8 @@ run "$VNC" "$D64" "$T/pdal.drc"
 check "float64 point cloud -> drc: exits 0" [ $rc -eq 0 ]
 run "$VNC" "$T/pdal.drc" "$T/pdal-drc.ply"
 check "float64 point cloud -> drc -> ply: as -> ply" python3 "$HERE/plytool.py" same_normals "$T/pdal.ply" "$T/pdal-drc.ply"
+run "$VNC" "$D64" "$T/pdal.glb"
+check "float64 point cloud -> glb: GpsTime said to be rounded" grep -q "pdal.glb: _GPSTIME is double, written as float: 1065 of its 1065 values rounded" "$T/stderr"
 # A float64 tetrahedron (written by vn_drc_encode): normals computed on the
 # doubles; .drc to .drc keeps them (--stats measures on them too; level
 # 10 keeps the points in order).

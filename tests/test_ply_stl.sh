@@ -204,8 +204,13 @@ PLYEOF
 run "$VNC" "$T/double.ply" "$T/double_out.ply"
 check "double x stays double" grep -aq "^property double x" "$T/double_out.ply"
 check "x = 0.1 exactly" [ "$($PLYTOOL column "$T/double_out.ply" x 0)" = 0.1 ]
-check "warning: double property rounded" grep -q "double.ply: vertex property 'quality' is double, kept as float: 1 of its 3 values rounded" "$T/stderr"
-check "quality as float" grep -aq "^property float quality" "$T/double_out.ply"
+# A double property stays double (it was read as float, 0.1 rounded); glTF,
+# which has no double, says what it rounds.
+check "quality stays double" grep -aq "^property double quality" "$T/double_out.ply"
+check "quality = 0.1 exactly" [ "$($PLYTOOL column "$T/double_out.ply" quality 0)" = 0.1 ]
+check "PLY to PLY: no warning" [ ! -s "$T/stderr" ]
+run "$VNC" "$T/double.ply" "$T/double_out.glb"
+check "double property to glTF: rounding said" grep -qx "vnconvert: warning: $T/double_out.glb: quality is double, written as float: 1 of its 3 values rounded" "$T/stderr"
 
 # ---- STL: ASCII and binary of the same sphere give the same mesh; welded; positions kept
 # The ASCII file has 6 decimals: the same faces, positions within 1e-6.
@@ -279,7 +284,9 @@ printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty dou
 run "$VNC" "$T/dn.ply" "$T/dn_out.ply"
 check "double normals of a point cloud: written as double" grep -aq "^property double nx$" "$T/dn_out.ply"
 check "double normals of a point cloud: kept exactly" [ "$($PLYTOOL column "$T/dn_out.ply" nz 0) $($PLYTOOL column "$T/dn_out.ply" nx 1)" = "0.9746794344808963 0.6" ]
-check "a double beyond float's range: said so" grep -q "vertex property 'big' is double, kept as float: 2 of its 2 values rounded, 2 of them beyond float's range (now infinite, or 0)" "$T/stderr"
+check "a double beyond float's range: kept exactly in PLY" [ "$($PLYTOOL column "$T/dn_out.ply" big 0) $($PLYTOOL column "$T/dn_out.ply" big 1)" = "1e+300 1e-320" ]
+run "$VNC" "$T/dn.ply" "$T/dn_out.gltf"
+check "a double beyond float's range: said so for glTF" grep -q "dn_out.gltf: big is double, written as float: 2 of its 2 values rounded, some beyond float's range (now infinite, or 0)" "$T/stderr"
 run "$VNC" "$T/dn.ply" "$T/dn_out.off"
 check "double normals of a point cloud to OFF: kept exactly" [ "$(sed -n 3p "$T/dn_out.off")" = "0 0 0 0.1 0.2 0.9746794344808963" ]
 rejected_text() { printf "$2" >"$T/$1"; check_rejected "$VNC" "$T/$1" "$T/none.off" "$T/keep.off"; }

@@ -337,17 +337,11 @@ static vn_io_result to_mesh(const vn_drc_geometry& g, const char* name, vn_io_me
 		for (size_t j = 0; j < mesh->attribute_count; ++j)
 			if (label == mesh->attributes[j].name)
 				label = label.substr(0, sizeof(vn_io_attribute{}.name) - 12) + "_" + std::to_string(a.unique_id);
-		/* A mesh's attributes hold no double: float64 ones as floats. */
-		const bool wide = a.component_type == vn_drc_float64;
-		vn_io_attribute* out = vn_io_mesh_add_attribute(mesh, label.c_str(), semantic,
-		                                                wide ? vn_drc_float32 : a.component_type, a.components, a.normalized);
-		if (!out || (wide && !vn_io_doubles_as_floats(static_cast<const double*>(a.data), n * size_t(a.components),
-		                                              static_cast<float*>(out->data),
-		                                              ("attribute " + std::to_string(a.unique_id) + " (" + label + ")").c_str(),
-		                                              &mesh->warnings)))
+		vn_io_attribute* out =
+		    vn_io_mesh_add_attribute(mesh, label.c_str(), semantic, a.component_type, a.components, a.normalized);
+		if (!out)
 			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
-		if (!wide)
-			std::memcpy(out->data, a.data, value_bytes(a) * n);
+		std::memcpy(out->data, a.data, value_bytes(a) * n);
 	}
 	if (found) {
 		const struct {

@@ -281,6 +281,7 @@ double read_component(const unsigned char* p, long long type, bool normalized)
 	case 5123: { uint16_t v; memcpy(&v, p, 2); return normalized ? v / 65535.0 : v; }
 	case 5124: { int32_t v; memcpy(&v, p, 4); return v; } /* Draco's, never a glTF accessor's */
 	case 5125: { uint32_t v; memcpy(&v, p, 4); return v; }
+	case 5130: { double v; memcpy(&v, p, 8); return v; } /* a PLY double, a Draco float64: never an accessor's */
 	default: { float v; memcpy(&v, p, 4); return v; }
 	}
 }

@@ -459,7 +459,8 @@ static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 	for (size_t k = 0; k < mesh->attribute_count; ++k) {
 		const vn_io_attribute& a = mesh->attributes[k];
 		const size_t csize = vn_io_component_size(a.component_type);
-		const bool wide = a.component_type == 5124 || a.component_type == 5125; /* glTF: indices only */
+		/* glTF has 32-bit integers for indices only, and no double. */
+		const bool wide = a.component_type == 5124 || a.component_type == 5125 || a.component_type == 5130;
 		add(gltf_name(a, &texcoords, &colors), wide ? 5126 : a.component_type, (size_t)a.components,
 		    a.normalized && !wide, n, [&](size_t i, size_t c) {
 			    return read_component((const unsigned char*)a.data + (i * a.components + c) * csize, a.component_type, false); },

@@ -2,7 +2,6 @@
  * vn_io_mesh helpers and error reporting shared by every format.
  */
 #include "vn_io.h"
-#include "text.h"
 
 #include <errno.h>
 #include <math.h>
@@ -86,27 +85,22 @@ size_t vn_io_component_size(int component_type)
 	case 5120: case 5121: return 1;
 	case 5122: case 5123: return 2;
 	case 5124: case 5125: case 5126: return 4;
+	case 5130: return 8;
 	default: return 0;
 	}
 }
 
-int vn_io_doubles_as_floats(const double* x, size_t n, float* out, const char* what, char** warnings)
+size_t vn_io_attribute_rounded(const vn_io_mesh* mesh, const vn_io_attribute* a, size_t* beyond)
 {
-	size_t rounded = 0, beyond = 0;
-	for (size_t i = 0; i < n; i++) {
+	const double* x = (const double*)a->data;
+	size_t rounded = 0;
+	*beyond = 0;
+	for (size_t i = 0; i < mesh->vertex_count * (size_t)a->components; i++) {
 		const float f = (float)x[i];
 		rounded += (double)f != x[i] && x[i] == x[i];
-		beyond += (isinf(f) && !isinf(x[i])) || (f == 0 && x[i] != 0);
-		out[i] = f;
+		*beyond += (isinf(f) && !isinf(x[i])) || (f == 0 && x[i] != 0);
 	}
-	if (!rounded)
-		return 1;
-	char text[512];
-	int at = snprintf(text, sizeof text, "%s is double, kept as float: %zu of its %zu values rounded", what, rounded, n);
-	if (beyond && at > 0 && (size_t)at < sizeof text)
-		snprintf(text + at, sizeof text - (size_t)at, ", %zu of them beyond float's range (now infinite, or 0)",
-		         beyond);
-	return vn_io_append_line(warnings, text);
+	return rounded;
 }
 
 vn_io_attribute* vn_io_mesh_add_attribute(vn_io_mesh* mesh, const char* name, int semantic, int component_type,

@@ -53,7 +53,7 @@ static const struct {
     {"int", "int32", 4, 5124, -2147483648.0, 2147483647.0},
     {"uint", "uint32", 4, 5125, 0.0, 4294967295.0},
     {"float", "float32", 4, 5126, -HUGE_VAL, HUGE_VAL},
-    {"double", "float64", 8, 5126, -HUGE_VAL, HUGE_VAL},
+    {"double", "float64", 8, 5130, -HUGE_VAL, HUGE_VAL},
 };
 
 static int is_real(int type)
@@ -864,14 +864,7 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 			break;
 		}
 		memcpy(a->source_name, p->name, length);
-		if (p->type != PLY_FLOAT64) {
-			memcpy(a->data, p->column, n * types[p->type].size);
-			continue;
-		}
-		char what[PLY_NAME_MAX + 32];
-		snprintf(what, sizeof what, "vertex property '%s'", p->name);
-		if (!vn_io_doubles_as_floats((const double*)(const void*)p->column, n, (float*)a->data, what, &r->warnings))
-			result = out_of_memory(r);
+		memcpy(a->data, p->column, n * types[p->type].size);
 	}
 	unsigned char* face_used = NULL;
 	if (result == vn_io_success && r->face && !r->strips) {
@@ -995,10 +988,10 @@ static void header_colour(FILE* out, int bytes)
 		fprintf(out, "property %s %s\n", bytes ? "uchar" : "float", names[k]);
 }
 
-/* The PLY type of a vn_io_attribute component type (int32 included). */
+/* The PLY type of a vn_io_attribute component type (int32 and float64 included). */
 static int ply_type_of(int component_type)
 {
-	for (int t = 0; t < PLY_FLOAT64; t++)
+	for (int t = 0; t < PLY_TYPES; t++)
 		if (types[t].gltf == component_type)
 			return t;
 	return -1;

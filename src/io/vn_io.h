@@ -68,7 +68,9 @@ typedef struct vn_io_attribute {
 	char name[64];
 	int semantic;       /* a vn_io_semantic */
 	int component_type; /* glTF numbering: 5120 int8, 5121 uint8, 5122 int16, 5123 uint16,
-	                       5124 int32 (Draco only), 5125 uint32, 5126 float32 */
+	                       5124 int32 (Draco only), 5125 uint32, 5126 float32; and
+	                       5130 float64 (OpenGL's number: PLY double, Draco
+	                       float64; glTF has none) */
 	int components;     /* 1 to 4 */
 	int normalized;     /* integers stand for [0, 1] (unsigned) or [-1, 1] (signed) */
 	void* data;         /* vertex_count * components values, packed, vertex by vertex */
@@ -157,14 +159,14 @@ uint64_t vn_io_mesh_triangle_count(const vn_io_mesh* mesh);
 vn_io_attribute* vn_io_mesh_add_attribute(vn_io_mesh* mesh, const char* name, int semantic, int component_type,
                                           int components, int normalized);
 
-/* Bytes of one component of a glTF component type (5120 ... 5126); 0 when unknown. */
+/* Bytes of one component of an attribute's component type (5120 ... 5126,
+ * 5130); 0 when unknown. */
 size_t vn_io_component_size(int component_type);
 
-/* The n doubles x as floats into out (attributes hold no double); when any
- * is rounded, appends to *warnings "WHAT is double, kept as float: R of its
- * n values rounded" (and how many went beyond float's range). 0 when out of
- * memory. */
-int vn_io_doubles_as_floats(const double* x, size_t n, float* out, const char* what, char** warnings);
+/* How many of a float64 attribute's values (vertex_count * components)
+ * change when written as float32 (glTF has no double); *beyond: how many of
+ * them become infinite or 0. */
+size_t vn_io_attribute_rounded(const vn_io_mesh* mesh, const vn_io_attribute* a, size_t* beyond);
 
 /* The first vertex with a non-finite position coordinate, or vertex_count
  * when every position is finite. Every writer refuses such a mesh: no file
