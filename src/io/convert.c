@@ -533,11 +533,15 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	/* glTF holds attributes, but no double. */
 	for (size_t a = 0; a < mesh->attribute_count && gltf_out; ++a) {
 		const vn_io_attribute* at = &mesh->attributes[a];
-		size_t beyond, rounded = at->component_type == 5130 ? vn_io_attribute_rounded(mesh, at, &beyond) : 0;
-		if (rounded)
-			add(&c->warnings, "%s: %s is double, written as float: %zu of its %zu values rounded%s\n", c->out,
-			    at->source_name ? at->source_name : at->name, rounded, mesh->vertex_count * (size_t)at->components,
-			    beyond ? ", some beyond float's range (now infinite, or 0)" : "");
+		size_t beyond;
+		const size_t rounded = at->component_type == 5130 ? vn_io_attribute_rounded(mesh, at, &beyond) : 0;
+		if (!rounded)
+			continue;
+		char far[80] = "";
+		if (beyond)
+			snprintf(far, sizeof far, ", %zu of them beyond float's range (now infinite, or 0)", beyond);
+		add(&c->warnings, "%s: %s is double, written as float: %zu of its %zu values rounded%s\n", c->out,
+		    at->source_name ? at->source_name : at->name, rounded, mesh->vertex_count * (size_t)at->components, far);
 	}
 	if (st.zero_normals && c->out_format->no_normal && !mesh->face_count)
 		add(&c->warnings, "%s has no faces (a point cloud): vn computes no normals; %s%s\n", c->in,
