@@ -2,14 +2,15 @@
  * OFF, Geomview's Object File Format.
  *
  * Reader: ASCII and binary, header keyword [ST][C][N][4][n]OFF, then BINARY
- * on the same line for binary files. A vertex holds its position (x y z, or
- * x y z w with 4), normal (N), colour (C) and texture coordinates (ST), in
- * that order. ASCII is read line by line, the way Geomview reads face
- * colours ("to the end of the line"): one vertex per line, a face's count
- * on one line and its indices there or on the lines after (its colour is the
- * rest of the last one's line), '#'
- * starts a comment anywhere, blank lines are skipped, and a line ends at
- * "\n", "\r\n" or a lone "\r".
+ * on the same line for binary files; an ASCII file may start with its
+ * counts instead, without the keyword, as Geomview allows. A vertex holds
+ * its position (x y z, or x y z w with 4), normal (N), colour (C) and
+ * texture coordinates (ST), in that order. ASCII is read line by line, the
+ * way Geomview reads face colours ("to the end of the line"): one vertex
+ * per line, a face's count on one line and its indices there or on the
+ * lines after (its colour is the rest of the last one's line), '#' starts a
+ * comment anywhere, blank lines are skipped, and a line ends at "\n",
+ * "\r\n" or a lone "\r".
  *
  * Writer: ASCII [ST][C][N]OFF (Geomview's prefix order), colours as RGBA.
  */
@@ -199,37 +200,38 @@ static vn_io_result line_real(off_reader* r, off_line* line, const char* kind, s
 
 /* ------------------------------------------------------------------ shared by ASCII and binary */
 
-static int parse_keyword(off_reader* r, token t)
+/* The length of the header keyword t starts with, and r's layout set from
+ * it; 0 when t starts with none. Princeton's ModelNet writes the vertex
+ * count right after the keyword ("OFF490 518 0"): digits after "OFF" are
+ * the counts' start, not part of the keyword. */
+static size_t parse_keyword(off_reader* r, token t)
 {
 	const unsigned char* s = t.p;
 	size_t n = t.n;
-	if (n >= 2 && s[0] == 'S' && s[1] == 'T') {
-		r->st = 1;
-		s += 2, n -= 2;
-	}
-	if (n >= 1 && *s == 'C') {
-		r->colour = 1;
-		s++, n--;
-	}
-	if (n >= 1 && *s == 'N') {
-		r->normal = 1;
-		s++, n--;
-	}
-	if (n >= 1 && *s == '4') {
-		r->coords = 4;
-		s++, n--;
-	}
-	if (n >= 1 && *s == 'n') {
-		r->ndim = 1;
-		s++, n--;
-	}
-	if (n != 3 || memcmp(s, "OFF", 3) != 0)
+	int st = 0, colour = 0, normal = 0, ndim = 0;
+	size_t coords = 3;
+	if (n >= 2 && s[0] == 'S' && s[1] == 'T')
+		st = 1, s += 2, n -= 2;
+	if (n >= 1 && *s == 'C')
+		colour = 1, s++, n--;
+	if (n >= 1 && *s == 'N')
+		normal = 1, s++, n--;
+	if (n >= 1 && *s == '4')
+		coords = 4, s++, n--;
+	if (n >= 1 && *s == 'n')
+		ndim = 1, s++, n--;
+	if (n < 3 || memcmp(s, "OFF", 3) != 0 || (ndim && n > 3))
 		return 0;
-	memcpy(r->keyword, t.p, t.n); /* at most "STCN4nOFF" */
-	r->keyword[t.n] = '\0';
+	for (size_t i = 3; i < n; i++)
+		if (s[i] < '0' || s[i] > '9')
+			return 0;
+	const size_t length = t.n - (n - 3);
+	r->st = st, r->colour = colour, r->normal = normal, r->ndim = ndim, r->coords = coords;
+	memcpy(r->keyword, t.p, length); /* at most "STCN4nOFF" */
+	r->keyword[length] = '\0';
 	snprintf(r->layout, sizeof r->layout, "x y z%s%s%s%s", r->coords == 4 ? " w" : "",
 	         r->normal ? " nx ny nz" : "", r->colour ? " r g b [a]" : "", r->st ? " s t" : "");
-	return 1;
+	return length;
 }
 
 /* Rejects counts that the rest of the file (`available` bytes) cannot hold,
@@ -741,9 +743,18 @@ static vn_io_result read_off(off_reader* r, vn_io_mesh* m)
 		return vn_io_fail(r->error, vn_io_error_parse, "%s: expected an OFF header keyword, but the file is %s",
 		                  r->name, r->end == r->begin ? "empty" : "only blanks and comments");
 	next_token(&line, &t);
-	if (!parse_keyword(r, t))
-		return fail(r, vn_io_error_parse, "expected an OFF header keyword ([ST][C][N][4][n]OFF), found '%s'",
-		            quote(t).text);
+	const size_t keyword = parse_keyword(r, t);
+	if (keyword) {
+		line.p = t.p + keyword;
+	} else if (t.p[0] >= '0' && t.p[0] <= '9') {
+		/* Geomview: the keyword is "recommended but optional, as many
+		 * existing files lack this keyword"; the counts start the file. */
+		parse_keyword(r, (token){(const unsigned char*)"OFF", 3});
+		line.p = t.p;
+	} else {
+		return fail(r, vn_io_error_parse,
+		            "expected an OFF header keyword ([ST][C][N][4][n]OFF) or the counts, found '%s'", quote(t).text);
+	}
 	off_line rest = line;
 	if (next_token(&rest, &t) && t.n == 6 && memcmp(t.p, "BINARY", 6) == 0) {
 		if (next_token(&rest, &t))
