@@ -1,8 +1,12 @@
 """A small independent PLY reader for the PLY/STL tests (numpy).
 
   plytool.py same A B      every vertex property of A but nx ny nz is in B
-                           with the same values, and so are the faces
+                           with the same values and type, and so are the
+                           faces, every other face property and element of
+                           A, and A's comments and obj_info lines, in order
   plytool.py same_normals A B  the same, nx ny nz included
+  plytool.py same_vertices A B  as same, but only the vertex properties and
+                           faces (B went through a format without the rest)
   plytool.py same_set A B  A and B have the same vertex properties and the
                            same vertices (every property's value), in any order
   plytool.py count A       "VERTICES FACES TRIANGLES" (fan-triangulated)
@@ -57,6 +61,13 @@ def read(path):
     return fmt, elements, out, raw[:end], data
 
 
+def comments(path):
+    """The header's comment and obj_info lines but vn's own."""
+    _, _, _, header, _ = read(path)
+    lines = re.split(r"\r\n|\r|\n", header.decode("latin-1"))
+    return [l for l in lines if l.split()[:1] in (["comment"], ["obj_info"]) and l != "comment written by vn"]
+
+
 def face_lists(e):
     """The faces' index lists; none without a face element (a point cloud)."""
     if "face" not in e:
@@ -73,12 +84,12 @@ def main():
     elif cmd == "column":
         _, _, e, _, _ = read(sys.argv[2])
         print(repr(float(e["vertex"][1][sys.argv[3]][int(sys.argv[4])])))
-    elif cmd in ("same", "same_normals"):
+    elif cmd in ("same", "same_normals", "same_vertices"):
         _, _, a, _, _ = read(sys.argv[2])
         _, _, b, _, _ = read(sys.argv[3])
         bad = []
         for p, values in a["vertex"][1].items():
-            if (cmd == "same" and p in ("nx", "ny", "nz")) or isinstance(a["vertex"][0][p], list):
+            if (cmd != "same_normals" and p in ("nx", "ny", "nz")) or isinstance(a["vertex"][0][p], list):
                 continue
             if p not in b["vertex"][1]:
                 bad.append("no property " + p)
@@ -89,6 +100,22 @@ def main():
         fa, fb = face_lists(a), face_lists(b)
         if len(fa) != len(fb) or any(not np.array_equal(x, y) for x, y in zip(fa, fb)):
             bad.append("faces differ")
+        for name, props in ((n, p) for n, (p, _) in a.items() if n != "vertex" and cmd != "same_vertices"):
+            if name == "tristrips" and "face" not in a:  # read as faces
+                continue
+            for p, t in props.items():
+                if name == "face" and p in ("vertex_indices", "vertex_index"):
+                    continue
+                if name not in b or p not in b[name][0]:
+                    bad.append("no %s property %s" % (name, p))
+                elif b[name][0][p] != t and TYPES[t if isinstance(t, str) else t[1]] != TYPES[
+                        b[name][0][p] if isinstance(t, str) else b[name][0][p][1]]:
+                    bad.append("%s property %s changed type" % (name, p))
+                elif len(a[name][1][p]) != len(b[name][1][p]) or not all(
+                        np.array_equal(x, y) for x, y in zip(a[name][1][p], b[name][1][p])):
+                    bad.append("values of %s property %s differ" % (name, p))
+        if cmd != "same_vertices" and comments(sys.argv[2]) != comments(sys.argv[3]):
+            bad.append("comments differ: %r, %r" % (comments(sys.argv[2]), comments(sys.argv[3])))
         print("\n".join(bad))
         sys.exit(1 if bad else 0)
     elif cmd == "same_set":

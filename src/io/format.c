@@ -66,7 +66,7 @@ static const vn_io_format formats[] = {
      vn_io_ply_read, vn_io_ply_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
          vn_io_holds_face_colors | vn_io_holds_polygons | vn_io_holds_loose_vertices | vn_io_holds_no_faces |
-         vn_io_holds_nothing,
+         vn_io_holds_nothing | vn_io_holds_ply_extras,
      vn_io_path_mesh, 0, "the zero vector",
      {{vn_io_holds_colors, "vertex colours (red green blue)", NULL},
       {vn_io_holds_colors | vn_io_holds_color_alpha, "their alpha", "vertex colour alpha (named)"},
@@ -74,10 +74,12 @@ static const vn_io_format formats[] = {
       {vn_io_holds_attributes, "every other vertex property in its type, as `_NAME` (double as float in glTF)",
        "other vertex properties (named)"},
       {vn_io_holds_face_colors, "face colours", "face colours (named)"},
-      {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"}},
-     "other elements (edges, materials), vertex list properties, other face properties (per-corner texture "
-     "coordinates, flags), comments",
-     NULL, NULL, NULL},
+      {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"},
+      {vn_io_holds_ply_extras,
+       "every other face property in its type (MeshLab's per-corner `texcoord` lists, flags), other elements "
+       "whole (edges, materials), comments and `obj_info`",
+       "other face properties and other elements (named), comments"}},
+     "vertex list properties", NULL, NULL, NULL},
     {"stl", "STL", "STL", ".stl",
      "stereolithography (reads binary and ASCII, corners welded by position; writes binary; no vertex normals)",
      vn_io_stl_read, vn_io_stl_write, 0, vn_io_path_mesh, 0, NULL, {{0, NULL, NULL}},

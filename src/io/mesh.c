@@ -2,6 +2,7 @@
  * vn_io_mesh helpers and error reporting shared by every format.
  */
 #include "vn_io.h"
+#include "ply.h"
 
 #include <errno.h>
 #include <math.h>
@@ -75,6 +76,7 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 	free(mesh->face_untextured);
 	free(mesh->material_library);
 	free(mesh->material_folder);
+	vn_io_ply_extras_free(mesh->ply_extras);
 	free(mesh->warnings);
 	memset(mesh, 0, sizeof *mesh);
 }
@@ -176,7 +178,14 @@ size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, cha
 		}
 		lost++;
 	}
-	return lost;
+	char extras[480];
+	const size_t more =
+	    mesh->ply_extras && !(holds & vn_io_holds_ply_extras)
+	        ? vn_io_ply_extras_describe(mesh->ply_extras, extras, sizeof extras)
+	        : 0;
+	if (more && used < size)
+		snprintf(text + used, size - used, "%s%s", lost ? ", " : "", extras);
+	return lost + more;
 }
 
 int vn_io_mesh_is_triangles(const vn_io_mesh* mesh)

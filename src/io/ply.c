@@ -6,14 +6,13 @@
  * positions (x y z), normals (nx ny nz), colours (red green blue [alpha],
  * uchar or float in [0, 1]), texture coordinates (the first pair of s t,
  * u v, texture_u texture_v, texture_s texture_t) and, for every other
- * scalar property, an attribute "_NAME" in the property's own type (double
- * as float32: vn_io attributes, like glTF, have no double; a warning says
- * when that rounds a value). The "face" element gives polygons
- * (vertex_indices or vertex_index) and face colours; without faces, a
- * "tristrips" element's strips give triangles (strip_faces), and without
- * either the file is a point cloud: its vertices alone. Other elements
- * (edges, materials), vertex list properties and other face properties are
- * read past, not kept.
+ * scalar property, an attribute "_NAME" in the property's own type. The
+ * "face" element gives polygons (vertex_indices or vertex_index) and face
+ * colours; without faces, a "tristrips" element's strips give triangles
+ * (strip_faces), and without either the file is a point cloud: its
+ * vertices alone. The face element's other properties, the other elements
+ * and the comment and obj_info lines are kept as they are for the writer
+ * (vn_io_ply_extras); vertex list properties are read past.
  *
  * Not Draco's PlyReader (1.5.5): it refuses big endian, copies past the end
  * of a truncated binary file (no bounds check), and parses ASCII values as
@@ -23,9 +22,11 @@
  * Writer: binary_little_endian 1.0, what Blender and MeshLab read: x y z as
  * float, or double when a coordinate is not a float (so PLY to PLY keeps
  * positions exactly), nx ny nz float, colours red green blue alpha, uchar
- * when the source had bytes (else float), s t float, every attribute as properties of its type,
- * faces as "list uchar int vertex_indices" (uint when needed; "element
- * face 0" for a point cloud), face colours.
+ * when the source had bytes (else float), s t float, every attribute as
+ * properties of its type, faces as "list uchar int vertex_indices" (uint
+ * when needed; "element face 0" for a point cloud), face colours, and what
+ * vn_io_ply_extras kept: the comments after vn's, the face properties
+ * after vn's, the other elements after the faces.
  */
 #include "ply.h"
 #include "text.h"
@@ -115,9 +116,15 @@ static void reverse(unsigned char* p, size_t n)
 
 typedef struct ply_property {
 	char name[PLY_NAME_MAX];
-	int type;              /* of the values */
-	int count_type;        /* of a list's length; -1: not a list */
-	unsigned char* column; /* kept scalars: the element's values in host byte order; else NULL */
+	int type;       /* of the values */
+	int count_type; /* of a list's length; -1: not a list */
+	/* Kept values in host byte order, else NULL: a scalar's, one an entry;
+	 * a list's, its entries' items one after another, entry i's from item
+	 * offsets[i] to offsets[i + 1] (count + 1 offsets; NULL for a scalar),
+	 * in room for `capacity` items. */
+	unsigned char* column;
+	size_t* offsets;
+	size_t capacity;
 } ply_property;
 
 typedef struct ply_element {
@@ -125,7 +132,38 @@ typedef struct ply_element {
 	uint64_t count;
 	ply_property* properties;
 	size_t property_count;
+	int kept; /* its properties moved to the mesh's vn_io_ply_extras */
 } ply_element;
+
+/* What a PLY file holds besides what vn_io_mesh describes, for the PLY
+ * writer to write back (vn_io_holds_ply_extras). */
+struct vn_io_ply_extras {
+	char* comments;   /* the header's comment and obj_info lines, each ending in "\n"; NULL: none */
+	ply_element face; /* the face element's other properties (count: the faces), none: property_count 0 */
+	ply_element* elements; /* the other elements, whole */
+	size_t element_count;
+};
+
+static void free_properties(ply_element* e)
+{
+	for (size_t k = 0; k < e->property_count; k++) {
+		free(e->properties[k].column);
+		free(e->properties[k].offsets);
+	}
+	free(e->properties);
+}
+
+void vn_io_ply_extras_free(vn_io_ply_extras* extras)
+{
+	if (!extras)
+		return;
+	free(extras->comments);
+	free_properties(&extras->face);
+	for (size_t i = 0; i < extras->element_count; i++)
+		free_properties(&extras->elements[i]);
+	free(extras->elements);
+	free(extras);
+}
 
 enum { PLY_ASCII, PLY_LITTLE, PLY_BIG };
 
@@ -153,6 +191,7 @@ typedef struct ply_reader {
 	uint32_t* strip;
 	size_t strip_used, strip_capacity;
 
+	char* comments; /* vn_io_ply_extras' */
 	char* warnings;
 } ply_reader;
 
@@ -259,6 +298,16 @@ static void copy_name(char name[PLY_NAME_MAX], token t)
 	name[n] = '\0';
 }
 
+/* Names are kept as the file spells them and written back: a control
+ * character (a NUL ends one early) would make a header no reader reads. */
+static int has_control(token name)
+{
+	for (size_t i = 0; i < name.n; i++)
+		if ((unsigned char)name.p[i] < 0x20 || name.p[i] == 0x7f)
+			return 1;
+	return 0;
+}
+
 static vn_io_result add_property(ply_reader* r, token* w, size_t count)
 {
 	if (!r->element_count)
@@ -273,12 +322,9 @@ static vn_io_result add_property(ply_reader* r, token* w, size_t count)
 		return fail(r, vn_io_error_parse, "unknown property type '%s'", quote(w[list ? 3 : 1]).text);
 	if (list && (count_type < 0 || is_real(count_type)))
 		return fail(r, vn_io_error_parse, "'%s' is not an integer type for a list's length", quote(w[2]).text);
-	/* A name is kept as the file spells it and written back: a control
-	 * character (a NUL ends it early) would make a header no reader reads. */
 	const token name = w[list ? 4 : 2];
-	for (size_t i = 0; i < name.n; i++)
-		if ((unsigned char)name.p[i] < 0x20 || name.p[i] == 0x7f)
-			return fail(r, vn_io_error_parse, "property name '%s' has a control character", quote(name).text);
+	if (has_control(name))
+		return fail(r, vn_io_error_parse, "property name '%s' has a control character", quote(name).text);
 	ply_property* grown = realloc(e->properties, (e->property_count + 1) * sizeof *grown);
 	if (!grown)
 		return out_of_memory(r);
@@ -299,6 +345,8 @@ static vn_io_result add_element(ply_reader* r, token* w, size_t count)
 	if (!parse_count(w[2], &n))
 		return fail(r, vn_io_error_parse, "the count of element '%s' is '%s', not a non-negative integer",
 		            quote(w[1]).text, quote(w[2]).text);
+	if (has_control(w[1]))
+		return fail(r, vn_io_error_parse, "element name '%s' has a control character", quote(w[1]).text);
 	ply_element* grown = realloc(r->elements, (r->element_count + 1) * sizeof *grown);
 	if (!grown)
 		return out_of_memory(r);
@@ -308,6 +356,34 @@ static vn_io_result add_element(ply_reader* r, token* w, size_t count)
 	copy_name(e->name, w[1]);
 	e->count = n;
 	return vn_io_success;
+}
+
+/* Appends the header line at `start` (a comment or obj_info) to
+ * r->comments, as the file has it, but vn's own "comment written by vn",
+ * which its writer writes anyway; 0 when out of memory. */
+static int keep_comment(ply_reader* r, const unsigned char* start)
+{
+	const unsigned char* stop = start;
+	while (stop < r->end && *stop != r->newline)
+		stop++;
+	/* Blanks at the end stay: MeshLab reads a TextureFile name to the line's end. */
+	size_t n = (size_t)(stop - start);
+	if (n && r->newline == '\n' && start[n - 1] == '\r')
+		n--;
+	static const char own[] = "comment written by vn";
+	if (n == sizeof own - 1 && !memcmp(start, own, n))
+		return 1;
+	const size_t used = r->comments ? strlen(r->comments) : 0;
+	char* grown = realloc(r->comments, used + n + 2);
+	if (!grown)
+		return 0;
+	/* A line break inside the line (a lone '\r' in a '\n' file) would end
+	 * it early in the file written, a NUL the text: a blank instead. */
+	for (size_t i = 0; i < n; i++)
+		grown[used + i] = start[i] == '\r' || start[i] == '\n' || !start[i] ? ' ' : (char)start[i];
+	memcpy(grown + used + n, "\n", 2);
+	r->comments = grown;
+	return 1;
 }
 
 static vn_io_result read_header(ply_reader* r)
@@ -322,9 +398,14 @@ static vn_io_result read_header(ply_reader* r)
 		return vn_io_fail(r->error, vn_io_error_parse, "%s: not a PLY file: it does not start with a 'ply' line",
 		                  r->name);
 	int format = -1;
-	while (header_line(r, w, &count)) {
+	for (const unsigned char* start = r->p; header_line(r, w, &count); start = r->p) {
 		vn_io_result result = vn_io_success;
-		if (count == 0 || token_is(w[0], "comment") || token_is(w[0], "obj_info"))
+		if (count && (token_is(w[0], "comment") || token_is(w[0], "obj_info"))) {
+			if (!keep_comment(r, start))
+				return out_of_memory(r);
+			continue;
+		}
+		if (count == 0)
 			continue;
 		if (token_is(w[0], "end_header")) {
 			if (format < 0)
@@ -368,7 +449,7 @@ static vn_io_result read_header(ply_reader* r)
 typedef struct place {
 	const ply_element* element;
 	size_t entry;
-	const ply_property* property;
+	ply_property* property;
 } place;
 
 static const char* type_name(int type)
@@ -512,8 +593,33 @@ static vn_io_result strip_faces(ply_reader* r, vn_io_mesh* m)
 	return vn_io_success;
 }
 
+/* The `length` values of a list kept for the writer (vn_io_ply_extras),
+ * appended to its column. */
+static vn_io_result read_kept_list(ply_reader* r, const place* at, size_t length)
+{
+	ply_property* p = at->property;
+	const size_t size = types[p->type].size, used = p->offsets[at->entry];
+	if (length > p->capacity - used) {
+		size_t capacity = p->capacity ? 2 * p->capacity : 64;
+		if (capacity - used < length)
+			capacity = used + length;
+		unsigned char* grown = realloc(p->column, capacity * size);
+		if (!grown)
+			return out_of_memory(r);
+		p->column = grown;
+		p->capacity = capacity;
+	}
+	for (size_t k = 0; k < length; k++) {
+		vn_io_result result = read_value(r, p->type, at, p->column + (used + k) * size);
+		if (result != vn_io_success)
+			return result;
+	}
+	p->offsets[at->entry + 1] = used + length;
+	return vn_io_success;
+}
+
 /* A list property of entry i: its length, then its values (kept when it is
- * the face's vertex_indices). */
+ * the face's vertex_indices, or kept for the writer). */
 static vn_io_result read_list(ply_reader* r, vn_io_mesh* m, const place* at)
 {
 	const ply_property* p = at->property;
@@ -532,6 +638,8 @@ static vn_io_result read_list(ply_reader* r, vn_io_mesh* m, const place* at)
 		            at->element->name, at->entry, p->name, length);
 	if (p == r->indices && r->strips)
 		return read_strip(r, at, (size_t)length);
+	if (p->offsets)
+		return read_kept_list(r, at, (size_t)length);
 	const int kept = p == r->indices;
 	const size_t used = kept ? m->face_offsets[at->entry] : 0;
 	if (kept && length == 0)
@@ -588,6 +696,34 @@ static ply_property* find_scalar(ply_element* e, const char* name)
 	return p && p->count_type < 0 ? p : NULL;
 }
 
+/* Room for p's values: a column for a scalar, offsets for a list (whose
+ * items read_kept_list stores); 0 when out of memory. */
+static int keep_values(const ply_element* e, ply_property* p)
+{
+	const size_t count = (size_t)e->count;
+	if (p->count_type >= 0)
+		return (p->offsets = calloc(count + 1, sizeof *p->offsets)) != NULL;
+	return (p->column = malloc(count * types[p->type].size + 1)) != NULL;
+}
+
+/* Every property of the elements other than the vertices, the faces and
+ * the strips read as faces (edges, materials, a camera), kept whole for the
+ * writer. A second element called vertex or face is not: the writer's own
+ * would be two of a name. */
+static vn_io_result keep_other_elements(ply_reader* r)
+{
+	for (size_t i = 0; i < r->element_count; i++) {
+		ply_element* e = &r->elements[i];
+		if (e == r->vertex || e == r->face || e == r->strips || !strcmp(e->name, "vertex") || !strcmp(e->name, "face"))
+			continue;
+		for (size_t k = 0; k < e->property_count; k++)
+			if (!keep_values(e, &e->properties[k]))
+				return out_of_memory(r);
+		e->kept = 1;
+	}
+	return vn_io_success;
+}
+
 /* Checks the counts against the bytes that follow (so that no count alone
  * allocates much), finds the vertex and face elements and their columns. */
 static vn_io_result prepare(ply_reader* r, vn_io_mesh* m)
@@ -641,7 +777,7 @@ static vn_io_result prepare(ply_reader* r, vn_io_mesh* m)
 		if (!r->strips && (!(m->face_offsets = calloc(1, sizeof *m->face_offsets)) ||
 		                   !(m->indices = malloc(sizeof *m->indices))))
 			return out_of_memory(r);
-		return vn_io_success;
+		return keep_other_elements(r);
 	}
 	r->indices = find(r->face, "vertex_indices");
 	if (!r->indices)
@@ -660,12 +796,13 @@ static vn_io_result prepare(ply_reader* r, vn_io_mesh* m)
 		if (p->count_type < 0 && !(p->column = malloc(vertices * types[p->type].size + 1)))
 			return out_of_memory(r);
 	}
-	static const char* const rgba[4] = {"red", "green", "blue", "alpha"};
-	for (int k = 0; k < 4; k++) {
-		ply_property* p = find_scalar(r->face, rgba[k]);
-		if (p && !(p->column = malloc(faces * types[p->type].size + 1)))
+	/* Every face property besides the indices: a colour, or kept for the writer. */
+	for (size_t k = 0; k < r->face->property_count; k++)
+		if (&r->face->properties[k] != r->indices && !keep_values(r->face, &r->face->properties[k]))
 			return out_of_memory(r);
-	}
+	vn_io_result result = keep_other_elements(r);
+	if (result != vn_io_success)
+		return result;
 	m->face_offsets = malloc((faces + 1) * sizeof *m->face_offsets);
 	/* Most meshes are triangles; the list values need at least this many bytes. */
 	const size_t least = r->format == PLY_ASCII ? 2 : types[r->indices->type].size;
@@ -758,48 +895,136 @@ static void attribute_name(const vn_io_mesh* m, const ply_property* p, size_t in
 		}
 }
 
-/* One warning naming what reading leaves out (vertex list properties,
- * face properties other than the indices and a colour, other elements with
- * entries; every vertex scalar is read): a PLY-to-PLY conversion drops
- * them. face_used: the face's colour properties read (NULL with strips,
- * whose element gives only its indices). */
-static vn_io_result warn_left_out(ply_reader* r, const unsigned char* face_used)
+/* Whether the writer writes a face property of p's name: a colour's
+ * when the mesh has face colours (an alpha of another kind than the file's
+ * red, green and blue, left as it is by read_colours). */
+static int face_name_taken(const vn_io_mesh* m, const ply_property* p)
 {
+	static const char* const rgba[4] = {"red", "green", "blue", "alpha"};
+	for (int k = 0; k < 4 && m->face_colors; k++)
+		if (!strcmp(p->name, rgba[k]))
+			return 1;
+	return 0;
+}
+
+/* A list of names being made, for one line: text holds those that fit
+ * (with room left for a closing ", ..."), more counts those that did not. */
+typedef struct name_list {
 	char text[480];
-	size_t n = 0, items = 0, more = 0;
-	const int room = (int)sizeof text - 8; /* for the closing text's "…" */
-	const ply_element* faces = r->strips ? r->strips : r->face;
+	size_t n, items, more;
+} name_list;
+
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3)))
+#endif
+static void add_name(name_list* l, const char* fmt, ...)
+{
+	const size_t room = sizeof l->text - 8; /* for a closing ", ..." */
+	char item[PLY_NAME_MAX + 64];
+	va_list args;
+	va_start(args, fmt);
+	const int w = vsnprintf(item, sizeof item, fmt, args);
+	va_end(args);
+	const size_t length = (w > 0 ? (size_t)w : 0) + (l->items ? 2 : 0);
+	if (l->n + length >= room) {
+		l->more++;
+		return;
+	}
+	l->n += (size_t)snprintf(l->text + l->n, sizeof l->text - l->n, "%s%s", l->items ? ", " : "", item);
+	l->items++;
+}
+
+/* "face list 'texcoord'", "vertex property 'label'". */
+static void add_property_name(name_list* l, const ply_element* e, const ply_property* p)
+{
+	add_name(l, "%s %s '%s'", e->name, p->count_type >= 0 ? "list" : "property", p->name);
+}
+
+/* One warning naming what reading leaves out: vertex list properties, the
+ * strips' properties but their indices, a face property whose name the
+ * writer takes, and a second element called vertex or face. face_used: the
+ * face's colour properties read (NULL with strips or without faces). */
+static vn_io_result warn_left_out(ply_reader* r, const vn_io_mesh* m, const unsigned char* face_used)
+{
+	name_list l = {{0}, 0, 0, 0};
 	for (size_t i = 0; i < r->element_count; i++) {
 		const ply_element* e = &r->elements[i];
-		if (!e->count) /* nothing in it to leave out */
+		if (!e->count || e->kept) /* nothing in it to leave out, or all kept */
 			continue;
-		const int is_vertex = e == r->vertex, is_face = e == faces;
+		const int is_vertex = e == r->vertex, is_face = e == r->face || e == r->strips;
 		for (size_t k = 0; k < e->property_count && (is_vertex || is_face); k++) {
 			const ply_property* p = &e->properties[k];
-			if ((is_vertex && p->count_type < 0) || (is_face && (p == r->indices || (face_used && face_used[k]))))
-				continue;
-			const int w = snprintf(text + n, sizeof text - n, "%s%s %s'%s'", items++ ? ", " : "", e->name,
-			                       p->count_type >= 0 ? "list " : "property ", p->name);
-			if (w < 0 || (size_t)w >= (size_t)room - n)
-				more++, items--;
-			else
-				n += (size_t)w;
+			if (!(is_vertex && p->count_type < 0) && p != r->indices &&
+			    !(e == r->face && face_used && (face_used[k] || !face_name_taken(m, p))))
+				add_property_name(&l, e, p);
 		}
-		if (is_vertex || is_face)
-			continue;
-		const int w = snprintf(text + n, sizeof text - n, "%selement '%s' (%llu)", items++ ? ", " : "", e->name,
-		                       (unsigned long long)e->count);
-		if (w < 0 || (size_t)w >= (size_t)room - n)
-			more++, items--;
-		else
-			n += (size_t)w;
+		if (!is_vertex && !is_face)
+			add_name(&l, "element '%s' (%llu)", e->name, (unsigned long long)e->count);
 	}
-	if (!items && !more)
+	if (!l.items && !l.more)
 		return vn_io_success;
 	char line[600];
-	snprintf(line, sizeof line, "left out (vn reads vertices, faces and their colours): %.*s%s", (int)n, text,
-	         more ? ", ..." : "");
+	snprintf(line, sizeof line, "left out (vn keeps the rest): %s%s", l.text, l.more ? ", ..." : "");
 	return warn(r, line) ? vn_io_success : out_of_memory(r);
+}
+
+size_t vn_io_ply_extras_describe(const vn_io_ply_extras* extras, char* text, size_t size)
+{
+	name_list l = {{0}, 0, 0, 0};
+	for (size_t k = 0; k < extras->face.property_count; k++)
+		add_property_name(&l, &extras->face, &extras->face.properties[k]);
+	for (size_t i = 0; i < extras->element_count; i++)
+		if (extras->elements[i].count) /* an empty one is nothing lost */
+			add_name(&l, "element '%s' (%llu)", extras->elements[i].name,
+			         (unsigned long long)extras->elements[i].count);
+	if (size)
+		snprintf(text, size, "%s%s", l.text, l.more ? ", ..." : "");
+	return l.items + l.more;
+}
+
+/* Moves what the writer writes back into m->ply_extras (which the mesh
+ * frees): the comments, the face properties that are no colour and whose
+ * names the writer leaves free, the other elements kept. */
+static vn_io_result collect_extras(ply_reader* r, vn_io_mesh* m, const unsigned char* face_used)
+{
+	vn_io_ply_extras* x = calloc(1, sizeof *x);
+	if (!x)
+		return out_of_memory(r);
+	m->ply_extras = x;
+	x->comments = r->comments;
+	r->comments = NULL;
+	if (face_used && r->face->count) {
+		if (!(x->face.properties = malloc(r->face->property_count * sizeof *x->face.properties)))
+			return out_of_memory(r);
+		memcpy(x->face.name, r->face->name, sizeof x->face.name);
+		x->face.count = r->face->count;
+		for (size_t k = 0; k < r->face->property_count; k++) {
+			ply_property* p = &r->face->properties[k];
+			if (p == r->indices || face_used[k] || face_name_taken(m, p))
+				continue;
+			x->face.properties[x->face.property_count++] = *p;
+			p->column = NULL;
+			p->offsets = NULL;
+		}
+	}
+	size_t kept = 0;
+	for (size_t i = 0; i < r->element_count; i++)
+		kept += (size_t)r->elements[i].kept;
+	if (kept && !(x->elements = malloc(kept * sizeof *x->elements)))
+		return out_of_memory(r);
+	for (size_t i = 0; i < r->element_count; i++) {
+		ply_element* e = &r->elements[i];
+		if (!e->kept)
+			continue;
+		x->elements[x->element_count++] = *e;
+		e->properties = NULL;
+		e->property_count = 0;
+	}
+	if (!x->comments && !x->face.property_count && !x->element_count) {
+		vn_io_ply_extras_free(x);
+		m->ply_extras = NULL;
+	}
+	return vn_io_success;
 }
 
 static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
@@ -874,7 +1099,9 @@ static vn_io_result to_mesh(ply_reader* r, vn_io_mesh* m)
 			result = read_colours(r, r->face, &m->face_colors, &m->face_colors_are_bytes, face_used);
 	}
 	if (result == vn_io_success)
-		result = warn_left_out(r, face_used);
+		result = warn_left_out(r, m, face_used);
+	if (result == vn_io_success)
+		result = collect_extras(r, m, face_used);
 	free(used);
 	free(face_used);
 	return result;
@@ -924,13 +1151,11 @@ vn_io_result vn_io_ply_read_memory(const char* data, size_t size, const char* na
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	vn_io_result result = read_ply(&r, mesh);
 	vn_io_c_locale_leave(&locale);
-	for (size_t i = 0; i < r.element_count; i++) {
-		for (size_t k = 0; k < r.elements[i].property_count; k++)
-			free(r.elements[i].properties[k].column);
-		free(r.elements[i].properties);
-	}
+	for (size_t i = 0; i < r.element_count; i++)
+		free_properties(&r.elements[i]);
 	free(r.elements);
 	free(r.strip);
+	free(r.comments);
 	mesh->warnings = r.warnings;
 	if (result != vn_io_success)
 		vn_io_mesh_free(mesh);
@@ -1077,6 +1302,57 @@ static char* property_names(const vn_io_mesh* m, const char* const* tex)
 	return names;
 }
 
+/* The header lines of e's kept properties. */
+static void header_properties(FILE* out, const ply_element* e)
+{
+	for (size_t k = 0; k < e->property_count; k++) {
+		const ply_property* p = &e->properties[k];
+		if (p->count_type >= 0)
+			fprintf(out, "property list %s %s %s\n", types[p->count_type].name, types[p->type].name, p->name);
+		else
+			fprintf(out, "property %s %s\n", types[p->type].name, p->name);
+	}
+}
+
+/* Bytes of entry i of e's kept properties. */
+static size_t entry_size(const ply_element* e, size_t i)
+{
+	size_t n = 0;
+	for (size_t k = 0; k < e->property_count; k++) {
+		const ply_property* p = &e->properties[k];
+		n += p->count_type < 0 ? types[p->type].size
+		                       : types[p->count_type].size + (p->offsets[i + 1] - p->offsets[i]) * types[p->type].size;
+	}
+	return n;
+}
+
+static size_t largest_entry(const ply_element* e)
+{
+	size_t largest = 0;
+	for (size_t i = 0; i < e->count; i++) {
+		const size_t n = entry_size(e, (size_t)i);
+		largest = n > largest ? n : largest;
+	}
+	return largest;
+}
+
+/* Entry i of e's kept properties, appended to b (room: entry_size). */
+static void put_entry(record* b, const ply_element* e, size_t i)
+{
+	for (size_t k = 0; k < e->property_count; k++) {
+		const ply_property* p = &e->properties[k];
+		const size_t size = types[p->type].size;
+		if (p->count_type < 0) {
+			put_bytes(b, p->column + i * size, size);
+			continue;
+		}
+		const size_t first = p->offsets[i], n = p->offsets[i + 1] - first;
+		put(b, p->count_type, (double)n);
+		for (size_t j = 0; j < n; j++)
+			put_bytes(b, p->column + (first + j) * size, size);
+	}
+}
+
 /* Whether some of the count values would not come back from a float (so
  * are written as double). */
 static int float_rounds(const double* v, size_t count)
@@ -1103,7 +1379,9 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	/* A point cloud's normals are the file's (vn computes none): double
 	 * where float would round them. */
 	const int double_normals = mesh->normals && !mesh->face_count && float_rounds(mesh->normals, 3 * n);
-	fprintf(out, "ply\nformat binary_little_endian 1.0\ncomment written by vn\nelement vertex %zu\n", n);
+	const vn_io_ply_extras* extras = mesh->ply_extras;
+	fprintf(out, "ply\nformat binary_little_endian 1.0\ncomment written by vn\n%selement vertex %zu\n",
+	        extras && extras->comments ? extras->comments : "", n);
 	const char* position = doubles ? "double" : "float";
 	fprintf(out, "property %s x\nproperty %s y\nproperty %s z\n", position, position, position);
 	const char* normal = double_normals ? "double" : "float";
@@ -1137,6 +1415,12 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	        types[count_type].name, types[index_type].name);
 	if (mesh->face_colors)
 		header_colour(out, mesh->face_colors_are_bytes);
+	for (size_t i = 0; extras && i <= extras->element_count; i++) {
+		if (i)
+			fprintf(out, "element %s %llu\n", extras->elements[i - 1].name,
+			        (unsigned long long)extras->elements[i - 1].count);
+		header_properties(out, i ? &extras->elements[i - 1] : &extras->face);
+	}
 	fprintf(out, "end_header\n");
 	free(names);
 
@@ -1164,8 +1448,13 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 		failed = fwrite(b.bytes, 1, b.used, out) != b.used;
 	}
 	free(b.bytes);
-	size_t face_record = 4 + (mesh->face_colors ? 16u : 0u);
-	b.bytes = malloc(face_record + (size_t)largest * 4);
+	/* The faces' own properties, then the other elements' entries. */
+	size_t room = 4 + (mesh->face_colors ? 16u : 0u) + (size_t)largest * 4 + (extras ? largest_entry(&extras->face) : 0);
+	for (size_t i = 0; extras && i < extras->element_count; i++) {
+		const size_t entry = largest_entry(&extras->elements[i]);
+		room = entry > room ? entry : room;
+	}
+	b.bytes = malloc(room);
 	if (!b.bytes)
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);
 	for (size_t f = 0; f < mesh->face_count && !failed; f++) {
@@ -1176,8 +1465,16 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 			put(&b, index_type, mesh->indices[k]);
 		if (mesh->face_colors)
 			put_colour(&b, mesh->face_colors + 4 * f, mesh->face_colors_are_bytes);
+		if (extras)
+			put_entry(&b, &extras->face, f);
 		failed = fwrite(b.bytes, 1, b.used, out) != b.used;
 	}
+	for (size_t e = 0; extras && e < extras->element_count; e++)
+		for (size_t i = 0; i < extras->elements[e].count && !failed; i++) {
+			b.used = 0;
+			put_entry(&b, &extras->elements[e], i);
+			failed = fwrite(b.bytes, 1, b.used, out) != b.used;
+		}
 	free(b.bytes);
 	if (failed || ferror(out))
 		return vn_io_fail(error, vn_io_error_write, "%s: cannot write", path);

@@ -17,4 +17,12 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 vn_io_result vn_io_ply_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
                                    vn_io_error* error);
 
+/* Frees what vn_io_mesh.ply_extras points to; NULL is fine. */
+void vn_io_ply_extras_free(vn_io_ply_extras* extras);
+
+/* Names the face properties and elements of extras ("face list 'texcoord',
+ * element 'material' (2)"; comments are not named) into text, truncated to
+ * size; returns how many. */
+size_t vn_io_ply_extras_describe(const vn_io_ply_extras* extras, char* text, size_t size);
+
 #endif /* VN_IO_PLY_H */

@@ -91,6 +91,11 @@ typedef struct vn_io_face_names {
 /* A face that belongs to no named set (faces before an OBJ's first `usemtl`). */
 #define VN_IO_NO_NAME UINT32_MAX
 
+/* What a PLY file holds besides what vn_io_mesh describes (comments,
+ * other face properties, other elements), for the PLY writer to write
+ * back; opaque outside ply.c. */
+typedef struct vn_io_ply_extras vn_io_ply_extras;
+
 /* A polygon mesh as files carry it. Arrays are owned by the mesh and freed by
  * vn_io_mesh_free; optional arrays are NULL when the file has none. Readers
  * put the first colour set in `colors`, the first 2-component texture
@@ -136,6 +141,12 @@ typedef struct vn_io_mesh {
 	 * folder to that one ("../assets/model.mtl"; as written when the folder
 	 * is the same or this is NULL); absolute names stay. */
 	char* material_folder;
+
+	/* NULL, or what a PLY file held besides the above; only the PLY writer
+	 * keeps it (vn_io_holds_ply_extras). Faces are never reordered, and
+	 * vertices only appended, so its face properties and the indices in
+	 * its elements (an edge's vertex1) stay valid through vn. */
+	vn_io_ply_extras* ply_extras;
 
 	/* NULL, or what the reader read anyway but the file should not have
 	 * (bytes after a GLB's declared length): one line each, "\n"-separated,
@@ -233,7 +244,8 @@ enum {
 	vn_io_holds_face_names = 64,     /* `materials`, `objects`, `material_library` and its folder */
 	vn_io_holds_color_alpha = 128,   /* the alpha of `colors` (OBJ's `v x y z r g b` has none) */
 	vn_io_holds_no_faces = 256,      /* a mesh without faces but with vertices: a point cloud */
-	vn_io_holds_nothing = 512        /* a mesh without vertices: an empty file vn reads back */
+	vn_io_holds_nothing = 512,       /* a mesh without vertices: an empty file vn reads back */
+	vn_io_holds_ply_extras = 1024    /* `ply_extras` */
 };
 
 /* How vnconvert converts between two formats of one family (both ends with
