@@ -137,7 +137,7 @@ printf 'COFF\n4 1 0\n0 0 0 1 0 0\n1 0 0 0 1 0\n0 1 0 0 0 1\n5 5 5 1 1 1\n3 0 1 2
 "$VNC" "$T/c.off" "$T/c.obj" -q
 check "OFF -> OBJ: colours and the loose vertex" [ "$(grep '^v ' "$T/c.obj" | tr '\n' ,)" = "v 0 0 0 1 0 0,v 1 0 0 0 1 0,v 0 1 0 0 0 1,v 5 5 5 1 1 1," ]
 run "$VNC" "$T/c.obj" "$T/c2.off" -q
-check "OBJ colours are not read back (Draco 1.5.5 skips them)" [ "$(head -1 "$T/c2.off")" = NOFF ]
+check "OBJ colours are read back (Draco 1.5.5 skips them)" [ "$(head -2 "$T/c2.off" | tr '\n' ' ')" = "CNOFF 3 1 0 " ]
 # OBJ colours have no alpha: vnconvert warns when one is not 1, and only then.
 printf 'COFF\n3 1 0\n0 0 0 1 0 0 0.5\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n' >"$T/alpha.off"
 run "$VNC" "$T/alpha.off" "$T/alpha.obj"
@@ -194,7 +194,19 @@ grep '^v ' "$DATA/point_cloud_test_pos.obj" >"$T/points.obj"
 run "$VNC" "$T/points.obj" "$T/points.off"
 check "point cloud to OFF: exit 0" [ $rc -eq 0 ]
 check "point cloud to OFF: the 4 vertices, no faces" [ "$(sed -n 2p "$T/points.off")" = "4 0 0" ]
-check "point cloud to OFF: positions" [ "$(sed -n 3p "$T/points.off" | cut -d' ' -f1-3)" = "38.63804626464844 19.29371452331543 1.3447389602661133" ]
+check "point cloud to OFF: positions as the file has them" [ "$(sed -n 3p "$T/points.off" | cut -d' ' -f1-3)" = "38.638046 19.293715 1.344739" ]
+# Coordinates are read as the doubles they spell, not as Draco's floats:
+# a georeferenced (UTM) mesh kept its metres only to 0.25 (4123456.11 was
+# 4123456). Equal v lines still make one vertex; two that only a float
+# would confuse stay two.
+printf 'v 637012.24 4123456.11 12.34\nv 637013.24 4123456.11 12.34\nv 637012.24 4123457.11 12.34\nv 637012.26 4123457.11 12.34\nvn 0 0 1\nf 1//1 2//1 3//1\nf 3//1 2//1 4//1\n' >"$T/utm.obj"
+run "$VNC" "$T/utm.obj" "$T/utm_out.obj"
+check "UTM coordinates: OBJ to OBJ keeps every digit" [ "$(grep '^v ' "$T/utm_out.obj" | tr '\n' '|')" = "v 637012.24 4123456.11 12.34|v 637013.24 4123456.11 12.34|v 637012.24 4123457.11 12.34|v 637012.26 4123457.11 12.34|" ]
+run "$VNC" "$T/utm.obj" "$T/utm.ply" -q
+check "UTM coordinates: to PLY as doubles, 4 vertices" [ "$(/usr/bin/python3 "$HERE/plytool.py" column "$T/utm.ply" y 0) $(/usr/bin/python3 "$HERE/plytool.py" count "$T/utm.ply")" = "4123456.11 4 2 2" ]
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 1 0 0\nf 1 2 3\nf 5 4 3\n' >"$T/twice.obj"
+run "$VNC" "$T/twice.obj" "$T/twice.off" -q
+check "equal v lines: one vertex" [ "$(sed -n 2p "$T/twice.off")" = "4 2 0" ]
 run "$VNC" "$T/points.obj" "$T/points_out.obj"
 vlines() { awk '/^v / { printf "%.6f %.6f %.6f\n", $2, $3, $4 }' "$1"; }
 check "point cloud to OBJ: its v lines, the same numbers" [ "$(vlines "$T/points_out.obj")" = "$(vlines "$T/points.obj")" ]
@@ -249,11 +261,23 @@ printf '\357\273\277v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4\n' >"$T/bom.obj"
 run "$VNC" "$T/bom.obj" "$T/bom-out.obj"
 check "UTF-8 byte order mark: the first vertex read" [ "$rc $(grep -c '^v ' "$T/bom-out.obj") $(head -1 "$T/bom-out.obj")" = "0 3 v 0 0 0" ]
 # What Draco skips is named in one warning (it was dropped without a word):
-# groups, smoothing groups (not "s off"), lines, vertex colours on v lines.
+# groups, smoothing groups (not "s off"), lines, colours on only some v lines.
 printf '%s\n' "o x" "g grp" "s 1" "v 0 0 0 1 0 0" "v 1 0 0 1 0 0" "v 0 1 0" "f 1 2 3" "l 1 2" "s off" "g g2" "# c" >"$T/left.obj"
 run "$VNC" "$T/left.obj" "$T/left-out.obj"
 check "left out: exits 0" [ $rc -eq 0 ]
-check "left out: one warning names them" [ "$err" = "vnconvert: warning: $T/left.obj: left out (vn reads v, vt, vn, f, o, usemtl and mtllib): 2 'g' lines (groups), 1 's' line (smoothing groups), 1 'l' line (lines), numbers after x y z on 2 'v' lines (vertex colours, or w)" ]
+check "left out: one warning names them" [ "$err" = "vnconvert: warning: $T/left.obj: left out (vn reads v, vt, vn, f, o, usemtl and mtllib): 2 'g' lines (groups), 1 's' line (smoothing groups), 1 'l' line (lines), numbers after x y z on 2 'v' lines (w, or colours not on every v line or not in [0, 1])" ]
+# Colours on every v line (MeshLab's and Open3D's "v x y z r g b") are read,
+# and kept: OBJ to OBJ, to PLY, a point cloud to GLB as COLOR_0. Two v lines
+# at one place with other colours stay two vertices.
+printf 'v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 1 1 0 0.5 0.25 0.125\nv 1 0 0 0.5 0.5 0.5\nf 1 2 3\nf 5 4 3\n' >"$T/rgb.obj"
+run "$VNC" "$T/rgb.obj" "$T/rgb-out.obj"
+check "v colours: no warning" [ "$rc $err" = "0 " ]
+check "v colours: OBJ to OBJ keeps them, 5 vertices" [ "$(grep '^v ' "$T/rgb-out.obj" | tr '\n' '|')" = "v 0 0 0 1 0 0|v 1 0 0 0 1 0|v 0 1 0 0 0 1|v 1 0 0 0.5 0.5 0.5|v 1 1 0 0.5 0.25 0.125|" ]
+run "$VNC" "$T/rgb.obj" "$T/rgb.ply" -q
+check "v colours: to PLY as float colours" [ "$(/usr/bin/python3 "$HERE/plytool.py" column "$T/rgb.ply" green 4)" = 0.25 ]
+grep -v '^f' "$T/rgb.obj" >"$T/rgbcloud.obj"
+run "$VNC" "$T/rgbcloud.obj" "$T/rgbcloud.glb" -q
+check "v colours: a point cloud to GLB has COLOR_0" [ "$(q "$T/rgbcloud.glb" "sorted(d['meshes'][0]['primitives'][0]['attributes'])")" = "['COLOR_0', 'POSITION']" ]
 run "$VNC" "$T/bom.obj" "$T/bom-again.obj"
 check "left out: none, no warning" [ -z "$err" ]
 finish

@@ -55,11 +55,11 @@ static const vn_io_format formats[] = {
          vn_io_holds_face_names | vn_io_holds_no_faces,
      vn_io_path_mesh, 0, "the zero vector (`vn 0 0 0`)",
      {{vn_io_holds_texcoords, "texture coordinates", NULL},
+      {vn_io_holds_colors, "vertex colours (`v x y z r g b`)", NULL},
       {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"},
       {vn_io_holds_face_names, "materials (`usemtl` names, the `mtllib` line)", "materials (named)"},
       {vn_io_holds_face_names, "object names (`o`, to the first blank)", "object names (named)"}},
-     "groups (`g`), smoothing groups (`s`), lines, points, curves, vertex colours, vertices no face uses, the .mtl "
-     "file's contents",
+     "groups (`g`), smoothing groups (`s`), lines, points, curves, vertices no face uses, the .mtl file's contents",
      NULL, NULL, NULL},
     {"ply", "PLY", "PLY", ".ply",
      "Stanford polygon file (reads ASCII and binary, either byte order; writes binary little-endian)",

@@ -22,10 +22,15 @@
  * would do it from an "added_edges" attribute, which splits points further
  * and cannot tell the split pieces of a long face apart).
  *
- * A vertex is one (v, vt, vn) combination after Draco merges equal values.
+ * Draco is asked to keep every v, vt and vn line's value (no deduplication),
+ * and the scan's doubles replace its floats for v and vn; a vertex is one
+ * (v, vt, vn) combination after equal values, bit for bit, are merged.
  * A file without faces (f) or lines (l) is a point cloud: a vertex a v line,
  * with the vt and vn lines of the same number (Draco's reading; so their
  * counts must be 0 or the v lines').
+ *
+ * Vertex colours are read from v lines of "x y z r g b" (MeshLab, Open3D),
+ * when every v line has them, in [0, 1] (Draco skips them).
  *
  * Writer: v (with "r g b" when the mesh has colours), vt and vn lines, each
  * value once (a vertex split for its normal or texture coordinate shares its
@@ -150,6 +155,14 @@ struct scanner {
 	/* Where a vt line of one number ends it: " 0" goes there (the
 	 * specification's default v; Draco reads two numbers). */
 	std::vector<size_t> short_texcoords;
+	/* The numbers of the v and vn lines (exact[0], exact[2]; 3 a line) as
+	 * doubles, in the checking pass: Draco reads floats, which would move
+	 * a georeferenced 4123456.11 to 4123456. */
+	std::vector<double> exact[3];
+	/* The r g b of v lines that have them (MeshLab's and Open3D's vertex
+	 * colours: three numbers in [0, 1] after x y z), 3 a line; used when
+	 * every v line has them (coloured()). */
+	std::vector<float> colours;
 	/* Lines whose data Draco skips, by keyword (in order of first
 	 * appearance, at most left_out_max kinds), counted in the checking
 	 * pass; and v lines with more than x y z (colours, or w). */
@@ -284,11 +297,43 @@ struct scanner {
 				return fail(vn_io_error_parse,
 				            "%s %" PRId64 " has the number '%.*s', which is not finite: fix or remove that line",
 				            kinds[kind], index, token_length(start), start);
+			/* strtod's correctly rounded double where it reads the whole
+			 * number as Draco did; Draco's float where it reads another
+			 * spelling (none is known). */
+			double d;
+			if (kind != 1)
+				exact[kind].push_back(vn_io_parse_real(reinterpret_cast<const unsigned char*>(start), size_t(q - start), &d)
+				                          ? d
+				                          : double(v));
 		}
 		skip_blanks(q);
-		extra_vertex_numbers += kind == 0 && q < line_end && *q != '#';
+		if (kind == 0 && q < line_end && *q != '#' && !colour(q))
+			extra_vertex_numbers++;
 		return true;
 	}
+
+	/* "r g b" at q, to the end of a v line: appended to colours. */
+	bool colour(const char* q)
+	{
+		float rgb[3];
+		for (int k = 0; k < 3; k++) {
+			const char* t = q;
+			while (q < line_end && !space(*q) && *q != '#')
+				q++;
+			double c;
+			if (!vn_io_parse_real(reinterpret_cast<const unsigned char*>(t), size_t(q - t), &c) || !(c >= 0.0 && c <= 1.0))
+				return false;
+			rgb[k] = float(c);
+			skip_blanks(q);
+		}
+		if (q < line_end && *q != '#')
+			return false;
+		colours.insert(colours.end(), rgb, rgb + 3);
+		return true;
+	}
+
+	/* Whether every v line has a colour (read as the vertex colours). */
+	bool coloured() const { return total[0] > 0 && colours.size() == 3 * size_t(total[0]); }
 
 	/* Whether index i (1-based, or negative: counted back from the last
 	 * one so far) of a kind names a line the file has. */
@@ -518,10 +563,12 @@ struct scanner {
 		}
 		if (left_out_kinds > left_out.size())
 			text += ", lines of " + std::to_string(left_out_kinds - left_out.size()) + " more kinds";
-		if (extra_vertex_numbers)
+		/* Colours of some v lines only are left out too. */
+		const uint64_t extra = extra_vertex_numbers + (coloured() ? 0 : colours.size() / 3);
+		if (extra)
 			text += (text.empty() ? "" : ", ") + std::string("numbers after x y z on ") +
-			        std::to_string(extra_vertex_numbers) + " 'v' line" + (extra_vertex_numbers == 1 ? "" : "s") +
-			        " (vertex colours, or w)";
+			        std::to_string(extra) + " 'v' line" + (extra == 1 ? "" : "s") +
+			        " (w, or colours not on every v line or not in [0, 1])";
 		return text.empty() ? text : "left out (vn reads v, vt, vn, f, o, usemtl and mtllib): " + text;
 	}
 
@@ -535,6 +582,9 @@ struct scanner {
 		face_textured.clear();
 		long_faces.clear();
 		short_texcoords.clear();
+		exact[0].clear();
+		exact[2].clear();
+		colours.clear();
 		left_out.clear();
 		left_out_kinds = extra_vertex_numbers = 0;
 		line = 1;
@@ -647,39 +697,96 @@ struct corner_hash {
 /* A corner without a texture coordinate (corner_key's v[1]). */
 constexpr uint32_t NO_TEX = UINT32_MAX;
 
-/* The key of Draco's point p: its value indices, without the texture
- * coordinate where untextured (or tex is NULL). */
-corner_key key_of(draco::PointIndex p, const draco::PointAttribute* pos, const draco::PointAttribute* tex,
-                  const draco::PointAttribute* nrm, bool untextured)
+uint64_t bits(double x)
 {
-	return {{pos->mapped_index(p).value(), tex && !untextured ? tex->mapped_index(p).value() : NO_TEX,
-	         nrm ? nrm->mapped_index(p).value() : 0}};
+	uint64_t b;
+	std::memcpy(&b, &x, sizeof b);
+	return b;
 }
 
-/* The vertices' values, a vertex a key: positions and normals as doubles
- * (3 each; no normals without nrm), texture coordinates (2; none without
- * tex, left 0 for a key without one). */
-struct vertex_values {
-	std::vector<double> positions, normals;
-	std::vector<float> texcoords;
+/* For each of `count` lines, the first line of the same value (bit for bit;
+ * bits_of(i) gives line i's), as Draco's deduplication of values merges
+ * them; vn has Draco keep every line (its values are floats) and merges on
+ * the exact ones. */
+template <size_t N, typename F>
+std::vector<uint32_t> first_equal(size_t count, F bits_of)
+{
+	std::unordered_map<std::array<uint64_t, N>, uint32_t, array_hash<N>> first;
+	std::vector<uint32_t> out(count);
+	for (size_t i = 0; i < count; i++)
+		out[i] = first.emplace(bits_of(i), uint32_t(i)).first->second;
+	return out;
+}
+
+/* Draco's attributes of an OBJ read without deduplication (a value a line)
+ * and, with `merged`, for each its lines' first equal lines. */
+struct obj_attributes {
+	const draco::PointAttribute *pos, *tex, *nrm;
+	std::vector<uint32_t> first_pos, first_tex, first_nrm;
 };
 
-vertex_values values_of(const std::vector<corner_key>& vertices, const draco::PointAttribute* pos,
-                        const draco::PointAttribute* tex, const draco::PointAttribute* nrm)
+obj_attributes attributes_of(const draco::Mesh& m, const scanner& s, bool textured, bool merged)
+{
+	using draco::GeometryAttribute;
+	obj_attributes a{m.GetNamedAttribute(GeometryAttribute::POSITION),
+	                 textured ? m.GetNamedAttribute(GeometryAttribute::TEX_COORD) : nullptr,
+	                 m.GetNamedAttribute(GeometryAttribute::NORMAL), {}, {}, {}};
+	if (!merged)
+		return a;
+	/* A position with its colour, where the v lines have colours. */
+	const bool coloured = s.coloured();
+	a.first_pos = first_equal<6>(s.exact[0].size() / 3, [&s, coloured](size_t i) {
+		const double* p = &s.exact[0][3 * i];
+		const float* c = coloured ? &s.colours[3 * i] : nullptr;
+		return std::array<uint64_t, 6>{bits(p[0]), bits(p[1]), bits(p[2]), c ? bits(double(c[0])) : 0,
+		                               c ? bits(double(c[1])) : 0, c ? bits(double(c[2])) : 0};
+	});
+	a.first_nrm = first_equal<3>(s.exact[2].size() / 3, [&s](size_t i) {
+		const double* n = &s.exact[2][3 * i];
+		return std::array<uint64_t, 3>{bits(n[0]), bits(n[1]), bits(n[2])};
+	});
+	if (a.tex)
+		a.first_tex = first_equal<3>(a.tex->size(), [&a](size_t i) {
+			float t[2];
+			a.tex->ConvertValue<float, 2>(draco::AttributeValueIndex(uint32_t(i)), t);
+			return std::array<uint64_t, 3>{bits(double(t[0])), bits(double(t[1])), 0};
+		});
+	return a;
+}
+
+/* The key of Draco's point p: the first lines of its values, without the
+ * texture coordinate where untextured (or without texture coordinates). */
+corner_key key_of(draco::PointIndex p, const obj_attributes& a, bool untextured)
+{
+	return {{a.first_pos[a.pos->mapped_index(p).value()],
+	         a.tex && !untextured ? a.first_tex[a.tex->mapped_index(p).value()] : NO_TEX,
+	         a.nrm ? a.first_nrm[a.nrm->mapped_index(p).value()] : 0}};
+}
+
+/* The vertices' values, a vertex a key: positions and normals as the
+ * file's doubles (3 each; no normals without vn lines), texture
+ * coordinates (2; none without them, left 0 for a key without one),
+ * colours (RGBA, opaque; none unless every v line has one). */
+struct vertex_values {
+	std::vector<double> positions, normals;
+	std::vector<float> texcoords, colours;
+};
+
+vertex_values values_of(const std::vector<corner_key>& vertices, const obj_attributes& a, const scanner& s)
 {
 	const size_t n = vertices.size();
-	vertex_values out{std::vector<double>(3 * n), std::vector<double>(nrm ? 3 * n : 0),
-	                  std::vector<float>(tex ? 2 * n : 0)};
+	vertex_values out{std::vector<double>(3 * n), std::vector<double>(a.nrm ? 3 * n : 0),
+	                  std::vector<float>(a.tex ? 2 * n : 0), std::vector<float>(s.coloured() ? 4 * n : 0)};
 	for (size_t i = 0; i < n; i++) {
-		float v[3];
-		pos->ConvertValue<float, 3>(draco::AttributeValueIndex(vertices[i].v[0]), v);
-		std::copy(v, v + 3, &out.positions[3 * i]);
-		if (tex && vertices[i].v[1] != NO_TEX)
-			tex->ConvertValue<float, 2>(draco::AttributeValueIndex(vertices[i].v[1]), &out.texcoords[2 * i]);
-		if (nrm) {
-			nrm->ConvertValue<float, 3>(draco::AttributeValueIndex(vertices[i].v[2]), v);
-			std::copy(v, v + 3, &out.normals[3 * i]);
+		std::copy_n(&s.exact[0][3 * size_t(vertices[i].v[0])], 3, &out.positions[3 * i]);
+		if (s.coloured()) {
+			std::copy_n(&s.colours[3 * size_t(vertices[i].v[0])], 3, &out.colours[4 * i]);
+			out.colours[4 * i + 3] = 1.0f;
 		}
+		if (a.tex && vertices[i].v[1] != NO_TEX)
+			a.tex->ConvertValue<float, 2>(draco::AttributeValueIndex(vertices[i].v[1]), &out.texcoords[2 * i]);
+		if (a.nrm)
+			std::copy_n(&s.exact[2][3 * size_t(vertices[i].v[2])], 3, &out.normals[3 * i]);
 	}
 	return out;
 }
@@ -707,23 +814,25 @@ bool untextured_faces(const scanner& s, vn_io_mesh* mesh)
 /* A point cloud: Draco's points are the v lines, in order. */
 vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
 {
-	using draco::GeometryAttribute;
-	const draco::PointAttribute* pos = m.GetNamedAttribute(GeometryAttribute::POSITION);
-	const draco::PointAttribute* tex = m.GetNamedAttribute(GeometryAttribute::TEX_COORD);
-	const draco::PointAttribute* nrm = m.GetNamedAttribute(GeometryAttribute::NORMAL);
+	const obj_attributes a = attributes_of(m, s, true, false);
 	const size_t n = m.num_points();
-	if (!pos || int64_t(n) != s.total[0])
+	if (!a.pos || int64_t(n) != s.total[0])
 		return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader found %zu of its %" PRId64 " vertices",
-		                  s.name, pos ? n : 0, s.total[0]);
+		                  s.name, a.pos ? n : 0, s.total[0]);
+	/* Every v line a vertex, equal ones too. */
 	std::vector<corner_key> points(n);
-	for (size_t i = 0; i < n; i++)
-		points[i] = key_of(draco::PointIndex(static_cast<uint32_t>(i)), pos, tex, nrm, false);
-	const vertex_values values = values_of(points, pos, tex, nrm);
+	for (size_t i = 0; i < n; i++) {
+		const draco::PointIndex p(static_cast<uint32_t>(i));
+		points[i] = {{a.pos->mapped_index(p).value(), a.tex ? a.tex->mapped_index(p).value() : NO_TEX,
+		              a.nrm ? a.nrm->mapped_index(p).value() : 0}};
+	}
+	const vertex_values values = values_of(points, a, s);
 	mesh->vertex_count = n;
 	if (!(mesh->positions = copy_out(values.positions)) ||
 	    !(mesh->face_offsets = copy_out(std::vector<uint32_t>{0})) ||
-	    !(mesh->indices = copy_out(std::vector<uint32_t>{})) || (nrm && !(mesh->normals = copy_out(values.normals))) ||
-	    (tex && !(mesh->texcoords = copy_out(values.texcoords))))
+	    !(mesh->indices = copy_out(std::vector<uint32_t>{})) || (a.nrm && !(mesh->normals = copy_out(values.normals))) ||
+	    (a.tex && !(mesh->texcoords = copy_out(values.texcoords))) ||
+	    (s.coloured() && !(mesh->colors = copy_out(values.colours))))
 		return out_of_memory(s.name, error);
 	return vn_io_success;
 }
@@ -732,14 +841,11 @@ vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* m
  * had them. */
 vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
 {
-	using draco::GeometryAttribute;
-	const draco::PointAttribute* pos = m.GetNamedAttribute(GeometryAttribute::POSITION);
 	/* vt lines no face uses give no texture coordinates (Draco would give
 	 * every corner the first). */
 	const bool textured = std::find(s.face_textured.begin(), s.face_textured.end(), 1) != s.face_textured.end();
-	const draco::PointAttribute* tex = textured ? m.GetNamedAttribute(GeometryAttribute::TEX_COORD) : nullptr;
-	const draco::PointAttribute* nrm = m.GetNamedAttribute(GeometryAttribute::NORMAL);
-	if (!pos || m.num_faces() == 0)
+	const obj_attributes a = attributes_of(m, s, textured, true);
+	if (!a.pos || m.num_faces() == 0)
 		return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader found no faces", s.name);
 
 	std::vector<uint32_t> vertex_of_point;
@@ -755,7 +861,7 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 			cache.assign(m.num_points(), UINT32_MAX);
 		uint32_t& v = cache[p.value()];
 		if (v == UINT32_MAX) {
-			const corner_key k = key_of(p, pos, tex, nrm, untextured);
+			const corner_key k = key_of(p, a, untextured);
 			v = vertex_of.emplace(k, uint32_t(vertices.size())).first->second;
 			if (v == vertices.size())
 				vertices.push_back(k);
@@ -781,13 +887,13 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 		t += k - 2;
 	}
 
-	const vertex_values values = values_of(vertices, pos, tex, nrm);
+	const vertex_values values = values_of(vertices, a, s);
 	mesh->vertex_count = vertices.size();
 	mesh->face_count = first_triangle.size();
 	if (!(mesh->positions = copy_out(values.positions)) || !(mesh->face_offsets = copy_out(offsets)) ||
-	    !(mesh->indices = copy_out(indices)) || (nrm && !(mesh->normals = copy_out(values.normals))) ||
-	    (tex && !(mesh->texcoords = copy_out(values.texcoords))) ||
-	    (tex && !untextured_faces(s, mesh)) ||
+	    !(mesh->indices = copy_out(indices)) || (a.nrm && !(mesh->normals = copy_out(values.normals))) ||
+	    (a.tex && !(mesh->texcoords = copy_out(values.texcoords))) ||
+	    (s.coloured() && !(mesh->colors = copy_out(values.colours))) || (a.tex && !untextured_faces(s, mesh)) ||
 	    !face_names(m, "material", first_triangle, s.first_material, &mesh->materials) ||
 	    !face_names(m, "sub_obj", first_triangle, s.first_object, &mesh->objects) ||
 	    (!s.library.empty() && !(mesh->material_library = copy_string(s.library))))
@@ -866,6 +972,7 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 	buffer.Init(text.data(), text.size());
 	draco::ObjDecoder decoder;
 	decoder.set_use_metadata(true);
+	decoder.set_deduplicate_input_values(false); /* a value a line: vn merges on the exact numbers */
 	draco::Mesh m;
 	const draco::Status status = decoder.DecodeFromBuffer(&buffer, &m);
 	if (!status.ok())
@@ -887,13 +994,6 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 }
 
 /* ------------------------------------------------------------------ writer */
-
-uint64_t bits(double x)
-{
-	uint64_t b;
-	std::memcpy(&b, &x, sizeof b);
-	return b;
-}
 
 /* " v": the shortest of 6 to 12 significant digits that Draco's parser
  * reads back as v (draco_magnitude: its arithmetic can land one float away
