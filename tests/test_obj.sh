@@ -210,7 +210,7 @@ check "equal v lines: one vertex" [ "$(sed -n 2p "$T/twice.off")" = "4 2 0" ]
 run "$VNC" "$T/points.obj" "$T/points_out.obj"
 vlines() { awk '/^v / { printf "%.6f %.6f %.6f\n", $2, $3, $4 }' "$1"; }
 check "point cloud to OBJ: its v lines, the same numbers" [ "$(vlines "$T/points_out.obj")" = "$(vlines "$T/points.obj")" ]
-check "point cloud to OBJ: a zero vn line a vertex (no normals in the input)" [ "$(grep -c '^vn 0 0 0$' "$T/points_out.obj")" = 4 ]
+check "point cloud to OBJ: no vn lines (no normals in the input)" not grep -q '^vn' "$T/points_out.obj"
 check "point cloud to OBJ: no faces" not grep -q '^f' "$T/points_out.obj"
 printf 'v 0 0 0\nv 1 0 0\nv 1 0 0\nvt 0.5 0.25\nvt 1 1\nvt 0 0\nvn 0 0 1\nvn 0 1 0\nvn 1 0 0\n' >"$T/scan.obj"
 run "$VNC" "$T/scan.obj" "$T/scan_out.obj"

@@ -128,7 +128,8 @@ run "$VNC" "$T/one-isolated.off" "$T/one.drc"
 check "Draco: 1 triangle" grep -q "warning: 4 vertices and 1 triangle: only" "$T/stderr"
 printf 'OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n' >"$T/no-faces.off"
 run "$VNC" "$T/no-faces.off" "$T/no-faces.off.off"
-check "a point cloud: no normals computed, zeros written" grep -q "warning: $T/no-faces.off has no faces (a point cloud): vn computes no normals; written as the zero vector$" "$T/stderr"
+check "a point cloud: no normals computed, none written" grep -q "warning: $T/no-faces.off has no faces (a point cloud): vn computes no normals; it has none, and none are written$" "$T/stderr"
+check "a point cloud without normals: written as OFF, not NOFF" [ "$(head -1 "$T/no-faces.off.off")" = OFF ]
 run "$VNC" "$GLTF/sphere/sphere.gltf" "$T/sp.glb"
 check "1 primitive has TANGENT data" grep -q "warning: 1 primitive has TANGENT data" "$T/stderr"
 run "$VNC" "$GLTF/sphere/sphere.gltf" "$T/spd.glb" --tangents drop --stats

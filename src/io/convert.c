@@ -432,7 +432,7 @@ static vn_io_result convert_drc(conversion* c, vn_io_error* error)
 	r->write_seconds = st.write_seconds;
 	if (st.point_cloud)
 		add(&c->warnings, "%s has no faces (a point cloud): vn computes no normals; %s\n", c->in,
-		    st.input_normals ? "the input's are kept" : "it has none");
+		    st.input_normals ? "the input's are kept" : "it has none, and none are written");
 	else if (st.normals.zero_normals)
 		add(&c->warnings,
 		    "%zu of %zu %s %s no normal " NO_NORMAL_CAUSES "; %s\n",
@@ -525,6 +525,12 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	r->split_vertices = st.split_vertices;
 	r->zero_normals = st.zero_normals;
 	r->degenerate_faces = st.degenerate_faces;
+	/* A point cloud without normals stays without: zero vectors would be
+	 * read as normals (CloudCompare shades such points black). */
+	if (!had_normals && !mesh->face_count) {
+		free(mesh->normals);
+		mesh->normals = NULL;
+	}
 
 	/* After the normals are computed: a format without vertex normals loses them. */
 	char lost[512];
@@ -544,12 +550,8 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 		    at->source_name ? at->source_name : at->name, rounded, mesh->vertex_count * (size_t)at->components, far);
 	}
 	if (st.zero_normals && c->out_format->no_normal && !mesh->face_count)
-		add(&c->warnings, "%s has no faces (a point cloud): vn computes no normals; %s%s\n", c->in,
-		    had_normals ? "the input's are kept"
-		    : drc_out   ? "none written (Draco would decode a zero normal as (1, 0, 0))"
-		    : gltf_out  ? "none written (glTF's normals are unit vectors)"
-		                : "written as ",
-		    had_normals || drc_out || gltf_out ? "" : c->out_format->no_normal);
+		add(&c->warnings, "%s has no faces (a point cloud): vn computes no normals; %s\n", c->in,
+		    had_normals ? "the input's are kept" : "it has none, and none are written");
 	else if (st.zero_normals && c->out_format->no_normal)
 		add(&c->warnings,
 		    "%zu of %zu %s %s no normal " NO_NORMAL_CAUSES "; %s%s\n",
