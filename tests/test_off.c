@@ -1123,6 +1123,45 @@ static void test_format_g_matches_printf(void** state)
 	}
 }
 
+/* vn_io_parse_real's fast path (plain decimals of up to 15 significant
+ * digits) against strtod, bit for bit: literals at its edges, then the
+ * stream printed at every precision and with up to 9 zeros in front. */
+static void test_parse_real_matches_strtod(void** state)
+{
+	(void)state;
+	static const char* const cases[] = {"0", "-0", "+1", "1.", ".5", "-.5", "0.1", "0.000000000000000000001",
+	                                    "123456789012345", "1234567890123456", "0.1234567890123456",
+	                                    "4123456.11", "637012.24", "9007199254740993", "1e5", "1E-5", "1.5e300",
+	                                    "0x10", "inf", "-nan", "00000000000000000001.5", "1.0000000000000000000000"};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		double ours = 1.0;
+		char* end;
+		const double theirs = strtod(cases[i], &end);
+		assert_true(vn_io_parse_real((const unsigned char*)cases[i], strlen(cases[i]), &ours));
+		if (memcmp(&ours, &theirs, sizeof ours) != 0 && !(isnan(ours) && isnan(theirs)))
+			fail_msg("'%s': %a, strtod %a", cases[i], ours, theirs);
+	}
+	static const char* const refused[] = {"", "-", ".", "1..2", "1.2.3", "1,5", "--1", "1 "};
+	for (size_t i = 0; i < sizeof refused / sizeof refused[0]; i++) {
+		double v;
+		if (vn_io_parse_real((const unsigned char*)refused[i], strlen(refused[i]), &v))
+			fail_msg("'%s' read as %g", refused[i], v);
+	}
+	uint64_t seed = 88172645463325252ull;
+	for (unsigned i = 0; i < 120000; ++i) {
+		const double v = test_value(&seed, i);
+		char text[80];
+		snprintf(text, sizeof text, "%0*.*f", (int)(i % 10) + (v < 0), (int)(i / 10 % 18), v);
+		if (strlen(text) > VN_IO_TOKEN_MAX)
+			continue;
+		double ours;
+		const double theirs = strtod(text, NULL);
+		assert_true(vn_io_parse_real((const unsigned char*)text, strlen(text), &ours));
+		if (memcmp(&ours, &theirs, sizeof ours) != 0)
+			fail_msg("'%s': %a, strtod %a", text, ours, theirs);
+	}
+}
+
 /* The shortest of 15 to 17 digits that strtod reads back: literals, then
  * the stream against that definition. */
 static void test_format_exact(void** state)
@@ -1721,6 +1760,7 @@ int main(void)
 	    cmocka_unit_test(test_write_exact_text),
 	    cmocka_unit_test(test_format_g_literals),
 	    cmocka_unit_test(test_format_g_matches_printf),
+	    cmocka_unit_test(test_parse_real_matches_strtod),
 	    cmocka_unit_test(test_format_exact),
 	    cmocka_unit_test(test_write_colours_in_source_style),
 	    cmocka_unit_test(test_round_trip_is_exact),

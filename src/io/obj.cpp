@@ -712,6 +712,7 @@ template <size_t N, typename F>
 std::vector<uint32_t> first_equal(size_t count, F bits_of)
 {
 	std::unordered_map<std::array<uint64_t, N>, uint32_t, array_hash<N>> first;
+	first.reserve(count);
 	std::vector<uint32_t> out(count);
 	for (size_t i = 0; i < count; i++)
 		out[i] = first.emplace(bits_of(i), uint32_t(i)).first->second;

@@ -239,8 +239,44 @@ size_t vn_io_format_exact(char* out, double v)
 	}
 }
 
+/* Clinger's exact fast path, for the numbers mesh files are made of:
+ * [-+]digits[.digits] with at most 15 significant digits and 22 after the
+ * point is their integer (below 2^53, exact as a double) divided by a power
+ * of ten (exact up to 1e22), and one division rounds correctly: strtod's
+ * double, without its cost (a third of reading an OBJ). 0 for any other
+ * spelling, which strtod reads. */
+static int parse_decimal(const unsigned char* p, size_t n, double* out)
+{
+	static const double tens[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+	                                1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+	size_t i = n && (p[0] == '-' || p[0] == '+');
+	uint64_t m = 0;
+	int significant = 0, fraction = 0, point = 0, any = 0;
+	for (; i < n; i++) {
+		const unsigned d = (unsigned)p[i] - '0';
+		if (p[i] == '.' && !point) {
+			point = 1;
+			continue;
+		}
+		if (d > 9)
+			return 0;
+		any = 1;
+		fraction += point;
+		if ((m || d) && ++significant > 15)
+			return 0;
+		m = 10 * m + d;
+	}
+	if (!any || fraction > 22)
+		return 0;
+	const double v = (double)m / tens[fraction];
+	*out = n && p[0] == '-' ? -v : v;
+	return 1;
+}
+
 int vn_io_parse_real(const unsigned char* p, size_t n, double* out)
 {
+	if (parse_decimal(p, n, out))
+		return 1;
 	char text[VN_IO_TOKEN_MAX + 1];
 	char* stop;
 	if (n == 0 || n > VN_IO_TOKEN_MAX)
