@@ -71,6 +71,30 @@ static void assert_normal(const vn_io_mesh* m, size_t i, double x, double y, dou
 		         z);
 }
 
+/* ------------------------------------------------------------------ a point cloud */
+
+/* No faces: normals stay as the input has them, none made up; every vertex
+ * counts as without one. */
+static void test_point_cloud(void** state)
+{
+	(void)state;
+	static const double p[6] = {0, 0, 0, 1, 2, 3};
+	static const double given[6] = {0, 0, 1, 0.6, 0, 0.8};
+	const vn_io_normals_options o = options(vn_method_mwa);
+	static const uint32_t none[1] = {0};
+	vn_io_mesh m = make_mesh(p, 2, NULL, 0, none, NULL);
+	vn_io_normals_stats st = compute(&m, &o);
+	assert_null(m.normals);
+	assert_int_equal(st.zero_normals, 2);
+	assert_int_equal(st.vertices, 2);
+	vn_io_mesh_free(&m);
+	m = make_mesh(p, 2, NULL, 0, none, given);
+	st = compute(&m, &o);
+	assert_memory_equal(m.normals, given, sizeof given);
+	assert_int_equal(st.zero_normals, 2);
+	vn_io_mesh_free(&m);
+}
+
 /* ------------------------------------------------------------------ the cube */
 
 /* Corners of the cube [-1, 1]^3, and its faces counter-clockwise from outside. */
@@ -503,7 +527,7 @@ int main(void)
 	    cmocka_unit_test(test_seam_epsilon),      cmocka_unit_test(test_seam_hard_edge),
 	    cmocka_unit_test(test_folded_strip_crease), cmocka_unit_test(test_zero_normals),
 	    cmocka_unit_test(test_two_sided),         cmocka_unit_test(test_two_sided_shared),
-	    cmocka_unit_test(test_shared_wall),
+	    cmocka_unit_test(test_shared_wall),       cmocka_unit_test(test_point_cloud),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -525,12 +525,6 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	r->split_vertices = st.split_vertices;
 	r->zero_normals = st.zero_normals;
 	r->degenerate_faces = st.degenerate_faces;
-	/* A point cloud without normals stays without: zero vectors would be
-	 * read as normals (CloudCompare shades such points black). */
-	if (!had_normals && !mesh->face_count) {
-		free(mesh->normals);
-		mesh->normals = NULL;
-	}
 
 	/* After the normals are computed: a format without vertex normals loses them. */
 	char lost[512];

@@ -35,6 +35,13 @@ vn_io_result compute(vn_io_mesh* mesh, const char* path, const vn_io_normals_opt
 		                  vn_result_string(r));
 	};
 	const size_t n = mesh->vertex_count;
+	/* A point cloud: no face gives a normal, and none is made up; zero
+	 * vectors would be read as normals (CloudCompare shades such points
+	 * black). */
+	if (!mesh->face_count) {
+		st.vertices = st.zero_normals = n;
+		return vn_io_success;
+	}
 	static const uint32_t no_faces[1] = {0};
 	vn_split::faces f;
 	f.corners = mesh->indices;

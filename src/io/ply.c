@@ -841,12 +841,15 @@ static int colour_kind(ply_property* const c[4], size_t count)
 	return bytes ? 1 : reals ? 2 : 0;
 }
 
+/* The properties of a colour, read and written in this order. */
+static const char* const colour_names[4] = {"red", "green", "blue", "alpha"};
+
 /* red green blue [alpha] of `element` into *out (RGBA per entry) when they
  * are colours; the properties used are marked in `used` (NULL: not marked). */
 static vn_io_result read_colours(ply_reader* r, ply_element* e, float** out, int* are_bytes, unsigned char* used)
 {
-	ply_property* c[4] = {find_scalar(e, "red"), find_scalar(e, "green"), find_scalar(e, "blue"),
-	                      find_scalar(e, "alpha")};
+	ply_property* c[4] = {find_scalar(e, colour_names[0]), find_scalar(e, colour_names[1]),
+	                      find_scalar(e, colour_names[2]), find_scalar(e, colour_names[3])};
 	if (!c[0] || !c[1] || !c[2])
 		return vn_io_success;
 	/* An alpha of another kind than the rest is left as it is. */
@@ -900,9 +903,8 @@ static void attribute_name(const vn_io_mesh* m, const ply_property* p, size_t in
  * red, green and blue, left as it is by read_colours). */
 static int face_name_taken(const vn_io_mesh* m, const ply_property* p)
 {
-	static const char* const rgba[4] = {"red", "green", "blue", "alpha"};
 	for (int k = 0; k < 4 && m->face_colors; k++)
-		if (!strcmp(p->name, rgba[k]))
+		if (!strcmp(p->name, colour_names[k]))
 			return 1;
 	return 0;
 }
@@ -1208,9 +1210,8 @@ static void put_colour(record* b, const float* rgba, int bytes)
 
 static void header_colour(FILE* out, int bytes)
 {
-	static const char* const names[4] = {"red", "green", "blue", "alpha"};
 	for (int k = 0; k < 4; k++)
-		fprintf(out, "property %s %s\n", bytes ? "uchar" : "float", names[k]);
+		fprintf(out, "property %s %s\n", bytes ? "uchar" : "float", colour_names[k]);
 }
 
 /* The PLY type of a vn_io_attribute component type (int32 and float64 included). */
