@@ -3,7 +3,8 @@
  * tests/data/ply): what the reader accepts, written and read back, has the
  * same vertices, faces, indices, optional arrays and attributes, and is
  * written again byte for byte as it was the first time (so the comments,
- * face properties and elements kept come back as they went).
+ * face properties and elements kept come back as they went); its
+ * per-corner texcoords made per vertex keep every corner where it was.
  */
 #include "fuzz_mesh.h"
 #include "ply.h"
@@ -45,6 +46,18 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 			abort();
 		free(first);
 		free(again);
+		/* Per-corner texcoords made per vertex: copies appended, each corner
+		 * still at its position, and the mesh still written. */
+		size_t split;
+		vn_io_error error;
+		if (vn_io_ply_corner_texcoords(&m, "fuzz.ply", &split, &error) != vn_io_success ||
+		    m.vertex_count != back.vertex_count + split || (split && !m.texcoords))
+			abort();
+		for (size_t c = 0; c < corners; c++)
+			if (m.indices[c] >= m.vertex_count ||
+			    memcmp(m.positions + 3 * m.indices[c], back.positions + 3 * back.indices[c], 3 * sizeof(double)) != 0)
+				abort();
+		free(written(&m, &first_length));
 	}
 	vn_io_mesh_free(&m);
 	vn_io_mesh_free(&back);

@@ -1,7 +1,8 @@
 """OBJ facts for tests/test_obj.sh, read independently of Draco and vn.
 
-    objcheck.py faces FILE      one line per face: "object|material|corners: ..." with the corners'
-                                positions and texture coordinates as float32
+    objcheck.py faces FILE [D]  one line per face: "object|material|corners: ..." with the corners'
+                                positions and texture coordinates as float32 (printed with D
+                                decimals, as MeshLab's "%f" prints them, when D is given)
     objcheck.py triangles FILE  the number of triangles the faces fan into
     objcheck.py corners FILE    the number of distinct v/vt/vn references of the faces
     objcheck.py unit FILE       exit status 1 unless every vn is a unit vector (1e-6)
@@ -43,8 +44,9 @@ def main():
     what, path = sys.argv[1], sys.argv[2]
     v, vt, vn, faces = read(path)
     if what == "faces":
+        number = repr if len(sys.argv) < 4 else lambda x: f"{x:.{int(sys.argv[3])}f}"
         for obj, material, corners in faces:
-            text = " ".join(",".join(repr(x) for x in v[p - 1] + (vt[t - 1] if t else []))
+            text = " ".join(",".join(number(x) for x in v[p - 1] + (vt[t - 1] if t else []))
                             for p, t, _ in corners)
             print(f"{obj}|{material}|{len(corners)}: {text}")
     elif what == "triangles":

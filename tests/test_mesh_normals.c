@@ -95,6 +95,33 @@ static void test_point_cloud(void** state)
 	vn_io_mesh_free(&m);
 }
 
+/* vn_io_mesh_append_vertices: every per-vertex array, attributes in their
+ * own type, grows by the copies, in order; absent arrays stay absent. */
+static void test_append_vertices(void** state)
+{
+	(void)state;
+	static const double p[6] = {0, 0, 0, 1, 2, 3};
+	static const double n[6] = {0, 0, 1, 0.6, 0, 0.8};
+	static const uint32_t three[1] = {3}, corners[3] = {0, 1, 1};
+	vn_io_mesh m = make_mesh(p, 2, three, 1, corners, n);
+	m.texcoords = malloc(4 * sizeof(float));
+	memcpy(m.texcoords, (const float[4]){0.25f, 0.5f, 0.75f, 1}, 4 * sizeof(float));
+	vn_io_attribute* a = vn_io_mesh_add_attribute(&m, "_ID", vn_io_semantic_generic, 5123, 1, 0);
+	memcpy(a->data, (const uint16_t[2]){7, 65535}, 2 * sizeof(uint16_t));
+	static const uint32_t source[3] = {1, 0, 1};
+	assert_true(vn_io_mesh_append_vertices(&m, source, 3));
+	assert_int_equal(m.vertex_count, 5);
+	assert_memory_equal(m.positions, ((const double[15]){0, 0, 0, 1, 2, 3, 1, 2, 3, 0, 0, 0, 1, 2, 3}),
+	                    15 * sizeof(double));
+	assert_memory_equal(m.normals, ((const double[15]){0, 0, 1, 0.6, 0, 0.8, 0.6, 0, 0.8, 0, 0, 1, 0.6, 0, 0.8}),
+	                    15 * sizeof(double));
+	assert_memory_equal(m.texcoords, ((const float[10]){0.25f, 0.5f, 0.75f, 1, 0.75f, 1, 0.25f, 0.5f, 0.75f, 1}),
+	                    10 * sizeof(float));
+	assert_memory_equal(m.attributes[0].data, ((const uint16_t[5]){7, 65535, 65535, 7, 65535}), 5 * sizeof(uint16_t));
+	assert_null(m.colors);
+	vn_io_mesh_free(&m);
+}
+
 /* ------------------------------------------------------------------ the cube */
 
 /* Corners of the cube [-1, 1]^3, and its faces counter-clockwise from outside. */
@@ -528,6 +555,7 @@ int main(void)
 	    cmocka_unit_test(test_folded_strip_crease), cmocka_unit_test(test_zero_normals),
 	    cmocka_unit_test(test_two_sided),         cmocka_unit_test(test_two_sided_shared),
 	    cmocka_unit_test(test_shared_wall),       cmocka_unit_test(test_point_cloud),
+	    cmocka_unit_test(test_append_vertices),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -158,6 +158,58 @@ xvfb-run -a meshlabserver -i "$PLY/cube_att.ply" -o "$T/ml_in.obj" -m wt >/dev/n
 xvfb-run -a meshlabserver -i "$T/cube_att.ply" -o "$T/ml_out.obj" -m wt >/dev/null 2>&1
 check "MeshLab: cube_att's 4 texture coordinates from vn's PLY" [ "$(grep -c '^vt' "$T/ml_out.obj" 2>/dev/null)" = 4 ]
 check "MeshLab: the same vt and f lines as from cube_att.ply" cmp -s <(grep '^vt\|^f' "$T/ml_in.obj") <(grep '^vt\|^f' "$T/ml_out.obj")
+# Formats without face properties get those texture coordinates per vertex,
+# a vertex split where its corners' pairs differ (they were dropped, named as
+# not written). MeshLab parametrizes the torus (one square of the texture a
+# triangle pair, so every vertex is split), saves it as PLY with a texcoord
+# list and that PLY as OBJ: vn's OBJ, and its GLB read back, have the same
+# corners (positions and pairs, at the 6 decimals MeshLab writes) as
+# MeshLab's OBJ.
+FACES="/usr/bin/python3 $HERE/objcheck.py faces"
+cat >"$T/param.mlx" <<'EOF'
+<!DOCTYPE FilterScript>
+<FilterScript>
+ <filter name="Parametrization: Trivial Per-Triangle">
+  <Param type="RichInt" name="sidedim" value="0"/>
+  <Param type="RichInt" name="textdim" value="1024"/>
+  <Param type="RichInt" name="border" value="2"/>
+  <Param type="RichEnum" name="method" value="0" enum_val0="Basic" enum_val1="Space-optimizing" enum_cardinality="2"/>
+ </filter>
+</FilterScript>
+EOF
+xvfb-run -a meshlabserver -i "$HERE/../samples/torus.off" -o "$T/torus_tex.ply" -m wt -s "$T/param.mlx" >/dev/null 2>&1
+xvfb-run -a meshlabserver -i "$T/torus_tex.ply" -o "$T/ml_torus.obj" -m wt >/dev/null 2>&1
+check "MeshLab: the torus parametrized, with a texcoord list" grep -aq "^property list uchar float texcoord" "$T/torus_tex.ply"
+run "$VNC" "$T/torus_tex.ply" "$T/torus_tex.obj" --stats
+check "textured PLY to OBJ: 4800 vertices split by texcoord, nothing lost" \
+  [ "$rc|$err|$(grep '^split by texcoord' "$T/stdout")" = "0||split by texcoord:  4800 (the face list 'texcoord' written per vertex)" ]
+check "textured PLY to OBJ: the corners of MeshLab's OBJ" \
+  cmp -s <($FACES "$T/torus_tex.obj" 6 | cut -d'|' -f3) <($FACES "$T/ml_torus.obj" 6 | cut -d'|' -f3)
+run "$VNC" "$T/torus_tex.ply" "$T/torus_tex.glb" -q
+run "$VNC" "$T/torus_tex.glb" "$T/torus_glb.obj" -q
+check "textured PLY to GLB: the corners of MeshLab's OBJ" \
+  cmp -s <($FACES "$T/torus_glb.obj" 6 | cut -d'|' -f3) <($FACES "$T/ml_torus.obj" 6 | cut -d'|' -f3)
+# By hand: a seam at vertex 0 (its two corners differ), vertex 2 shared.
+# Copies share their vertex's normal, with --no-weld too: the file gave
+# them one vertex. A list that is not a pair per corner stays a face list,
+# named as not written.
+printf '%s\n' ply "format ascii 1.0" "element vertex 4" "property float x" "property float y" "property float z" \
+  "element face 2" "property list uchar int vertex_indices" "property list uchar float texcoord" end_header \
+  "0 0 0" "1 0 0" "1 1 0.5" "0 1 0" "3 0 1 2 6 0 0 1 0 1 1" "3 0 2 3 6 0.5 0.5 1 1 0 1" >"$T/seam.ply"
+run "$VNC" "$T/seam.ply" "$T/seam.obj" --no-weld --stats
+check "a seam: one vertex split" grep -q "^split by texcoord:  1 " "$T/stdout"
+check "a seam: the corners' pairs" [ "$($FACES "$T/seam.obj" | cut -d'|' -f3 | tr '\n' '|')" = \
+  "3: 0.0,0.0,0.0,0.0,0.0 1.0,0.0,0.0,1.0,0.0 1.0,1.0,0.5,1.0,1.0|3: 0.0,0.0,0.0,0.5,0.5 1.0,1.0,0.5,1.0,1.0 0.0,1.0,0.0,0.0,1.0|" ]
+check "a seam: one normal at vertex 0 (one position, one vn)" \
+  [ "$(grep -c '^v ' "$T/seam.obj") $(grep '^f' "$T/seam.obj" | awk '{split($2, a, "/"); print a[3]}' | sort -u | wc -l)" = "4 1" ]
+run "$VNC" "$T/seam.ply" "$T/seam.off" -q
+check "a seam to OFF: 5 vertices with ST" [ "$(head -2 "$T/seam.off" | tr '\n' ' ')" = "STNOFF 5 2 0 " ]
+sed 's/^3 0 2 3 6 .*/3 0 2 3 4 0.5 0.5 1 1/' "$T/seam.ply" >"$T/short.ply"
+run "$VNC" "$T/short.ply" "$T/short.obj"
+check "a texcoord list not a pair per corner: named, no vt" \
+  [ "$err|$(grep -c '^vt' "$T/short.obj")" = "vnconvert: warning: $T/short.obj cannot hold face list 'texcoord': not written|0" ]
+run "$VNC" "$T/seam.ply" "$T/seam.stl"
+check "a texcoord list to STL: named as not written" grep -q "seam.stl cannot hold vertex normals, face list 'texcoord': not written" "$T/stderr"
 run "$VNC" "$T/names-out.ply" "$T/names-again.ply" -q
 check "property names: a second round trip gives the same file" cmp "$T/names-out.ply" "$T/names-again.ply"
 

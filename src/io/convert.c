@@ -15,6 +15,7 @@
 
 #include "draco.h"
 #include "gltf.h"
+#include "ply.h"
 
 /* ------------------------------------------------------------------ options */
 
@@ -517,6 +518,16 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	const int had_normals = mesh->normals != NULL;
 	if ((res = vn_io_mesh_normals(mesh, c->in, &no, &st, error)) != vn_io_success)
 		return res;
+	/* A PLY's per-corner texture coordinates, per vertex for a format that
+	 * has no other place for them; after the normals, which the copies share
+	 * (with --no-weld too: the file gave them one vertex). */
+	const int corner_texcoords = mesh->ply_extras && !mesh->texcoords &&
+	                             (c->out_format->holds & (vn_io_holds_ply_extras | vn_io_holds_texcoords)) ==
+	                                 vn_io_holds_texcoords;
+	size_t uv_split = 0;
+	if (corner_texcoords && (res = vn_io_ply_corner_texcoords(mesh, c->in, &uv_split, error)) != vn_io_success)
+		return res;
+	const int made_texcoords = corner_texcoords && mesh->texcoords;
 	const double t2 = now();
 	r->vertices = st.vertices;
 	r->faces = st.faces;
@@ -578,6 +589,8 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	add(&c->stats, "welded vertices:    %zu\n", st.welded_vertices);
 	add(&c->stats, "hard edges kept:    %zu\n", st.hard_edges);
 	add(&c->stats, "split vertices:     %zu\n", st.split_vertices);
+	if (made_texcoords)
+		add(&c->stats, "split by texcoord:  %zu (the face list 'texcoord' written per vertex)\n", uv_split);
 	add(&c->stats, "zero normals:       %zu%s\n", st.zero_normals,
 	    st.zero_normals && had_normals ? " (the input's kept)" : "");
 	add(&c->stats, "threads:            %u\n", c->threads);

@@ -70,7 +70,10 @@ static const vn_io_format formats[] = {
      vn_io_path_mesh, 0, "the zero vector",
      {{vn_io_holds_colors, "vertex colours (red green blue)", NULL},
       {vn_io_holds_colors | vn_io_holds_color_alpha, "their alpha", "vertex colour alpha (named)"},
-      {vn_io_holds_texcoords, "texture coordinates (s t, u v or texture_u texture_v)", NULL},
+      {vn_io_holds_texcoords,
+       "texture coordinates (s t, u v or texture_u texture_v; else a face list `texcoord`, per vertex where the "
+       "output has no face properties)",
+       NULL},
       {vn_io_holds_attributes, "every other vertex property in its type, as `_NAME` (double as float in glTF)",
        "other vertex properties (named)"},
       {vn_io_holds_face_colors, "face colours", "face colours (named)"},

@@ -105,6 +105,38 @@ size_t vn_io_attribute_rounded(const vn_io_mesh* mesh, const vn_io_attribute* a,
 	return rounded;
 }
 
+/* Grows *data (n elements of `size` bytes; NULL: none to grow) by a copy
+ * of each element source[e]. */
+static int append_copies(void** data, size_t size, size_t n, const uint32_t* source, size_t count)
+{
+	if (!*data)
+		return 1;
+	unsigned char* grown = realloc(*data, (n + count) * size);
+	if (!grown)
+		return 0;
+	*data = grown;
+	for (size_t e = 0; e < count; e++)
+		memcpy(grown + (n + e) * size, grown + (size_t)source[e] * size, size);
+	return 1;
+}
+
+int vn_io_mesh_append_vertices(vn_io_mesh* mesh, const uint32_t* source, size_t count)
+{
+	const size_t n = mesh->vertex_count;
+	int grown = append_copies((void**)&mesh->positions, 3 * sizeof(double), n, source, count) &&
+	            append_copies((void**)&mesh->normals, 3 * sizeof(double), n, source, count) &&
+	            append_copies((void**)&mesh->colors, 4 * sizeof(float), n, source, count) &&
+	            append_copies((void**)&mesh->texcoords, 2 * sizeof(float), n, source, count);
+	for (size_t i = 0; grown && i < mesh->attribute_count; i++) {
+		vn_io_attribute* a = &mesh->attributes[i];
+		grown = append_copies(&a->data, vn_io_component_size(a->component_type) * (size_t)a->components, n, source,
+		                      count);
+	}
+	if (grown)
+		mesh->vertex_count = n + count;
+	return grown;
+}
+
 vn_io_attribute* vn_io_mesh_add_attribute(vn_io_mesh* mesh, const char* name, int semantic, int component_type,
                                           int components, int normalized)
 {

@@ -10,23 +10,6 @@
 
 namespace {
 
-/* Grows *data (n elements of `size` bytes) by a copy of each element
- * source[e]; false when out of memory (*data is then as it was, or moved
- * with the same first n elements). */
-bool append_copies(void** data, size_t size, size_t n, const std::vector<uint32_t>& source)
-{
-	if (!*data)
-		return true;
-	void* grown = std::realloc(*data, (n + source.size()) * size);
-	if (!grown)
-		return false;
-	*data = grown;
-	unsigned char* p = static_cast<unsigned char*>(grown);
-	for (size_t e = 0; e < source.size(); ++e)
-		memcpy(p + (n + e) * size, p + source[e] * size, size);
-	return true;
-}
-
 vn_io_result compute(vn_io_mesh* mesh, const char* path, const vn_io_normals_options& o, vn_io_normals_stats& st,
                      vn_io_error* error)
 {
@@ -85,21 +68,13 @@ vn_io_result compute(vn_io_mesh* mesh, const char* path, const vn_io_normals_opt
 		return failed(vn_result_out_of_memory);
 	if (outputs) /* an empty mesh's vector has no data */
 		memcpy(out, normals.data(), 3 * sizeof(double) * outputs);
+	/* The input's normals are copied too, then replaced. */
 	if (!g.extra_source.empty()) {
-		bool grown = append_copies((void**)&mesh->positions, 3 * sizeof(double), n, g.extra_source) &&
-		             append_copies((void**)&mesh->colors, 4 * sizeof(float), n, g.extra_source) &&
-		             append_copies((void**)&mesh->texcoords, 2 * sizeof(float), n, g.extra_source);
-		for (size_t i = 0; grown && i < mesh->attribute_count; ++i) {
-			vn_io_attribute& a = mesh->attributes[i];
-			grown = append_copies(&a.data, vn_io_component_size(a.component_type) * (size_t)a.components, n,
-			                      g.extra_source);
-		}
-		if (!grown) {
+		if (!vn_io_mesh_append_vertices(mesh, g.extra_source.data(), g.extra_source.size())) {
 			std::free(out);
 			return failed(vn_result_out_of_memory);
 		}
 		memcpy(mesh->indices, g.corner_output.data(), sizeof(uint32_t) * f.corner_count);
-		mesh->vertex_count = outputs;
 	}
 	std::free(mesh->normals);
 	mesh->normals = out;

@@ -984,6 +984,84 @@ size_t vn_io_ply_extras_describe(const vn_io_ply_extras* extras, char* text, siz
 	return l.items + l.more;
 }
 
+vn_io_result vn_io_ply_corner_texcoords(vn_io_mesh* m, const char* name, size_t* split, vn_io_error* error)
+{
+	*split = 0;
+	vn_io_ply_extras* x = m->ply_extras;
+	ply_property* p = x && !m->texcoords ? find(&x->face, "texcoord") : NULL;
+	if (!p || p->count_type < 0 || !is_real(p->type) || x->face.count != m->face_count)
+		return vn_io_success;
+	for (size_t f = 0; f < m->face_count; f++)
+		if (p->offsets[f + 1] - p->offsets[f] != 2 * (size_t)(m->face_offsets[f + 1] - m->face_offsets[f]))
+			return vn_io_success;
+	/* Every face's pairs in order: corner c's pair is item 2 c. */
+	const size_t n = m->vertex_count, corners = m->face_offsets[m->face_count], size = types[p->type].size;
+	const uint32_t none = UINT32_MAX;
+	float* uv = malloc(2 * sizeof(float) * (n + corners) + 1);
+	uint32_t* next = malloc(sizeof(uint32_t) * (n + corners) + 1); /* vertex v's next copy, or none */
+	uint32_t* source = malloc(sizeof(uint32_t) * corners + 1);      /* what each appended vertex copies */
+	uint32_t* corner_vertex = malloc(sizeof(uint32_t) * corners + 1);
+	unsigned char* has = calloc(n + 1, 1); /* a face gave vertex v its pair */
+	vn_io_result result = vn_io_success;
+	size_t added = 0;
+	if (!uv || !next || !source || !corner_vertex || !has)
+		result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+	for (size_t v = 0; v < n && result == vn_io_success; v++) {
+		uv[2 * v] = uv[2 * v + 1] = 0; /* a vertex no face uses */
+		next[v] = none;
+	}
+	for (size_t c = 0; c < corners && result == vn_io_success; c++) {
+		const uint32_t v = m->indices[c];
+		const float t[2] = {(float)get_value(p->type, p->column + 2 * c * size),
+		                    (float)get_value(p->type, p->column + (2 * c + 1) * size)};
+		if (!has[v]) {
+			has[v] = 1;
+			memcpy(&uv[2 * (size_t)v], t, sizeof t);
+			corner_vertex[c] = v;
+			continue;
+		}
+		uint32_t u = v;
+		while (u != none && memcmp(&uv[2 * (size_t)u], t, sizeof t) != 0) /* bit for bit: -0 and NaN stay */
+			u = next[u];
+		if (u == none) {
+			if (n + added >= UINT32_MAX) {
+				result = vn_io_fail(error, vn_io_error_unsupported,
+				                    "%s: splitting vertices by their corners' texture coordinates makes more than "
+				                    "%u vertices",
+				                    name, UINT32_MAX - 1);
+				break;
+			}
+			u = (uint32_t)(n + added);
+			source[added++] = v;
+			memcpy(&uv[2 * (size_t)u], t, sizeof t);
+			next[u] = next[v];
+			next[v] = u;
+		}
+		corner_vertex[c] = u;
+	}
+	if (result == vn_io_success) {
+		if (!vn_io_mesh_append_vertices(m, source, added)) {
+			result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+		} else {
+			float* fitted = realloc(uv, 2 * sizeof(float) * (n + added) + 1);
+			m->texcoords = fitted ? fitted : uv;
+			uv = NULL;
+			memcpy(m->indices, corner_vertex, sizeof(uint32_t) * corners);
+			free(p->column);
+			free(p->offsets);
+			memmove(p, p + 1, (size_t)(x->face.properties + x->face.property_count - (p + 1)) * sizeof *p);
+			x->face.property_count--;
+			*split = added;
+		}
+	}
+	free(uv);
+	free(next);
+	free(source);
+	free(corner_vertex);
+	free(has);
+	return result;
+}
+
 /* Moves what the writer writes back into m->ply_extras (which the mesh
  * frees): the comments, the face properties that are no colour and whose
  * names the writer leaves free, the other elements kept. */

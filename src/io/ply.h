@@ -25,4 +25,16 @@ void vn_io_ply_extras_free(vn_io_ply_extras* extras);
  * size; returns how many. */
 size_t vn_io_ply_extras_describe(const vn_io_ply_extras* extras, char* text, size_t size);
 
+/* Turns the face list 'texcoord' of mesh->ply_extras (a u v pair per
+ * corner: MeshLab's and Metashape's textured PLY) into per-vertex
+ * texcoords, for a writer that holds texcoords but no face properties
+ * (OBJ's vt, glTF's TEXCOORD_0): a vertex whose corners have other pairs
+ * than its first is split, one copy per pair, appended
+ * (vn_io_mesh_append_vertices), and the list leaves the extras. Nothing is
+ * done where the mesh has texcoords already or a face's list is not a pair
+ * per corner: the list then stays, and is named as not written. *split:
+ * the vertices appended. `name` is the file named in errors; on failure
+ * the mesh is as it was. */
+vn_io_result vn_io_ply_corner_texcoords(vn_io_mesh* mesh, const char* name, size_t* split, vn_io_error* error);
+
 #endif /* VN_IO_PLY_H */

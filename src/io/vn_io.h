@@ -164,6 +164,12 @@ int vn_io_mesh_is_triangles(const vn_io_mesh* mesh);
  * k >= 3 corners makes k - 2; faces of fewer make none). */
 uint64_t vn_io_mesh_triangle_count(const vn_io_mesh* mesh);
 
+/* Appends a copy of vertex source[e], for each e < count, to every
+ * per-vertex array (positions, normals, colors, texcoords, attributes), so
+ * that vertex_count grows by count; 0 when out of memory (vertex_count then
+ * as it was, each array holding at least its first vertex_count vertices). */
+int vn_io_mesh_append_vertices(vn_io_mesh* mesh, const uint32_t* source, size_t count);
+
 /* Appends an attribute with room for vertex_count * components values of
  * component_type (zeroed) and returns it, or NULL when out of memory or the
  * type is unknown. name is copied (truncated to fit). */
