@@ -31,9 +31,8 @@ static void check_names(const vn_io_face_names& n, size_t faces)
 
 static void check_mesh(const vn_io_mesh& m)
 {
-	if (!m.positions || !m.face_offsets || !m.indices || m.face_offsets[0] != 0 ||
-	    (m.face_count == 0 && m.vertex_count == 0))
-		abort(); /* a point cloud has vertices */
+	if (!m.positions || !m.face_offsets || !m.indices || m.face_offsets[0] != 0)
+		abort();
 	for (size_t f = 0; f < m.face_count; f++)
 		if (m.face_offsets[f + 1] < m.face_offsets[f] + 3)
 			abort();

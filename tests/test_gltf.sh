@@ -258,16 +258,27 @@ run "$VNC" "$T/nothing.gltf" "$T/nothing.off"
 check "a glTF with no mesh to OFF: an empty OFF" [ "$rc $(sed -n 2p "$T/nothing.off")" = "0 0 0 0" ]
 run "$VNC" "$T/nothing.gltf" "$T/nothing.ply"
 check "a glTF with no mesh to PLY: an empty PLY" [ "$rc $(head -c 200 "$T/nothing.ply" | grep -a "^element" | tr '\n' ' ')" = "0 element vertex 0 element face 0 " ]
-# To a format vn writes only with faces (or OBJ, whose empty file vn would
-# not read back): one line saying there is nothing (Draco said "all
-# triangles are degenerate", OBJ "write OFF for a point cloud"), and no file.
-for ext in drc obj stl; do
-  run "$VNC" "$T/nothing.gltf" "$T/nothing.$ext"
-  check "a glTF with no mesh to $ext: exit 1" [ $rc -eq 1 ]
-  check "a glTF with no mesh to $ext: one line" one_line_err
-  check "a glTF with no mesh to $ext: says so" grep -q "nothing.$ext: vn read no vertices and no faces from .*nothing.gltf: nothing to write$" "$T/stderr"
-  check "a glTF with no mesh to $ext: no file" [ ! -e "$T/nothing.$ext" ]
+# To OBJ and STL (refused before: "nothing to write"): an empty file of the
+# format, which reads back empty; to glTF through the mesh (from PLY): a
+# scene without nodes (test_gltf_validate.sh validates it). Draco has no empty file
+# (its encoder crashes on one): one line saying so, and no file.
+run "$VNC" "$T/nothing.gltf" "$T/nothing.obj"
+check "a glTF with no mesh to OBJ: one comment" [ "$rc|$(cat "$T/nothing.obj")" = "0|# no vertices and no faces" ]
+run "$VNC" "$T/nothing.gltf" "$T/nothing.stl" -q
+check "a glTF with no mesh to STL: a header and a count of 0" [ "$rc|$(stat -c %s "$T/nothing.stl")|$(tail -c 4 "$T/nothing.stl" | od -An -tx1 | tr -d ' ')" = "0|84|00000000" ]
+for ext in obj stl; do
+  run "$VNC" "$T/nothing.$ext" "$T/nothing-$ext.off" -q
+  check "an empty $ext read back" [ "$rc|$(sed -n 2p "$T/nothing-$ext.off")" = "0|0 0 0" ]
 done
+run "$VNC" "$T/nothing.ply" "$T/nothing-ply.glb"
+check "an empty PLY to GLB: says it is empty" [ "$rc|$err" = "0|vnconvert: warning: $T/nothing.ply has no vertices and no faces: $T/nothing-ply.glb is written empty" ]
+check "an empty PLY to GLB: no mesh, no buffer" [ "$(python3 -c 'import json,struct,sys; b=open(sys.argv[1],"rb").read(); n=struct.unpack("<I",b[12:16])[0]; j=json.loads(b[20:20+n]); print(len(b) == 20 + n, sorted(j))' "$T/nothing-ply.glb")" = "True ['asset', 'scene', 'scenes']" ]
+check "an empty PLY to GLB: tinygltf reads it" "$TINYGLTF_LOAD" "$T/nothing-ply.glb"
+run "$VNC" "$T/nothing.gltf" "$T/nothing.drc"
+check "a glTF with no mesh to Draco: exit 1" [ $rc -eq 1 ]
+check "a glTF with no mesh to Draco: one line" one_line_err
+check "a glTF with no mesh to Draco: says why" grep -q "nothing.drc: vn read no vertices and no faces from .*nothing.gltf, and Draco has no empty file: write OFF, PLY, OBJ, STL or glTF to keep an empty mesh$" "$T/stderr"
+check "a glTF with no mesh to Draco: no file" [ ! -e "$T/nothing.drc" ]
 # POINTS primitives are read as vertices without faces (every attribute, the
 # input's normals kept: vn computes none without faces; a glTF of POINTS
 # alone is a point cloud, which an OFF came out empty of); LINES, which only

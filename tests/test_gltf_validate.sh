@@ -71,5 +71,9 @@ done
 # OFF -> glTF is valid on its own.
 "$VNC" "$HERE/../samples/sphere-quads.off" "$T/sq.glb" -q && "$VNC" "$HERE/../samples/torus.off" "$T/torus.gltf" -q
 check "OFF -> GLB/glTF valid" node "$HERE/gltf/validate.mjs" "$MODULES" "$T/seam.gltf" "$T/sq.glb" "$T/torus.gltf"
+# An empty mesh: a scene without nodes, no buffer.
+printf 'ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n' >"$T/empty.ply"
+"$VNC" "$T/empty.ply" "$T/empty.glb" -q && "$VNC" "$T/empty.ply" "$T/empty.gltf" -q
+check "empty PLY -> GLB/glTF valid" node "$HERE/gltf/validate.mjs" "$MODULES" "$T/seam.gltf" "$T/empty.glb" "$T/empty.gltf"
 
 finish

@@ -253,7 +253,18 @@ check "vt of one number: exits 0" [ $rc -eq 0 ]
 check "vt of one number: v is 0" [ "$(grep '^vt' "$T/u-out.obj" | tr '\n' ' ')" = "vt 0.1 0 vt 0.2 0 vt 0.3 0.4 " ]
 check "vt of one number: the decagon and the triangle" \
   [ "$(grep '^f' "$T/u-out.obj" | awk '{print NF - 1}' | tr '\n' ' ')" = "10 3 " ]
-refused empty "" "empty.obj: no vertices (v) and no faces (f)"
+refused empty "" "empty.obj: the file is empty"
+# An OBJ without geometry (comments, a material library) is an
+# empty mesh, as an OFF of 0 vertices is (it was refused: "not an OBJ
+# mesh"); an empty mesh is written as an OBJ of one comment, which reads back.
+printf '# exported with nothing selected\nmtllib scene.mtl\n' >"$T/nogeometry.obj"
+run "$VNC" "$T/nogeometry.obj" "$T/nogeometry.off"
+check "no geometry: an empty OFF, and a warning" \
+  [ "$rc|$(sed -n 2p "$T/nogeometry.off")|$err" = "0|0 0 0|vnconvert: warning: $T/nogeometry.obj has no vertices and no faces: $T/nogeometry.off is written empty" ]
+run "$VNC" "$T/nogeometry.off" "$T/empty-out.obj" -q
+check "an empty mesh to OBJ: one comment" [ "$rc|$(cat "$T/empty-out.obj")" = "0|# no vertices and no faces" ]
+run "$VNC" "$T/empty-out.obj" "$T/empty-back.off" -q
+check "an empty OBJ read back" [ "$rc|$(sed -n 2p "$T/empty-back.off")" = "0|0 0 0" ]
 refused utf16 '\377\376v\000 \0000\000' "utf16.obj: the text is UTF-16LE (it starts with a byte order mark): save it as ASCII or UTF-8"
 # A UTF-8 byte order mark (Windows editors write one) is read past: before,
 # the first v line was skipped and every index moved by one.

@@ -415,6 +415,17 @@ head -n 30 "$STL/test_sphere_ascii.stl" >"$T/cut.stl"
 check_rejected "$VNC" "$T/cut.stl" "$T/none.ply" "$T/keep.ply"
 : >"$T/empty.stl"
 check_rejected "$VNC" "$T/empty.stl" "$T/none.ply" "$T/keep.ply"
+check "a file of no bytes: not an STL" grep -q "empty.stl: not an STL file: 0 bytes" "$T/stderr"
+# An STL of no triangles (a binary count of 0, or "solid" then "endsolid")
+# is an empty mesh: written, with a warning (it was refused, "has no
+# triangles: a mesh is needed").
+{ head -c 80 /dev/zero | tr '\0' ' '; printf '\0\0\0\0'; } >"$T/none-binary.stl"
+printf 'solid nothing\nendsolid nothing\n' >"$T/none-ascii.stl"
+for f in none-binary none-ascii; do
+  run "$VNC" "$T/$f.stl" "$T/$f.ply"
+  check "$f.stl: an empty PLY, and a warning" \
+    [ "$rc|$($PLYTOOL count "$T/$f.ply")|$err" = "0|0 0 0|vnconvert: warning: $T/$f.stl has no vertices and no faces: $T/$f.ply is written empty" ]
+done
 # A point cloud (an OFF without faces) written as STL: refused, not an empty
 # STL; as PLY: written, and read back.
 printf 'OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n' >"$T/cloud.off"

@@ -490,19 +490,23 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 		                  c->in, nonfinite, p[0], p[1], p[2]);
 	}
 	/* The other writers refuse a mesh without faces, each for a reason of its
-	 * own (and Draco's in its own words), and OBJ an empty one (which vn
-	 * would not read back): one message, before any work. */
+	 * own (and Draco's in its own words; its encoder crashes on an empty
+	 * one): one message, before any work. */
 	if (vn_io_mesh_triangle_count(mesh) == 0 &&
 	    !(c->out_format->holds & (mesh->vertex_count ? vn_io_holds_no_faces : vn_io_holds_nothing))) {
 		if (!mesh->vertex_count)
 			return vn_io_fail(error, vn_io_error_unsupported,
-			                  "%s: vn read no vertices and no faces from %s: nothing to write", c->out, c->in);
+			                  "%s: vn read no vertices and no faces from %s, and %s has no empty file: write OFF, "
+			                  "PLY, OBJ, STL or glTF to keep an empty mesh",
+			                  c->out, c->in, c->out_format->title);
 		return vn_io_fail(error, vn_io_error_unsupported,
 		                  "%s: %s has %zu %s and no faces (a point cloud), and vn writes %s only with faces: write "
 		                  "OFF, PLY, OBJ, glTF or Draco to keep a point cloud",
 		                  c->out, c->in, mesh->vertex_count, noun(mesh->vertex_count, "vertex", "vertices"),
 		                  c->out_format->title);
 	}
+	if (!mesh->vertex_count)
+		add(&c->warnings, "%s has no vertices and no faces: %s is written empty\n", c->in, c->out);
 	const int given[] = {c->draco.position_bits, c->draco.normal_bits, c->draco.texcoord_bits, c->draco.color_bits,
 	                     c->draco.compression_level};
 	int* used[] = {&drc.position_bits, &drc.normal_bits, &drc.texcoord_bits, &drc.color_bits,

@@ -52,7 +52,7 @@ static const vn_io_format formats[] = {
      "Wavefront OBJ (read through Draco: v/vt/vn, polygons, usemtl, o; written with per-corner vn)",
      vn_io_obj_read, vn_io_obj_write,
      vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_polygons | vn_io_holds_loose_vertices |
-         vn_io_holds_face_names | vn_io_holds_no_faces,
+         vn_io_holds_face_names | vn_io_holds_no_faces | vn_io_holds_nothing,
      vn_io_path_mesh, 0, "the zero vector (`vn 0 0 0`)",
      {{vn_io_holds_texcoords, "texture coordinates", NULL},
       {vn_io_holds_colors, "vertex colours (`v x y z r g b`)", NULL},
@@ -85,19 +85,19 @@ static const vn_io_format formats[] = {
      "vertex list properties", NULL, NULL, NULL},
     {"stl", "STL", "STL", ".stl",
      "stereolithography (reads binary and ASCII, corners welded by position; writes binary; no vertex normals)",
-     vn_io_stl_read, vn_io_stl_write, 0, vn_io_path_mesh, 0, NULL, {{0, NULL, NULL}},
+     vn_io_stl_read, vn_io_stl_write, vn_io_holds_nothing, vn_io_path_mesh, 0, NULL, {{0, NULL, NULL}},
      "facet normals (one per triangle, recomputed on writing), the header, attribute bytes (a colour in some "
      "exporters); corners with equal positions become one vertex",
      NULL, NULL, NULL},
     {"gltf", "glTF", "glTF", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)",
      vn_io_gltf_read, vn_io_gltf_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
-         vn_io_holds_loose_vertices | vn_io_holds_no_faces,
+         vn_io_holds_loose_vertices | vn_io_holds_no_faces | vn_io_holds_nothing,
      vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
      GLTF_DOCUMENT_LOSES, "buffers and images"},
     {"glb", "GLB", "glTF", ".glb", "glTF 2.0 binary (as gltf)", vn_io_gltf_read, vn_io_glb_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
-         vn_io_holds_loose_vertices | vn_io_holds_no_faces,
+         vn_io_holds_loose_vertices | vn_io_holds_no_faces | vn_io_holds_nothing,
      vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
      GLTF_DOCUMENT_LOSES, NULL},
     {"drc", "Draco", "Draco", ".drc",

@@ -383,8 +383,13 @@ static std::string gltf_name(const vn_io_attribute& a, int* texcoords, int* colo
  * a normal other than zero (vn computes none without faces). */
 static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 {
-	if (mesh->vertex_count == 0)
-		fail(vn_io_error_unsupported, "glTF needs at least one vertex");
+	/* An empty mesh: a scene without nodes, as a glTF of no mesh is read. */
+	if (mesh->vertex_count == 0) {
+		j = json{{"asset", {{"version", "2.0"}, {"generator", "vn"}}},
+		         {"scene", 0},
+		         {"scenes", json::array({json::object()})}};
+		return bytes();
+	}
 	const bool cloud = mesh->face_count == 0;
 	std::vector<uint32_t> indices;
 	for (size_t f = 0; f < mesh->face_count; ++f)
@@ -491,11 +496,13 @@ static vn_io_result write_stream(FILE* out, const char* path, const vn_io_mesh* 
 		buffer b;
 		b.base = bin.data();
 		b.size = bin.size();
+		const bool data = j.contains("buffers"); /* else no BIN chunk, no buffer */
 		pieces file;
 		if (glb) {
-			file = glb_file(j, &b);
+			file = glb_file(j, data ? &b : nullptr);
 		} else {
-			j["buffers"][0]["uri"] = data_uri(json::object(), bin);
+			if (data)
+				j["buffers"][0]["uri"] = data_uri(json::object(), bin);
 			file.add(j.dump(2) + "\n");
 		}
 		for (const auto& piece : file.list)

@@ -105,6 +105,17 @@ size_t vn_io_attribute_rounded(const vn_io_mesh* mesh, const vn_io_attribute* a,
 	return rounded;
 }
 
+int vn_io_mesh_set_empty(vn_io_mesh* mesh)
+{
+	mesh->positions = malloc(sizeof(double));
+	mesh->face_offsets = calloc(1, sizeof(uint32_t));
+	mesh->indices = malloc(sizeof(uint32_t));
+	if (mesh->positions && mesh->face_offsets && mesh->indices)
+		return 1;
+	vn_io_mesh_free(mesh);
+	return 0;
+}
+
 /* Grows *data (n elements of `size` bytes; NULL: none to grow) by a copy
  * of each element source[e]. */
 static int append_copies(void** data, size_t size, size_t n, const uint32_t* source, size_t count)

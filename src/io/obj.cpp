@@ -934,6 +934,8 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 		return vn_io_fail(error, vn_io_error_parse,
 		                  "%s: the text is %s (it starts with a byte order mark): save it as ASCII or UTF-8", name, wide);
 	data += bom, size -= bom;
+	if (size == 0)
+		return vn_io_fail(error, vn_io_error_parse, "%s: the file is empty", name);
 	std::vector<char> text(data, data + size);
 	/* A lone CR ends a line, as a LF (Draco would read on to the next LF). */
 	for (size_t i = 0; i < size; i++)
@@ -955,8 +957,6 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 		text.swap(copy);
 	}
 	if (s.triangles == 0) {
-		if (s.total[0] == 0)
-			return vn_io_fail(error, vn_io_error_parse, "%s: no vertices (v) and no faces (f): not an OBJ mesh", name);
 		if (s.polylines)
 			return vn_io_fail(error, vn_io_error_unsupported,
 			                  "%s: %" PRId64 " vertices and %" PRIu64 " lines (l), but no faces (f): vn computes the "
@@ -969,16 +969,23 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 				                  " %s lines: without faces, vn (and Draco) read one %s line for each v line",
 				                  name, s.total[0], s.total[k], k == 1 ? "vt" : "vn", k == 1 ? "vt" : "vn");
 	}
-	draco::DecoderBuffer buffer;
-	buffer.Init(text.data(), text.size());
-	draco::ObjDecoder decoder;
-	decoder.set_use_metadata(true);
-	decoder.set_deduplicate_input_values(false); /* a value a line: vn merges on the exact numbers */
+	/* Text without v lines (comments, mtllib, groups): an empty mesh, as an
+	 * OFF of 0 vertices is. */
 	draco::Mesh m;
-	const draco::Status status = decoder.DecodeFromBuffer(&buffer, &m);
-	if (!status.ok())
-		return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader: %s", name, status.error_msg());
-	const vn_io_result r = s.triangles ? to_mesh(m, s, mesh, error) : cloud_to_mesh(m, s, mesh, error);
+	if (s.total[0]) {
+		draco::DecoderBuffer buffer;
+		buffer.Init(text.data(), text.size());
+		draco::ObjDecoder decoder;
+		decoder.set_use_metadata(true);
+		decoder.set_deduplicate_input_values(false); /* a value a line: vn merges on the exact numbers */
+		const draco::Status status = decoder.DecodeFromBuffer(&buffer, &m);
+		if (!status.ok())
+			return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader: %s", name, status.error_msg());
+	}
+	const vn_io_result r = s.triangles    ? to_mesh(m, s, mesh, error)
+	                       : s.total[0]   ? cloud_to_mesh(m, s, mesh, error)
+	                       : vn_io_mesh_set_empty(mesh) ? vn_io_success
+	                                                    : out_of_memory(name, error);
 	if (r != vn_io_success)
 		return r;
 	std::string warnings;
@@ -1148,6 +1155,9 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 		for (uint32_t c = mesh->face_offsets[f]; c < mesh->face_offsets[f + 1]; c++)
 			used[mesh->indices[c]] = 1, textured[mesh->indices[c]] |= !untextured(f);
 	vn_io_text_out w = {out, 0, 0};
+	/* A file of no bytes reads as a failed download: say what it is. */
+	if (n == 0)
+		vn_io_put(&w, "# no vertices and no faces\n");
 	if (mesh->material_library) {
 		vn_io_put(&w, "mtllib ");
 		vn_io_put(&w, library_names(path, mesh).c_str());

@@ -232,8 +232,9 @@ static vn_io_result read_binary(stl_reader* r, const unsigned char* data, size_t
  * order of their first corner. */
 static vn_io_result weld(stl_reader* r, vn_io_mesh* m)
 {
-	if (r->triangles == 0)
-		return vn_io_fail(r->error, vn_io_error_unsupported, "%s: has no triangles: a mesh is needed", r->name);
+	if (r->triangles == 0) /* "solid x endsolid x", or a binary count of 0: an empty mesh */
+		return vn_io_mesh_set_empty(m) ? vn_io_success
+		                               : vn_io_fail(r->error, vn_io_error_memory, "%s: out of memory", r->name);
 	if (r->triangles > UINT32_MAX / 3)
 		return vn_io_fail(r->error, vn_io_error_unsupported, "%s: %zu triangles are more than vn reads (%u)", r->name,
 		                  r->triangles, UINT32_MAX / 3);
@@ -391,8 +392,8 @@ vn_io_result vn_io_stl_write(FILE* out, const char* path, const vn_io_mesh* mesh
 {
 	(void)settings; /* STL has none */
 	const uint64_t triangles = vn_io_mesh_triangle_count(mesh);
-	/* An STL without triangles holds nothing (and vn reads it as an error). */
-	if (triangles == 0)
+	/* An STL without triangles holds no vertices: an empty mesh only. */
+	if (triangles == 0 && mesh->vertex_count)
 		return vn_io_fail(error, vn_io_error_unsupported,
 		                  "%s: the mesh has no faces, and STL holds only triangles: write OFF or PLY for a point cloud",
 		                  path);

@@ -164,6 +164,11 @@ int vn_io_mesh_is_triangles(const vn_io_mesh* mesh);
  * k >= 3 corners makes k - 2; faces of fewer make none). */
 uint64_t vn_io_mesh_triangle_count(const vn_io_mesh* mesh);
 
+/* Makes a zeroed mesh the empty one (no vertices, no faces, face_offsets
+ * {0}), which a reader gives for a file that holds no geometry (an OBJ of
+ * comments, an STL of no triangles); 0 when out of memory. */
+int vn_io_mesh_set_empty(vn_io_mesh* mesh);
+
 /* Appends a copy of vertex source[e], for each e < count, to every
  * per-vertex array (positions, normals, colors, texcoords, attributes), so
  * that vertex_count grows by count; 0 when out of memory (vertex_count then
