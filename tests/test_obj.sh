@@ -289,6 +289,17 @@ check "v colours: to PLY as float colours" [ "$(/usr/bin/python3 "$HERE/plytool.
 grep -v '^f' "$T/rgb.obj" >"$T/rgbcloud.obj"
 run "$VNC" "$T/rgbcloud.obj" "$T/rgbcloud.glb" -q
 check "v colours: a point cloud to GLB has COLOR_0" [ "$(q "$T/rgbcloud.glb" "sorted(d['meshes'][0]['primitives'][0]['attributes'])")" = "['COLOR_0', 'POSITION']" ]
+# Colours that are bytes printed with 6 decimals (MeshLab's "%f" of 209 /
+# 255 and 122 / 255) are written as the bytes where a format has them (PLY
+# uchar: MeshLab reads float PLY colours as white, Open3D divides them by
+# 255 again; glTF unsigned byte), and OBJ to OBJ keeps their text.
+printf 'v 0 0 0 0.819608 0.000000 0.478431\nv 1 0 0 1.000000 1.000000 1.000000\nv 0 1 0 0.000000 0.000000 1.000000\nf 1 2 3\n' >"$T/bytes.obj"
+run "$VNC" "$T/bytes.obj" "$T/bytes.ply" -q
+check "byte colours: to PLY as uchar" [ "$(grep -a '^property .* red' "$T/bytes.ply") $(/usr/bin/python3 "$HERE/plytool.py" column "$T/bytes.ply" red 0) $(/usr/bin/python3 "$HERE/plytool.py" column "$T/bytes.ply" blue 0)" = "property uchar red 209.0 122.0" ]
+run "$VNC" "$T/bytes.obj" "$T/bytes.glb" -q
+check "byte colours: to GLB as normalized unsigned bytes" [ "$(q "$T/bytes.glb" "[d['accessors'][d['meshes'][0]['primitives'][0]['attributes']['COLOR_0']][k] for k in ('componentType', 'normalized')]")" = "[5121, True]" ]
+run "$VNC" "$T/bytes.obj" "$T/bytes-out.obj" -q
+check "byte colours: OBJ to OBJ keeps the text" [ "$(grep '^v ' "$T/bytes-out.obj" | head -1)" = "v 0 0 0 0.819608 0 0.478431" ]
 run "$VNC" "$T/bom.obj" "$T/bom-again.obj"
 check "left out: none, no warning" [ -z "$err" ]
 finish

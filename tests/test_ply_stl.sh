@@ -158,6 +158,14 @@ xvfb-run -a meshlabserver -i "$PLY/cube_att.ply" -o "$T/ml_in.obj" -m wt >/dev/n
 xvfb-run -a meshlabserver -i "$T/cube_att.ply" -o "$T/ml_out.obj" -m wt >/dev/null 2>&1
 check "MeshLab: cube_att's 4 texture coordinates from vn's PLY" [ "$(grep -c '^vt' "$T/ml_out.obj" 2>/dev/null)" = 4 ]
 check "MeshLab: the same vt and f lines as from cube_att.ply" cmp -s <(grep '^vt\|^f' "$T/ml_in.obj") <(grep '^vt\|^f' "$T/ml_out.obj")
+# MeshLab's coloured OBJ (test_pos_color.ply saved with vertex colours,
+# "%f" of the bytes) through vn's PLY: MeshLab reads back every v line,
+# position and colour (vn wrote float colours, which MeshLab read as white).
+xvfb-run -a meshlabserver -i "$PLY/test_pos_color.ply" -o "$T/mlc.obj" -m vc >/dev/null 2>&1
+run "$VNC" "$T/mlc.obj" "$T/mlc.ply" -q
+xvfb-run -a meshlabserver -i "$T/mlc.ply" -o "$T/mlc2.obj" -m vc >/dev/null 2>&1
+check "MeshLab: its coloured OBJ through vn's PLY, every v line back" \
+  cmp -s <(grep '^v ' "$T/mlc.obj" | sort) <(grep '^v ' "$T/mlc2.obj" | sort)
 # Formats without face properties get those texture coordinates per vertex,
 # a vertex split where its corners' pairs differ (they were dropped, named as
 # not written). MeshLab parametrizes the torus (one square of the texture a
