@@ -263,6 +263,8 @@ check "no geometry: an empty OFF, and a warning" \
   [ "$rc|$(sed -n 2p "$T/nogeometry.off")|$err" = "0|0 0 0|vnconvert: warning: $T/nogeometry.obj has no vertices and no faces: $T/nogeometry.off is written empty" ]
 run "$VNC" "$T/nogeometry.off" "$T/empty-out.obj" -q
 check "an empty mesh to OBJ: one comment" [ "$rc|$(cat "$T/empty-out.obj")" = "0|# no vertices and no faces" ]
+run "$VNC" "$T/nogeometry.obj" "$T/nogeometry-out.obj" -q
+check "no geometry, OBJ to OBJ: the mtllib line kept" [ "$rc|$(cat "$T/nogeometry-out.obj" | tr '\n' '|')" = "0|# no vertices and no faces|mtllib scene.mtl|" ]
 run "$VNC" "$T/empty-out.obj" "$T/empty-back.off" -q
 check "an empty OBJ read back" [ "$rc|$(sed -n 2p "$T/empty-back.off")" = "0|0 0 0" ]
 refused utf16 '\377\376v\000 \0000\000' "utf16.obj: the text is UTF-16LE (it starts with a byte order mark): save it as ASCII or UTF-8"

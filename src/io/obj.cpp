@@ -823,6 +823,14 @@ bool untextured_faces(const scanner& s, vn_io_mesh* mesh)
 }
 
 /* A point cloud: Draco's points are the v lines, in order. */
+/* A file without v lines: the empty mesh, with its mtllib line. */
+vn_io_result empty_mesh(const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
+{
+	if (!vn_io_mesh_set_empty(mesh) || (!s.library.empty() && !(mesh->material_library = copy_string(s.library))))
+		return out_of_memory(s.name, error);
+	return vn_io_success;
+}
+
 vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
 {
 	const obj_attributes a = attributes_of(m, s, true, false);
@@ -994,10 +1002,9 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 		if (!status.ok())
 			return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader: %s", name, status.error_msg());
 	}
-	const vn_io_result r = s.triangles    ? to_mesh(m, s, mesh, error)
-	                       : s.total[0]   ? cloud_to_mesh(m, s, mesh, error)
-	                       : vn_io_mesh_set_empty(mesh) ? vn_io_success
-	                                                    : out_of_memory(name, error);
+	const vn_io_result r = s.triangles  ? to_mesh(m, s, mesh, error)
+	                       : s.total[0] ? cloud_to_mesh(m, s, mesh, error)
+	                                    : empty_mesh(s, mesh, error);
 	if (r != vn_io_success)
 		return r;
 	std::string warnings;
