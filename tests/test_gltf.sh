@@ -316,6 +316,33 @@ run "$VNC" "$T/mixed.gltf" "$T/mixed.ply"
 check "a triangle and POINTS to PLY: exit 0" [ $rc -eq 0 ]
 check "a triangle and POINTS to PLY: 6 vertices, 1 face" [ "$(python3 "$HERE/plytool.py" count "$T/mixed.ply")" = "6 1 1" ]
 check "a triangle and POINTS to PLY: the points keep their normals" [ "$(for i in 3 4 5; do python3 "$HERE/plytool.py" column "$T/mixed.ply" nz $i; done | tr '\n' ' ')" = "0.800000011920929 0.800000011920929 -1.0 " ]
+# COLOR_0 as floats or unsigned shorts that are bytes over 255 (exporters
+# widen byte colours: k / 255 as float, k * 257 as unsigned short) reaches
+# PLY as uchar, which MeshLab and Open3D read (float PLY colours: white in
+# MeshLab, divided by 255 again in Open3D); other values stay float.
+python3 - "$T/colour" <<'PYEOF'
+import base64, json, struct, sys
+pos = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+kinds = {"float": (5126, struct.pack("<9f", *[k / 255 for k in (209, 0, 122, 255, 255, 255, 0, 0, 1)])),
+         "ushort": (5123, struct.pack("<9H", *[k * 257 for k in (209, 0, 122, 255, 255, 255, 0, 0, 1)]) + b"\0\0"),
+         "other": (5126, struct.pack("<9f", 0.3, 0, 0, 1, 1, 1, 0, 0, 1))}
+for name, (component, col) in kinds.items():
+    data = pos + col
+    json.dump({"asset": {"version": "2.0"},
+               "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+               "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": len(col)}],
+               "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                             {"bufferView": 1, "componentType": component, "normalized": component != 5126, "count": 3, "type": "VEC3"}],
+               "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "COLOR_0": 1}}]}]}, open(f"{sys.argv[1]}-{name}.gltf", "w"))
+PYEOF
+declare -A colours
+for kind in float ushort other; do
+  run "$VNC" "$T/colour-$kind.gltf" "$T/colour-$kind.ply" -q
+  colours[$kind]="$(grep -a '^property .* red$' "$T/colour-$kind.ply") $(python3 "$HERE/plytool.py" column "$T/colour-$kind.ply" red 0) $(python3 "$HERE/plytool.py" column "$T/colour-$kind.ply" blue 0)"
+done
+check "float COLOR_0 of bytes to PLY: uchar" [ "${colours[float]}" = "property uchar red 209.0 122.0" ]
+check "unsigned short COLOR_0 of bytes to PLY: uchar" [ "${colours[ushort]}" = "property uchar red 209.0 122.0" ]
+check "other float COLOR_0 to PLY: float" [ "${colours[other]}" = "property float red 0.30000001192092896 0.0" ]
 run "$VNC" "$T/points.gltf" "$T/points.stl"
 check "POINTS and LINES to STL: refused, naming what holds a point cloud" [ "$rc $(tail -1 "$T/stderr")" = "1 vnconvert: error: $T/points.stl: $T/points.gltf has 3 vertices and no faces (a point cloud), and vn writes STL only with faces: write OFF, PLY, OBJ, glTF or Draco to keep a point cloud" ]
 # A point cloud written as glTF is one POINTS primitive, and reads back the same.

@@ -317,7 +317,7 @@ static vn_io_result to_mesh(const vn_drc_geometry& g, const char* name, vn_io_me
 			for (int k = 0; k < 4; ++k)
 				mesh->colors[4 * i + k] =
 				    k < color->components ? float(component(*color, color->components * i + k) * scale) : 1.0f;
-		mesh->colors_are_bytes = color->component_type == vn_drc_uint8;
+		mesh->colors_are_bytes = color->component_type == vn_drc_uint8 || vn_io_colors_are_bytes(mesh->colors, n);
 	}
 	/* Every other attribute: TEXCOORD_n and COLOR_n numbered after the
 	 * ones above, the rest application-specific ("_NAME"). */

@@ -357,6 +357,8 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 					std::fill_n(&floats[(v + i) * 4], 4, 1.0f); /* white where a primitive has no colours */
 			v += p.vertices();
 		}
+		if (color && !mesh->colors_are_bytes) /* float or unsigned short colours made from bytes */
+			mesh->colors_are_bytes = vn_io_colors_are_bytes(mesh->colors, vertices);
 	}
 }
 

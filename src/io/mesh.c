@@ -105,6 +105,16 @@ size_t vn_io_attribute_rounded(const vn_io_mesh* mesh, const vn_io_attribute* a,
 	return rounded;
 }
 
+int vn_io_colors_are_bytes(const float* rgba, size_t count)
+{
+	for (size_t i = 0; i < 4 * count; i++) {
+		const double k = 255.0 * rgba[i];
+		if (!(fabs(k - nearbyint(k)) <= 2e-4)) /* NaN too */
+			return 0;
+	}
+	return 1;
+}
+
 int vn_io_mesh_set_empty(vn_io_mesh* mesh)
 {
 	mesh->positions = malloc(sizeof(double));

@@ -30,11 +30,9 @@
  * counts must be 0 or the v lines').
  *
  * Vertex colours are read from v lines of "x y z r g b" (MeshLab, Open3D),
- * when every v line has them, in [0, 1] (Draco skips them). When each is
- * a byte over 255 as printed with 6 decimals or more (MeshLab's "%f" of
- * 192 / 255, 0.752941), the mesh says so (colors_are_bytes): PLY, OFF and
- * glTF get them as the bytes, which MeshLab (float PLY colours read as
- * white) and Open3D (divided by 255 again) read.
+ * when every v line has them, in [0, 1] (Draco skips them); as bytes
+ * (colors_are_bytes) when each is one over 255 with 6 decimals or more
+ * (vn_io_colors_are_bytes: MeshLab's "%f" of 192 / 255, 0.752941).
  *
  * Writer: v (with "r g b" when the mesh has colours), vt and vn lines, each
  * value once (a vertex split for its normal or texture coordinate shares its
@@ -167,7 +165,6 @@ struct scanner {
 	 * colours: three numbers in [0, 1] after x y z), 3 a line; used when
 	 * every v line has them (coloured()). */
 	std::vector<float> colours;
-	bool colour_bytes = true; /* every colour read is within 2e-4 of k / 255, k whole */
 	/* Lines whose data Draco skips, by keyword (in order of first
 	 * appearance, at most left_out_max kinds), counted in the checking
 	 * pass; and v lines with more than x y z (colours, or w). */
@@ -321,7 +318,6 @@ struct scanner {
 	bool colour(const char* q)
 	{
 		float rgb[3];
-		bool bytes = true;
 		for (int k = 0; k < 3; k++) {
 			const char* t = q;
 			while (q < line_end && !space(*q) && *q != '#')
@@ -330,14 +326,11 @@ struct scanner {
 			if (!vn_io_parse_real(reinterpret_cast<const unsigned char*>(t), size_t(q - t), &c) || !(c >= 0.0 && c <= 1.0))
 				return false;
 			rgb[k] = float(c);
-			/* "%f" is within 5e-7 of k / 255: 1.3e-4 of k. */
-			bytes &= std::fabs(c * 255 - std::nearbyint(c * 255)) <= 2e-4;
 			skip_blanks(q);
 		}
 		if (q < line_end && *q != '#')
 			return false;
 		colours.insert(colours.end(), rgb, rgb + 3);
-		colour_bytes &= bytes;
 		return true;
 	}
 
@@ -594,7 +587,6 @@ struct scanner {
 		exact[0].clear();
 		exact[2].clear();
 		colours.clear();
-		colour_bytes = true;
 		left_out.clear();
 		left_out_kinds = extra_vertex_numbers = 0;
 		line = 1;
@@ -853,7 +845,7 @@ vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* m
 	    (a.tex && !(mesh->texcoords = copy_out(values.texcoords))) ||
 	    (s.coloured() && !(mesh->colors = copy_out(values.colours))))
 		return out_of_memory(s.name, error);
-	mesh->colors_are_bytes = s.coloured() && s.colour_bytes;
+	mesh->colors_are_bytes = mesh->colors && vn_io_colors_are_bytes(mesh->colors, mesh->vertex_count);
 	return vn_io_success;
 }
 
@@ -918,7 +910,7 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	    !face_names(m, "sub_obj", first_triangle, s.first_object, &mesh->objects) ||
 	    (!s.library.empty() && !(mesh->material_library = copy_string(s.library))))
 		return out_of_memory(s.name, error);
-	mesh->colors_are_bytes = s.coloured() && s.colour_bytes;
+	mesh->colors_are_bytes = mesh->colors && vn_io_colors_are_bytes(mesh->colors, mesh->vertex_count);
 	return vn_io_success;
 }
 

@@ -164,6 +164,14 @@ int vn_io_mesh_is_triangles(const vn_io_mesh* mesh);
  * k >= 3 corners makes k - 2; faces of fewer make none). */
 uint64_t vn_io_mesh_triangle_count(const vn_io_mesh* mesh);
 
+/* Whether each component of `count` RGBA colours is a byte over 255, as
+ * a float holds k / 255 or as 6 decimals print it (MeshLab's and Open3D's
+ * "%f": within 2e-4 of k): a reader of colours in another form (OBJ text,
+ * glTF float or unsigned short, Draco float) then sets colors_are_bytes,
+ * so that PLY, OFF and glTF write the bytes, which is how MeshLab (float
+ * PLY colours read as white) and Open3D (divided by 255 again) read them. */
+int vn_io_colors_are_bytes(const float* rgba, size_t count);
+
 /* Makes a zeroed mesh the empty one (no vertices, no faces, face_offsets
  * {0}), which a reader gives for a file that holds no geometry (an OBJ of
  * comments, an STL of no triangles); 0 when out of memory. */
