@@ -525,13 +525,12 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	/* A PLY's per-corner texture coordinates, per vertex for a format that
 	 * has no other place for them; after the normals, which the copies share
 	 * (with --no-weld too: the file gave them one vertex). */
-	const int corner_texcoords = mesh->ply_extras && !mesh->texcoords &&
-	                             (c->out_format->holds & (vn_io_holds_ply_extras | vn_io_holds_texcoords)) ==
-	                                 vn_io_holds_texcoords;
+	const int had_texcoords = mesh->texcoords != NULL;
 	size_t uv_split = 0;
-	if (corner_texcoords && (res = vn_io_ply_corner_texcoords(mesh, c->in, &uv_split, error)) != vn_io_success)
+	if ((c->out_format->holds & (vn_io_holds_ply_extras | vn_io_holds_texcoords)) == vn_io_holds_texcoords &&
+	    (res = vn_io_ply_corner_texcoords(mesh, c->in, &uv_split, error)) != vn_io_success)
 		return res;
-	const int made_texcoords = corner_texcoords && mesh->texcoords;
+	const int made_texcoords = !had_texcoords && mesh->texcoords;
 	const double t2 = now();
 	r->vertices = st.vertices;
 	r->faces = st.faces;

@@ -68,9 +68,13 @@ vn_io_result compute(vn_io_mesh* mesh, const char* path, const vn_io_normals_opt
 		return failed(vn_result_out_of_memory);
 	if (outputs) /* an empty mesh's vector has no data */
 		memcpy(out, normals.data(), 3 * sizeof(double) * outputs);
-	/* The input's normals are copied too, then replaced. */
 	if (!g.extra_source.empty()) {
-		if (!vn_io_mesh_append_vertices(mesh, g.extra_source.data(), g.extra_source.size())) {
+		/* Not the input's normals, which `out` replaces. */
+		double* given = mesh->normals;
+		mesh->normals = nullptr;
+		const int grown = vn_io_mesh_append_vertices(mesh, g.extra_source.data(), g.extra_source.size());
+		mesh->normals = given;
+		if (!grown) {
 			std::free(out);
 			return failed(vn_result_out_of_memory);
 		}

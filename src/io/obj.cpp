@@ -814,7 +814,6 @@ bool untextured_faces(const scanner& s, vn_io_mesh* mesh)
 	return true;
 }
 
-/* A point cloud: Draco's points are the v lines, in order. */
 /* A file without v lines: the empty mesh, with its mtllib line. */
 vn_io_result empty_mesh(const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
 {
@@ -823,6 +822,7 @@ vn_io_result empty_mesh(const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
 	return vn_io_success;
 }
 
+/* A point cloud: Draco's points are the v lines, in order. */
 vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
 {
 	const obj_attributes a = attributes_of(m, s, true, false);
@@ -845,7 +845,6 @@ vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* m
 	    (a.tex && !(mesh->texcoords = copy_out(values.texcoords))) ||
 	    (s.coloured() && !(mesh->colors = copy_out(values.colours))))
 		return out_of_memory(s.name, error);
-	mesh->colors_are_bytes = mesh->colors && vn_io_colors_are_bytes(mesh->colors, mesh->vertex_count);
 	return vn_io_success;
 }
 
@@ -910,7 +909,6 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	    !face_names(m, "sub_obj", first_triangle, s.first_object, &mesh->objects) ||
 	    (!s.library.empty() && !(mesh->material_library = copy_string(s.library))))
 		return out_of_memory(s.name, error);
-	mesh->colors_are_bytes = mesh->colors && vn_io_colors_are_bytes(mesh->colors, mesh->vertex_count);
 	return vn_io_success;
 }
 
@@ -999,6 +997,7 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 	                                    : empty_mesh(s, mesh, error);
 	if (r != vn_io_success)
 		return r;
+	mesh->colors_are_bytes = mesh->colors && vn_io_colors_are_bytes(mesh->colors, mesh->vertex_count);
 	std::string warnings;
 	if (s.short_faces)
 		warnings = std::to_string(s.short_faces) + " face" + (s.short_faces == 1 ? "" : "s") +

@@ -236,9 +236,10 @@ typedef struct vn_io_normals_stats {
 /* Computes mesh->normals (allocated when the mesh has none). A vertex no
  * face contributes to keeps the input's normal bit for bit, else gets
  * (0, 0, 0); a mesh without faces (a point cloud) keeps its normals, or
- * stays without (zero_normals: every vertex). Split vertices are appended after the mesh's, copying every
- * per-vertex array (positions, colors, texcoords, attributes), and the
- * indices rewritten; polygons stay polygons. stats may be NULL; path only
+ * stays without (zero_normals: every vertex). Split vertices are appended
+ * after the mesh's, copying every per-vertex array (positions, colors,
+ * texcoords, attributes: vn_io_mesh_append_vertices), and the indices
+ * rewritten; polygons stay polygons. stats may be NULL; path only
  * names the mesh in errors. On failure the mesh is as it was. */
 vn_io_result vn_io_mesh_normals(vn_io_mesh* mesh, const char* path, const vn_io_normals_options* options,
                                 vn_io_normals_stats* stats, vn_io_error* error);
