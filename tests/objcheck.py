@@ -3,6 +3,8 @@
     objcheck.py faces FILE [D]  one line per face: "object|material|corners: ..." with the corners'
                                 positions and texture coordinates as float32 (printed with D
                                 decimals, as MeshLab's "%f" prints them, when D is given)
+    objcheck.py close A B TOL   exit status 1 unless A's and B's faces, in order, have as many
+                                corners, each with its position and texture coordinate within TOL
     objcheck.py triangles FILE  the number of triangles the faces fan into
     objcheck.py corners FILE    the number of distinct v/vt/vn references of the faces
     objcheck.py unit FILE       exit status 1 unless every vn is a unit vector (1e-6)
@@ -49,6 +51,17 @@ def main():
             text = " ".join(",".join(number(x) for x in v[p - 1] + (vt[t - 1] if t else []))
                             for p, t, _ in corners)
             print(f"{obj}|{material}|{len(corners)}: {text}")
+    elif what == "close":
+        w, wt, _, other = read(sys.argv[3])
+        def values(p, t, pos, tex):
+            return pos[p - 1] + (tex[t - 1] if t else [])
+        tol = float(sys.argv[4])
+        same = len(faces) == len(other) and all(
+            len(a[2]) == len(b[2]) and all(
+                len(x) == len(y) and all(abs(i - j) <= tol for i, j in zip(x, y))
+                for x, y in ((values(p, t, v, vt), values(q, u, w, wt)) for (p, t, _), (q, u, _) in zip(a[2], b[2])))
+            for a, b in zip(faces, other))
+        sys.exit(0 if same else 1)
     elif what == "triangles":
         print(sum(len(c) - 2 for _, _, c in faces))
     elif what == "corners":

@@ -176,6 +176,35 @@ run "$VNC" "$DOME" "$T/dome.glb" -m mwa --stats
 check "Blender's two-sided dome: each side welds its own seams" grep -q "^welded vertices: *38$" "$T/stdout"
 check "Blender's two-sided dome: Blender's normals on both sides" $CHECK samenormals "$DOME" "$T/dome.glb" 0.1
 
+# Texture coordinates: glTF's (0, 0) is the image's top left, OBJ's, PLY's,
+# OFF's and Draco files' its bottom left, so v is 1 - v between them. By
+# hand: a quad's vt, and the glTF it must give.
+printf '%s\n' "v 0 0 0" "v 1 0 0" "v 1 1 0" "v 0 1 0" "vt 0.1 0.2" "vt 0.9 0.2" "vt 0.9 0.7" "vt 0.1 0.7" \
+  "f 1/1 2/2 3/3" "f 1/1 3/3 4/4" >"$T/uvquad.obj"
+sed 's/0\.2$/0.8/; s/0\.7$/0.3/' "$T/uvquad.obj" >"$T/uvquad-gltf.obj"
+run "$VNC" "$T/uvquad.obj" "$T/uvquad.glb" -q
+check "OBJ to glTF: v is 1 - v" $CHECK uvcorners "$T/uvquad.glb" "$T/uvquad-gltf.obj" 3e-8
+# Blender's own exporters (tests/data/gltf/blender/make_sphere.py): vn's GLB
+# of Blender's OBJ has the corners of Blender's GLB of it, and vn's OBJ of
+# Blender's GLB those of Blender's OBJ (6 decimals).
+BSPHERE=$HERE/data/gltf/blender/blender-sphere.glb
+run "$VNC" "$HERE/data/obj/blender_sphere.obj" "$T/bsphere.glb" -q
+check "Blender's OBJ to GLB: Blender's GLB corners" $CHECK uvcorners "$T/bsphere.glb" "$BSPHERE" 1e-6
+run "$VNC" "$BSPHERE" "$T/bsphere.obj" -q
+check "Blender's GLB to OBJ: Blender's OBJ corners" $CHECK uvcorners "$T/bsphere.obj" "$HERE/data/obj/blender_sphere.obj" 1e-6
+# Normalized integers flip exactly: k becomes 255 - k or 65535 - k.
+$CHECK uvtriangle "$T/uvtri.gltf"
+run "$VNC" "$T/uvtri.gltf" "$T/uvtri.ply" -q
+check "normalized TEXCOORD_0 to PLY: t = 1 - k / 65535" \
+  [ "$(for i in 0 1 2; do python3 "$HERE/plytool.py" column "$T/uvtri.ply" t $i; done | tr '\n' ' ')" = "1.0 0.9847409725189209 0.0 " ]
+check "normalized TEXCOORD_1 to PLY: 255 - k" \
+  [ "$(for i in 0 1 2; do python3 "$HERE/plytool.py" column "$T/uvtri.ply" texcoord_1_1 $i; done | tr '\n' ' ')" = "245.0 235.0 0.0 " ]
+run "$VNC" "$T/uvtri.gltf" "$T/uvtri.drc" -q
+run "$VNC" "$T/uvtri.drc" "$T/uvtri.glb" -q
+check "normalized TEXCOORD_1 through Draco: the same bytes" python3 -c "import sys; sys.path.insert(0, '$HERE/gltf'); import gltfcheck as g
+a = [g.load(f) for f in sys.argv[1:]]
+sys.exit([g.accessor_bytes(d, b, d['meshes'][0]['primitives'][0]['attributes']['TEXCOORD_1']) for _, d, b in a] != [bytes([0, 10, 255, 20, 0, 255])] * 2)" "$T/uvtri.gltf" "$T/uvtri.glb"
+
 # Morph targets: base + NORMAL displacement is the scheme's normal of the
 # morphed positions, computed by vnconvert on an OFF of them (the cube's
 # copies are all hard edges: as split; the sphere: welded by position).

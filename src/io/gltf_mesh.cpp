@@ -200,13 +200,30 @@ static std::vector<placement> placements(const document& d, const std::vector<pr
 	return out;
 }
 
+/* glTF's texture coordinates have their origin at the image's top left;
+ * OBJ's, PLY's, OFF's and Draco files' at its bottom left, as a mesh holds
+ * them: v becomes 1 - v between the two, as Blender's glTF importer and
+ * exporter and Draco's glTF decoder (draco/io/gltf_decoder.h) do. A value
+ * as its type stores it: a float 1 - v, a normalized unsigned integer
+ * max - k (exact, so that it flips back); other types are no [0, 1]
+ * coordinate and stay. */
+static double flip_v(double v, long long component, bool normalized)
+{
+	if (component == 5126)
+		return 1.0 - v;
+	if (normalized && (component == 5121 || component == 5123))
+		return (component == 5121 ? 255.0 : 65535.0) - v;
+	return v;
+}
+
 /* Every triangle primitive merged into one mesh, and every POINTS one (not
  * Draco-compressed) as vertices without faces: positions, triangles,
  * NORMAL into normals (when any primitive has it), the first colour set
  * (COLOR_0) into colors, TEXCOORD_0 into texcoords, every other vertex
  * attribute (TEXCOORD_n, COLOR_n, JOINTS_n, WEIGHTS_n, TANGENT, _NAME)
- * into attributes in its own type; a primitive without an
- * attribute another one has gets zeros there. */
+ * into attributes in its own type, texture coordinates with v flipped
+ * (flip_v); a primitive without an attribute another one has gets zeros
+ * there. */
 static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 {
 	vn_gltf_stats st{};
@@ -347,6 +364,8 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 						double x = have ? values[j][i * here.components + c] : 1.0; /* missing alpha: opaque */
 						if ((floats || type.component == 5126) && have && here.normalized)
 							x = normalized_value(x, here.component);
+						if (semantic == vn_io_semantic_texcoord && k == 2 && c == 1 && have)
+							x = flip_v(x, floats ? 5126 : type.component, type.normalized);
 						if (floats)
 							floats[(v + i) * k + c] = (float)x;
 						else if (have)
@@ -378,11 +397,12 @@ static std::string gltf_name(const vn_io_attribute& a, int* texcoords, int* colo
 }
 
 /* A minimal document for mesh: one node, one mesh, one primitive with
- * POSITION, NORMAL, COLOR_0 (vertex colours), TEXCOORD_0 and every other
- * attribute (in its type; 32-bit integers, which glTF allows only for
- * indices, as floats): TRIANGLES, or for a mesh without faces (a point
- * cloud) POINTS, every vertex a point, with NORMAL only where the mesh has
- * a normal other than zero (vn computes none without faces). */
+ * POSITION, NORMAL, COLOR_0 (vertex colours), TEXCOORD_0 (v flipped, as
+ * every TEXCOORD_n: flip_v) and every other attribute (in its type; 32-bit
+ * integers, which glTF allows only for indices, as floats): TRIANGLES, or
+ * for a mesh without faces (a point cloud) POINTS, every vertex a point,
+ * with NORMAL only where the mesh has a normal other than zero (vn computes
+ * none without faces). */
 static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 {
 	/* An empty mesh: a scene without nodes, as a glTF of no mesh is read. */
@@ -451,8 +471,9 @@ static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 			return std::fabs(l - 1) <= 1e-6 ? v[c] : v[c] / l; }, false, 34962);
 	int texcoords = 0, colors = 0;
 	if (mesh->texcoords)
-		add(str("TEXCOORD_%d", texcoords++), 5126, 2, false, n, [&](size_t i, size_t c) { return mesh->texcoords[2 * i + c]; },
-		    false, 34962);
+		add(str("TEXCOORD_%d", texcoords++), 5126, 2, false, n, [&](size_t i, size_t c) {
+			    const double v = mesh->texcoords[2 * i + c];
+			    return c == 1 ? flip_v(v, 5126, false) : v; }, false, 34962);
 	if (mesh->colors) {
 		bool alpha = false;
 		for (size_t i = 0; i < n && !alpha; ++i)
@@ -468,9 +489,11 @@ static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 		const size_t csize = vn_io_component_size(a.component_type);
 		/* glTF has 32-bit integers for indices only, and no double. */
 		const bool wide = a.component_type == 5124 || a.component_type == 5125 || a.component_type == 5130;
-		add(gltf_name(a, &texcoords, &colors), wide ? 5126 : a.component_type, (size_t)a.components,
-		    a.normalized && !wide, n, [&](size_t i, size_t c) {
-			    return read_component((const unsigned char*)a.data + (i * a.components + c) * csize, a.component_type, false); },
+		const std::string name = gltf_name(a, &texcoords, &colors);
+		const bool texcoord = name.rfind("TEXCOORD_", 0) == 0;
+		add(name, wide ? 5126 : a.component_type, (size_t)a.components, a.normalized && !wide, n, [&](size_t i, size_t c) {
+			    const double v = read_component((const unsigned char*)a.data + (i * a.components + c) * csize, a.component_type, false);
+			    return texcoord && c == 1 ? flip_v(v, a.component_type, a.normalized != 0) : v; },
 		    false, 34962);
 	}
 	json primitive = {{"attributes", attributes}};

@@ -107,7 +107,7 @@ typedef struct vn_io_mesh {
 	double* positions; /* 3 per vertex */
 	double* normals;   /* NULL or 3 per vertex */
 	float* colors;     /* NULL or RGBA per vertex, each in [0, 1] */
-	float* texcoords;  /* NULL or 2 per vertex */
+	float* texcoords;  /* NULL or 2 per vertex, (0, 0) the image's bottom left (OBJ's `vt`) */
 
 	size_t face_count;
 	uint32_t* face_offsets; /* face_count + 1 entries; face f is indices[face_offsets[f] .. face_offsets[f+1]) */

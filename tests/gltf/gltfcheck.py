@@ -69,6 +69,15 @@
   gltfcheck.py drcnormals JSON VNCONVERT METHOD DEGREES
       The same for a Draco mesh decoded by tests/draco/decode.mjs (its
       normals' directions: integer normals are not scaled by decoders).
+  gltfcheck.py uvtriangle FILE
+      Writes one triangle with TEXCOORD_0 as normalized UNSIGNED_SHORT
+      (0, 0), (65535, 1000), (0, 65535) and TEXCOORD_1 as normalized
+      UNSIGNED_BYTE (0, 10), (255, 20), (0, 255).
+  gltfcheck.py uvcorners A B TOLERANCE
+      A and B (each glTF, or OBJ by its .obj name) have the same corners:
+      every (position, texture coordinate) pair of a triangle corner in one
+      is within TOLERANCE of such a pair in the other, as each file stores
+      it (TEXCOORD_0 of TRIANGLES primitives; OBJ's v and vt).
 Exit status 0 when the check holds, 1 with one line per problem otherwise.
 """
 import base64
@@ -578,6 +587,21 @@ def write_gltf(path, doc, data):
     return 0
 
 
+def cmd_uvtriangle(path):
+    data = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack("<6H", 0, 0, 65535, 1000, 0, 65535)
+    data += b"".join(struct.pack("<2B2x", u, v) for u, v in ((0, 10), (255, 20), (0, 255)))
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1, "TEXCOORD_1": 2}}]}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                          "min": [0, 0, 0], "max": [1, 1, 0]},
+                         {"bufferView": 1, "componentType": 5123, "normalized": True, "count": 3, "type": "VEC2"},
+                         {"bufferView": 2, "componentType": 5121, "normalized": True, "count": 3, "type": "VEC2"}],
+           "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                           {"buffer": 0, "byteOffset": 36, "byteLength": 12},
+                           {"buffer": 0, "byteOffset": 48, "byteLength": 12, "byteStride": 4}]}
+    return write_gltf(path, doc, data)
+
+
 def cmd_morphsphere(path):
     """The seam sphere with one morph target that stretches its upper half
     (z > 0) by 1.5 along z: POSITION as a sparse accessor without
@@ -799,6 +823,46 @@ def cmd_samenormals(a, b, degrees):
     return bad
 
 
+def uv_corners(path):
+    """The distinct (x, y, z, u, v) of the file's triangle corners."""
+    if path.endswith(".obj"):
+        v, vt, out = [], [], set()
+        for line in open(path, encoding="utf-8"):
+            w = line.split("#")[0].split()
+            if w and w[0] in ("v", "vt"):
+                (v if w[0] == "v" else vt).append([float(x) for x in w[1:4 if w[0] == "v" else 3]])
+            elif w and w[0] == "f":
+                for c in w[1:]:
+                    r = (c.split("/") + [""])[:2]
+                    p, t = int(r[0]), int(r[1]) if r[1] else 0
+                    p, t = p + (len(v) + 1 if p < 0 else 0), t + (len(vt) + 1 if t < 0 else 0)
+                    out.add(tuple(v[p - 1] + (vt[t - 1] if t else [])))
+        return out
+    _, doc, buf = load(path)
+    out = set()
+    for _, _, prim in primitives(doc):
+        if prim.get("mode", 4) != 4 or "TEXCOORD_0" not in prim["attributes"]:
+            continue
+        pos = accessor_values(doc, buf, prim["attributes"]["POSITION"])
+        uv = accessor_values(doc, buf, prim["attributes"]["TEXCOORD_0"])
+        out.update(tuple(pos[i] + uv[i]) for i in triangles(doc, buf, prim))
+    return out
+
+
+def cmd_uvcorners(a, b, tolerance):
+    sets = uv_corners(a), uv_corners(b)
+    bad = 0
+    for (x, y), (one, other) in zip((sets, sets[::-1]), ((a, b), (b, a))):
+        for c in sorted(x):
+            if not any(close(c, d, tolerance) and len(c) == len(d) for d in y):
+                print("%s: corner %s: none in %s within %g" % (one, c, other, tolerance))
+                bad = 1
+    if not sets[0]:
+        print("%s: no textured corner" % a)
+        bad = 1
+    return bad
+
+
 def cmd_drc(path, stem):
     _, doc, buf = load(path)
     k = 0
@@ -1014,9 +1078,12 @@ def main(argv):
         return cmd_crease(argv[2], argv[3], int(argv[4]), argv[5], argv[6])
     if len(argv) == 6 and argv[1] == "morph" and argv[5] in ("weld", "split"):
         return cmd_morph(argv[2], argv[3], argv[4], argv[5] == "weld")
-    if len(argv) == 3 and argv[1] in ("flat", "morphsphere", "cylinder", "twosided", "twosided-shared"):
+    if len(argv) == 3 and argv[1] in ("flat", "morphsphere", "cylinder", "twosided", "twosided-shared", "uvtriangle"):
         return {"flat": cmd_flat, "morphsphere": cmd_morphsphere, "cylinder": cmd_cylinder,
-                "twosided": cmd_twosided, "twosided-shared": cmd_twosided_shared}[argv[1]](argv[2])
+                "twosided": cmd_twosided, "twosided-shared": cmd_twosided_shared,
+                "uvtriangle": cmd_uvtriangle}[argv[1]](argv[2])
+    if len(argv) == 5 and argv[1] == "uvcorners":
+        return cmd_uvcorners(argv[2], argv[3], float(argv[4]))
     if len(argv) == 5 and argv[1] == "samenormals":
         return cmd_samenormals(argv[2], argv[3], float(argv[4]))
     if len(argv) == 4 and argv[1] in ("twosided-check", "twosided-shared-check"):
