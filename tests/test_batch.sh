@@ -221,23 +221,51 @@ for model in "$MODELS/Duck/Duck.gltf" "$MODELS/CesiumMan.glb" "$MODELS/Box.glb";
   check "$name: with --apply-transforms, the scene's bounds" [ "$(bounds world.off)" = "$(scene_bounds "$model" 1)" ]
   [ "$name" = Duck.gltf ] && check "Duck: the transforms change the bounds" not [ "$(bounds local.off)" = "$(bounds world.off)" ]
 done
-# One mesh instanced twice, once mirrored (scale -1): two copies, both with outward normals.
-python3 - "$MODELS/Box.glb" twice.glb <<'EOF'
+# rescene IN OUT CODE: the GLB IN with its JSON d changed by CODE (Python).
+rescene() {
+  python3 - "$@" <<'EOF'
 import json, struct, sys
 raw = open(sys.argv[1], "rb").read()
 n = struct.unpack("<I", raw[12:16])[0]
 d = json.loads(raw[20:20 + n]); rest = raw[20 + n:]
-d["nodes"] = [{"mesh": 0}, {"mesh": 0, "translation": [3, 0, 0], "scale": [-1, 1, 1]}]
-d["scenes"] = [{"nodes": [0, 1]}]; d["scene"] = 0
+exec(sys.argv[3])
 j = json.dumps(d).encode(); j += b" " * (-len(j) % 4)
 body = struct.pack("<II", len(j), 0x4E4F534A) + j + rest
 open(sys.argv[2], "wb").write(b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body)
 EOF
+}
+# One mesh instanced twice, once mirrored (scale -1): two copies, both with outward normals.
+rescene "$MODELS/Box.glb" twice.glb 'd["nodes"] = [{"mesh": 0}, {"mesh": 0, "translation": [3, 0, 0], "scale": [-1, 1, 1]}]
+d["scenes"] = [{"nodes": [0, 1]}]; d["scene"] = 0'
 run "$VNC" twice.glb twice.off --apply-transforms -q
 check "instanced twice: exit 0" [ $rc -eq 0 ]
 check "instanced twice: 48 vertices, 24 triangles" [ "$(sed -n 2p twice.off)" = "48 24 0" ]
 check "instanced twice: bounds" [ "$(bounds twice.off)" = "-0.5000 -0.5000 -0.5000 3.5000 0.5000 0.5000" ]
 check "instanced twice: every normal points out of its cube" awk 'NR>2 && NR<=50 { c = (NR > 26) ? 3 : 0; if (($1-c)*$4 + $2*$5 + $3*$6 <= 0) bad=1; n++ } END { exit (bad || n != 48) }' twice.off
+# Without the option, a scene drawn otherwise than its meshes' own
+# coordinates is named; a mesh at its node without transform is not.
+W="node transforms not applied: each mesh is written once, in its own coordinates, where the scene draws"
+A="(--apply-transforms writes the scene as drawn)"
+run "$VNC" "$MODELS/Box.glb" box.off
+check "Box: its root node's rotation named" [ "$err" = "vnconvert: warning: $MODELS/Box.glb: $W 1 of 1 mesh instances with a node transform $A" ]
+run "$VNC" twice.glb twice-local.off
+check "instanced twice: named" [ "$err" = "vnconvert: warning: twice.glb: $W 1 of 2 mesh instances with a node transform, 1 mesh more than once $A" ]
+rescene twice.glb undrawn.glb 'd["scenes"] = [{"nodes": []}]'
+run "$VNC" undrawn.glb undrawn.off
+check "a mesh no node draws: named" [ "$err" = "vnconvert: warning: undrawn.glb: $W 1 mesh by no node $A" ]
+run "$VNC" box.off plain.glb -q
+run "$VNC" plain.glb plain.off
+check "a mesh at its node without transform: no warning" [ "$rc|$err" = "0|" ]
+run "$VNC" twice.glb twice-world.off --apply-transforms
+check "with --apply-transforms: no warning" [ "$rc|$err" = "0|" ]
+# A chain of 100,000 nodes, each moving its child by 0.001 (a valid file:
+# walked with a stack of vn's own, not recursion, which overflowed).
+rescene "$MODELS/Box.glb" chain.glb 'd["nodes"] = [{"children": [i + 1], "translation": [0.001, 0, 0]} for i in range(100000)] + [{"mesh": 0}]
+d["scenes"] = [{"nodes": [0]}]; d["scene"] = 0'
+run "$VNC" chain.glb chain.off --apply-transforms
+check "100,000 nested nodes: the box moved by 100" [ "$rc|$err|$(bounds chain.off)" = "0||99.5000 -0.5000 -0.5000 100.5000 0.5000 0.5000" ]
+run "$VNC" chain.glb chain-local.off
+check "100,000 nested nodes, mesh-local: named" [ "$rc|$err" = "0|vnconvert: warning: chain.glb: $W 1 of 1 mesh instances with a node transform $A" ]
 run "$VNC" "$MODELS/Box.glb" x.glb --apply-transforms
 check "--apply-transforms glTF to glTF: exit 2" [ $rc -eq 2 ]
 check "--help states the mesh-local default" quietly grep -q "apply-transforms" <("$VNC" --help)

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <map>
 
 namespace vn_gltf {
 
@@ -48,6 +49,7 @@ static bool attribute_values(const document& d, const primitive& p, const std::s
 
 /* A 4x4 matrix, column-major as glTF stores it. */
 typedef std::array<double, 16> matrix;
+static const matrix IDENTITY{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 
 static matrix product(const matrix& a, const matrix& b)
 {
@@ -138,9 +140,17 @@ static void scene_meshes(const document& d, std::vector<std::pair<size_t, matrix
 			if (!child[i])
 				roots.push_back((long long)i);
 	}
-	/* glTF's nodes form trees: a node met twice on one path is a cycle. */
+	/* glTF's nodes form trees: a node met twice on one path is a cycle.
+	 * Depth first with a stack of its own, not recursion: a chain of many
+	 * nodes is a valid file, and must not overflow the call stack. */
+	struct frame {
+		long long node;
+		matrix world;
+		size_t child; /* the next child to visit */
+	};
+	std::vector<frame> path;
 	std::vector<bool> on_path(nodes->size(), false);
-	std::function<void(long long, const matrix&)> visit = [&](long long i, const matrix& parent) {
+	auto enter = [&](long long i, const matrix& parent) {
 		const std::string what = str("nodes[%lld]", i);
 		const json& node = element(d.j, "nodes", i, what);
 		if (on_path[(size_t)i])
@@ -149,17 +159,25 @@ static void scene_meshes(const document& d, std::vector<std::pair<size_t, matrix
 		const matrix world = product(parent, local_transform(node, what));
 		if (node.contains("mesh"))
 			out.emplace_back((size_t)get_int(node, "mesh", 0, what), world);
-		if (node.contains("children")) {
-			if (!node["children"].is_array())
-				fail(vn_io_error_parse, what + ".children is not an array");
-			for (const json& c : node["children"])
-				visit(c.is_number_integer() ? c.get<long long>() : -1, world);
-		}
-		on_path[(size_t)i] = false;
+		if (node.contains("children") && !node["children"].is_array())
+			fail(vn_io_error_parse, what + ".children is not an array");
+		path.push_back(frame{i, world, 0});
 	};
-	const matrix identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-	for (long long r : roots)
-		visit(r, identity);
+	for (long long r : roots) {
+		enter(r, IDENTITY);
+		while (!path.empty()) {
+			const json& node = (*nodes)[(size_t)path.back().node];
+			auto children = node.find("children");
+			if (children != node.end() && path.back().child < children->size()) {
+				const json& c = (*children)[path.back().child++];
+				const matrix world = path.back().world; /* enter grows path */
+				enter(c.is_number_integer() ? c.get<long long>() : -1, world);
+			} else {
+				on_path[(size_t)path.back().node] = false;
+				path.pop_back();
+			}
+		}
+	}
 }
 
 /* Where each primitive goes: once each, as it is; or (scene) once per node
@@ -198,6 +216,44 @@ static std::vector<placement> placements(const document& d, const std::vector<pr
 			out.push_back(p);
 		}
 	return out;
+}
+
+/* Without --apply-transforms, where the default scene draws its meshes
+ * elsewhere than in their own coordinates (a node transform other than the
+ * identity, a mesh drawn twice or by no node), the output is not the scene
+ * as viewers show it: named, with the option that writes it so. A scene
+ * vn cannot follow (a node cycle, a bad index) is not named: the meshes
+ * are read as they are, and the option fails naming the fault. */
+static void note_unapplied_transforms(document& d, const std::vector<primitive>& prims)
+{
+	std::vector<std::pair<size_t, matrix>> instances;
+	try {
+		scene_meshes(d, instances);
+	} catch (const failure&) {
+		return;
+	}
+	std::map<size_t, size_t> drawn; /* mesh -> instances */
+	size_t moved = 0, instanced = 0;
+	for (const primitive& p : prims)
+		drawn[p.mesh] = 0;
+	for (const auto& in : instances)
+		if (drawn.count(in.first)) {
+			++drawn[in.first], ++instanced;
+			moved += in.second != IDENTITY;
+		}
+	size_t twice = 0, never = 0;
+	for (const auto& m : drawn)
+		twice += m.second > 1, never += m.second == 0;
+	std::string how;
+	if (moved)
+		how += str("%zu of %zu mesh instances with a node transform", moved, instanced);
+	if (twice)
+		how += str("%s%zu mesh%s more than once", how.empty() ? "" : ", ", twice, twice > 1 ? "es" : "");
+	if (never)
+		how += str("%s%zu mesh%s by no node", how.empty() ? "" : ", ", never, never > 1 ? "es" : "");
+	if (!how.empty())
+		d.warnings.push_back("node transforms not applied: each mesh is written once, in its own coordinates, "
+		                     "where the scene draws " + how + " (--apply-transforms writes the scene as drawn)");
 }
 
 /* glTF's texture coordinates have their origin at the image's top left;
@@ -239,6 +295,8 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 			left_out += str("%s%zu %s", left_out.empty() ? "" : ", ", skipped[k], kinds[k]);
 	if (!left_out.empty())
 		d.warnings.push_back("primitives left out (vn reads triangles and points): " + left_out);
+	if (!scene)
+		note_unapplied_transforms(d, prims);
 	const std::vector<placement> at = placements(d, prims, scene);
 	size_t vertices = 0, triangles = 0;
 	for (const placement& pl : at) {
