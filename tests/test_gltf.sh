@@ -204,6 +204,29 @@ run "$VNC" "$T/uvtri.drc" "$T/uvtri.glb" -q
 check "normalized TEXCOORD_1 through Draco: the same bytes" python3 -c "import sys; sys.path.insert(0, '$HERE/gltf'); import gltfcheck as g
 a = [g.load(f) for f in sys.argv[1:]]
 sys.exit([g.accessor_bytes(d, b, d['meshes'][0]['primitives'][0]['attributes']['TEXCOORD_1']) for _, d, b in a] != [bytes([0, 10, 255, 20, 0, 255])] * 2)" "$T/uvtri.gltf" "$T/uvtri.glb"
+# A material's KHR_texture_transform (offset, rotation, scale) gives the
+# coordinates of the set its texture reads, which a format without materials
+# carries; by hand, offset (0.5, 0.25), 90 degrees, scale (2, 0.5) on the
+# triangle above: u' = 0.5 v + 0.5, v' = 0.25 - 2 u, then OBJ's 1 - v'.
+python3 - "$T/uvtri.gltf" "$T/uvtt.gltf" <<'EOF'
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+d["meshes"][0]["primitives"][0]["material"] = 0
+d["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {
+    "offset": [0.5, 0.25], "rotation": math.pi / 2, "scale": [2, 0.5]}}}}}]
+d["textures"], d["images"] = [{"source": 0}], [{"uri": "none.png"}]
+d["extensionsUsed"] = ["KHR_texture_transform"]
+json.dump(d, open(sys.argv[2], "w"))
+EOF
+printf '%s\n' "v 0 0 0" "v 1 0 0" "v 0 1 0" "vt 0.5 0.75" "vt 0.507629510948348 2.75" "vt 1 0.75" "f 1/1 2/2 3/3" >"$T/uvtt-expected.obj"
+run "$VNC" "$T/uvtt.gltf" "$T/uvtt.obj" -q
+check "KHR_texture_transform applied to TEXCOORD_0" $CHECK uvcorners "$T/uvtt.obj" "$T/uvtt-expected.obj" 1e-7
+# gltfpack's quantized Duck (tests/data/gltf/meshopt/duck-tt.glb: unsigned
+# shorts, dequantized by the material's transform) has the Duck's own
+# texture coordinates, to gltfpack's quantization.
+run "$VNC" "$HERE/data/gltf/meshopt/duck-tt.glb" "$T/duck-tt.obj" --apply-transforms -q
+run "$VNC" "$DATA/Duck.glb" "$T/duck-plain.obj" --apply-transforms -q
+check "gltfpack's Duck: the Duck's texture coordinates" $CHECK uvcorners "$T/duck-tt.obj" "$T/duck-plain.obj" 3e-4 2e-4
 
 # Morph targets: base + NORMAL displacement is the scheme's normal of the
 # morphed positions, computed by vnconvert on an OFF of them (the cube's

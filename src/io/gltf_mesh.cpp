@@ -256,6 +256,68 @@ static void note_unapplied_transforms(document& d, const std::vector<primitive>&
 		                     "where the scene draws " + how + " (--apply-transforms writes the scene as drawn)");
 }
 
+/* The KHR_texture_transform that p's material gives texture coordinate set
+ * n, as the 2x3 matrix T R S of its offset, rotation and scale (row-major:
+ * u' = m[0] u + m[1] v + m[2], v' = m[3] u + m[4] v + m[5]), or false. The
+ * first of the material's textures that reads set n decides (base colour
+ * first): gltfpack quantizes texture coordinates and puts the
+ * dequantization there, so in a format without materials the coordinates
+ * are those the transform gives. A transform whose numbers are not finite
+ * is none. */
+static bool uv_transform(const document& d, const primitive& p, long long n, double m[6])
+{
+	const json& prim = d.j["meshes"][p.mesh]["primitives"][p.index];
+	auto material = prim.find("material");
+	auto materials = d.j.find("materials");
+	if (material == prim.end() || !material->is_number_integer() || materials == d.j.end() || !materials->is_array() ||
+	    material->get<long long>() < 0 || (size_t)material->get<long long>() >= materials->size())
+		return false;
+	const json& mat = (*materials)[(size_t)material->get<long long>()];
+	if (!mat.is_object())
+		return false;
+	static const char* const pbr[] = {"baseColorTexture", "metallicRoughnessTexture"};
+	static const char* const own[] = {"normalTexture", "occlusionTexture", "emissiveTexture"};
+	std::vector<const json*> infos;
+	auto add = [&](const json& owner, const char* key) {
+		auto info = owner.find(key);
+		if (info != owner.end() && info->is_object())
+			infos.push_back(&*info);
+	};
+	auto metal = mat.find("pbrMetallicRoughness");
+	if (metal != mat.end() && metal->is_object())
+		for (const char* key : pbr)
+			add(*metal, key);
+	for (const char* key : own)
+		add(mat, key);
+	auto number = [](const json& o, const char* key, size_t i, double fallback) {
+		auto x = o.find(key);
+		if (x == o.end())
+			return fallback;
+		const json& e = x->is_array() ? (i < x->size() ? (*x)[i] : json()) : *x;
+		return e.is_number() ? e.get<double>() : NAN;
+	};
+	for (const json* info : infos) {
+		const json* t = nullptr;
+		auto ext = info->find("extensions");
+		if (ext != info->end() && ext->is_object() && ext->contains("KHR_texture_transform") &&
+		    (*ext)["KHR_texture_transform"].is_object())
+			t = &(*ext)["KHR_texture_transform"];
+		const double set = t && t->contains("texCoord") ? number(*t, "texCoord", 0, 0) : number(*info, "texCoord", 0, 0);
+		if (set != (double)n)
+			continue;
+		if (!t)
+			return false;
+		const double ox = number(*t, "offset", 0, 0), oy = number(*t, "offset", 1, 0), r = number(*t, "rotation", 0, 0);
+		const double sx = number(*t, "scale", 0, 1), sy = number(*t, "scale", 1, 1), c = std::cos(r), s = std::sin(r);
+		const double out[6] = {c * sx, s * sy, ox, -s * sx, c * sy, oy};
+		if (!std::all_of(out, out + 6, [](double x) { return std::isfinite(x); }))
+			return false;
+		std::copy(out, out + 6, m);
+		return true;
+	}
+	return false;
+}
+
 /* glTF's texture coordinates have their origin at the image's top left;
  * OBJ's, PLY's, OFF's and Draco files' at its bottom left, as a mesh holds
  * them: v becomes 1 - v between the two, as Blender's glTF importer and
@@ -389,6 +451,19 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 		}
 		if (!any)
 			continue;
+		/* A texture coordinate set under its material's transform
+		 * (uv_transform): the transformed coordinates, as floats. */
+		std::vector<std::array<double, 6>> transform(prims.size());
+		std::vector<bool> transformed(prims.size(), false);
+		if (name.rfind("TEXCOORD_", 0) == 0 && name.size() > 9 && name.size() < 15 &&
+		    name.find_first_not_of("0123456789", 9) == std::string::npos && type.components == 2)
+			for (size_t k = 0; k < prims.size(); ++k)
+				if (has[k] && types[k].components == 2 &&
+				    uv_transform(d, prims[k], std::stoll(name.substr(9)), transform[k].data())) {
+					transformed[k] = true;
+					type.component = 5126;
+					type.normalized = false;
+				}
 		const bool color = name == "COLOR_0" && (type.components == 3 || type.components == 4);
 		const bool texcoord = name == "TEXCOORD_0" && type.components == 2;
 		const int semantic = name.rfind("TEXCOORD_", 0) == 0 ? vn_io_semantic_texcoord
@@ -422,6 +497,13 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 						double x = have ? values[j][i * here.components + c] : 1.0; /* missing alpha: opaque */
 						if ((floats || type.component == 5126) && have && here.normalized)
 							x = normalized_value(x, here.component);
+						if (transformed[j] && c < 2) {
+							const double* u = &values[j][i * here.components];
+							const double* m = transform[j].data();
+							const double u0 = here.normalized ? normalized_value(u[0], here.component) : u[0];
+							const double u1 = here.normalized ? normalized_value(u[1], here.component) : u[1];
+							x = m[3 * c] * u0 + m[3 * c + 1] * u1 + m[3 * c + 2];
+						}
 						if (semantic == vn_io_semantic_texcoord && k == 2 && c == 1 && have)
 							x = flip_v(x, floats ? 5126 : type.component, type.normalized);
 						if (floats)

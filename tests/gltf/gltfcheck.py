@@ -73,11 +73,12 @@
       Writes one triangle with TEXCOORD_0 as normalized UNSIGNED_SHORT
       (0, 0), (65535, 1000), (0, 65535) and TEXCOORD_1 as normalized
       UNSIGNED_BYTE (0, 10), (255, 20), (0, 255).
-  gltfcheck.py uvcorners A B TOLERANCE
+  gltfcheck.py uvcorners A B TOLERANCE [POSITION_TOLERANCE]
       A and B (each glTF, or OBJ by its .obj name) have the same corners:
       every (position, texture coordinate) pair of a triangle corner in one
-      is within TOLERANCE of such a pair in the other, as each file stores
-      it (TEXCOORD_0 of TRIANGLES primitives; OBJ's v and vt).
+      is within TOLERANCE (positions: POSITION_TOLERANCE, default the same)
+      of such a pair in the other, as each file stores it (TEXCOORD_0 of
+      TRIANGLES primitives; OBJ's v and vt).
 Exit status 0 when the check holds, 1 with one line per problem otherwise.
 """
 import base64
@@ -849,12 +850,13 @@ def uv_corners(path):
     return out
 
 
-def cmd_uvcorners(a, b, tolerance):
+def cmd_uvcorners(a, b, tolerance, position_tolerance):
     sets = uv_corners(a), uv_corners(b)
     bad = 0
     for (x, y), (one, other) in zip((sets, sets[::-1]), ((a, b), (b, a))):
         for c in sorted(x):
-            if not any(close(c, d, tolerance) and len(c) == len(d) for d in y):
+            if not any(len(c) == len(d) and close(c[:3], d[:3], position_tolerance) and close(c[3:], d[3:], tolerance)
+                       for d in y):
                 print("%s: corner %s: none in %s within %g" % (one, c, other, tolerance))
                 bad = 1
     if not sets[0]:
@@ -1082,8 +1084,8 @@ def main(argv):
         return {"flat": cmd_flat, "morphsphere": cmd_morphsphere, "cylinder": cmd_cylinder,
                 "twosided": cmd_twosided, "twosided-shared": cmd_twosided_shared,
                 "uvtriangle": cmd_uvtriangle}[argv[1]](argv[2])
-    if len(argv) == 5 and argv[1] == "uvcorners":
-        return cmd_uvcorners(argv[2], argv[3], float(argv[4]))
+    if len(argv) in (5, 6) and argv[1] == "uvcorners":
+        return cmd_uvcorners(argv[2], argv[3], float(argv[4]), float(argv[-1]))
     if len(argv) == 5 and argv[1] == "samenormals":
         return cmd_samenormals(argv[2], argv[3], float(argv[4]))
     if len(argv) == 4 and argv[1] in ("twosided-check", "twosided-shared-check"):

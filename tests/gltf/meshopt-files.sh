@@ -35,6 +35,27 @@ PY
 untextured "$M/Duck.glb" "$T/duck.glb"
 untextured "$M/CesiumMan.glb" "$T/man.glb"
 
+# The Duck with its image replaced by a 1 x 1 PNG (a data URI), textured still:
+# gltfpack quantizes its texture coordinates and puts their dequantization in
+# the material's KHR_texture_transform.
+python3 - "$M/Duck.glb" "$T/duck-tiny.glb" <<'PY'
+import base64, json, struct, sys, zlib
+raw = open(sys.argv[1], "rb").read()
+n = struct.unpack("<I", raw[12:16])[0]
+d = json.loads(raw[20:20 + n])
+def chunk(kind, data):
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 1, 1, 8, 2, 0, 0, 0)) +
+       chunk(b"IDAT", zlib.compress(b"\x00\xff\xc8\x00")) + chunk(b"IEND", b""))
+d["images"] = [{"uri": "data:image/png;base64," + base64.b64encode(png).decode()}]
+text = json.dumps(d).encode()
+text += b" " * (-len(text) % 4)
+bin_chunk = raw[20 + n:]
+open(sys.argv[2], "wb").write(struct.pack("<III", 0x46546C67, 2, 12 + 8 + len(text) + len(bin_chunk)) +
+                              struct.pack("<II", len(text), 0x4E4F534A) + text + bin_chunk)
+PY
+"$BIN/gltfpack" -i "$T/duck-tiny.glb" -o "$OUT/duck-tt.glb"
+
 # EXT_meshopt_compression in a GLB, fallback without data: OCTAHEDRAL normals, TRIANGLES indices.
 "$BIN/gltfpack" -i "$T/duck.glb" -o "$OUT/duck-cc.glb" -cc
 # .gltf with its .bin, fallback without data, no filters.
