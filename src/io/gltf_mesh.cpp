@@ -451,11 +451,14 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 		}
 		if (!any)
 			continue;
+		const int semantic = name.rfind("TEXCOORD_", 0) == 0 ? vn_io_semantic_texcoord
+		                     : name.rfind("COLOR_", 0) == 0  ? vn_io_semantic_color
+		                                                     : vn_io_semantic_generic;
 		/* A texture coordinate set under its material's transform
 		 * (uv_transform): the transformed coordinates, as floats. */
 		std::vector<std::array<double, 6>> transform(prims.size());
 		std::vector<bool> transformed(prims.size(), false);
-		if (name.rfind("TEXCOORD_", 0) == 0 && name.size() > 9 && name.size() < 15 &&
+		if (semantic == vn_io_semantic_texcoord && name.size() > 9 && name.size() < 15 &&
 		    name.find_first_not_of("0123456789", 9) == std::string::npos && type.components == 2)
 			for (size_t k = 0; k < prims.size(); ++k)
 				if (has[k] && types[k].components == 2 &&
@@ -466,9 +469,6 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 				}
 		const bool color = name == "COLOR_0" && (type.components == 3 || type.components == 4);
 		const bool texcoord = name == "TEXCOORD_0" && type.components == 2;
-		const int semantic = name.rfind("TEXCOORD_", 0) == 0 ? vn_io_semantic_texcoord
-		                     : name.rfind("COLOR_", 0) == 0  ? vn_io_semantic_color
-		                                                     : vn_io_semantic_generic;
 		float* floats = nullptr;
 		vn_io_attribute* a = nullptr;
 		if (color) {
