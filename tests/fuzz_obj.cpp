@@ -7,6 +7,8 @@
  * Every accepted input must give a consistent mesh (indices within the
  * vertices, faces of 3 or more corners, names within their lists), and
  * writing it and reading that back must give the same counts and corners.
+ * The input is also read as the mesh's material library (mtl.c): every
+ * colour, roughness and metallic factor within [0, 1].
  */
 #include <cfloat>
 #include <cmath>
@@ -15,7 +17,26 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "mtl.h"
 #include "obj.h"
+
+static void check_library(vn_io_mesh& m, const uint8_t* data, size_t size)
+{
+	FILE* warnings = fopen("/dev/null", "w");
+	if (!warnings)
+		return;
+	if (!vn_io_mtl_parse(reinterpret_cast<const char*>(data), size, "fuzz.mtl", nullptr, &m, warnings))
+		abort();
+	fclose(warnings);
+	for (size_t i = 0; i < m.materials.count; i++) {
+		const vn_io_material& d = m.material_defs[i];
+		for (double c : d.color)
+			if (!(c >= 0 && c <= 1))
+				abort();
+		if (!(d.roughness == -1 || (d.roughness >= 0 && d.roughness <= 1)) || !(d.metallic >= 0 && d.metallic <= 1))
+			abort();
+	}
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 
@@ -100,6 +121,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 	if (vn_io_obj_read_memory(reinterpret_cast<const char*>(data), size, "fuzz.obj", &mesh, &error) == vn_io_success) {
 		check_mesh(mesh);
 		check_round_trip(mesh);
+		check_library(mesh, data, size);
 	} else if (strncmp(error.message, "fuzz.obj", 8) != 0 || mesh.positions || mesh.indices) {
 		abort();
 	}

@@ -21,7 +21,8 @@ trap 'rm -rf "$T"' EXIT
 cases() {
 	local inputs methods m in f
 	inputs=$( { ls samples/*.off tests/data/off/*.off tests/data/gltf/*.glb tests/data/models/gltf/*.glb \
-		tests/data/draco/*.drc tests/data/draco/*.obj tests/data/draco/*.ply tests/data/models/draco/*.drc
+		tests/data/draco/*.drc tests/data/draco/*.obj tests/data/draco/*.ply tests/data/models/draco/*.drc \
+		tests/data/obj/textured/grid.obj
 		find tests/data/models/gltf -mindepth 2 -name '*.gltf'; } | LC_ALL=C sort)
 	methods=$("$VNCONVERT" --list-methods | awk '{ print $1 }' | head -7)
 	for in in $inputs; do

@@ -304,4 +304,84 @@ run "$VNC" "$T/bytes.obj" "$T/bytes-out.obj" -q
 check "byte colours: OBJ to OBJ keeps the text" [ "$(grep '^v ' "$T/bytes-out.obj" | head -1)" = "v 0 0 0 0.819608 0 0.478431" ]
 run "$VNC" "$T/bom.obj" "$T/bom-again.obj"
 check "left out: none, no warning" [ -z "$err" ]
+
+# Materials to glTF (mtl.c): a primitive per material, each with the .mtl
+# file's Kd, d, Ns (as roughness) and map_Kd (the image's bytes in the
+# file). Blender 3.4's own OBJ import and glTF export of the same files
+# (make_textured.py, blender-grid.glb) is the independent conversion: every
+# material, factor, image and triangle set the same (gltfcheck.py materials).
+TEX=$DATA/textured
+gcheck() { python3 "$HERE/gltf/gltfcheck.py" "$@"; }
+valid() {
+  python3 -c 'import json, sys; r = json.loads(sys.stdin.read()); sys.exit(bool(r["errors"] or r["warnings"]))' \
+    < <(node "$HERE/gltf/validate.mjs" "$MODULES" "$1")
+}
+for ext in glb gltf; do
+  run "$VNC" "$TEX/grid.obj" "$T/grid.$ext"
+  check "textured grid to $ext: only the object name is lost" [ "$rc:$err" = "0:vnconvert: warning: $T/grid.$ext cannot hold object names: not written" ]
+  check "textured grid to $ext: Blender's materials, images and triangles" \
+    cmp -s <(gcheck materials "$TEX/blender-grid.glb") <(gcheck materials "$T/grid.$ext")
+  check "textured grid to $ext: passes the Khronos validator" valid "$T/grid.$ext"
+done
+check "textured grid: the PNG's and the JPEG's bytes" [ "$(gcheck materials "$T/grid.glb" | cut -d'|' -f6 | tr '\n' ,)" = \
+  " image - , image image/jpeg $(sha1sum <"$TEX/tex/checker.jpg" | cut -c1-40) , image image/png $(sha1sum <"$TEX/tex/checker.png" | cut -c1-40) ," ]
+check "textured grid: Glass by hand (Kd 0.2 0.4 0.6, d 0.5, Ns 250)" [ "$(q "$T/grid.glb" "d['materials'][2]")" = \
+  "{'name': 'Glass', 'pbrMetallicRoughness': {'metallicFactor': 0.0, 'baseColorFactor': [0.2, 0.4, 0.6, 0.5], 'roughnessFactor': 0.5}, 'alphaMode': 'BLEND'}" ]
+run "$VNC" "$DATA/blender_cube.obj" "$T/cube-m.glb" -q
+check "cube to GLB: Blue and Red as Blender has them" [ "$(q "$T/cube-m.glb" "[(m['name'], m['pbrMetallicRoughness']['baseColorFactor'], round(m['pbrMetallicRoughness']['roughnessFactor'], 9)) for m in d['materials']]")" = "[('Blue', [0.0, 0.0, 1.0, 1.0], 0.4), ('Red', [1.0, 0.0, 0.0, 1.0], 0.4)]" ]
+check "cube to GLB: 4 Blue faces, 2 Red" [ "$(q "$T/cube-m.glb" "[(p['material'], d['accessors'][p['indices']]['count']) for p in d['meshes'][0]['primitives']]")" = "[(0, 24), (1, 12)]" ]
+# By hand: a library whose name has a blank, in another folder than the
+# texture; Kd of one value; d -halo; Tr alone; Pr and Pm over Ns; map_Kd
+# with options and a Windows path; a TGA; a material it does not define;
+# faces before any usemtl (a primitive without material).
+M=$T/lib
+mkdir -p "$M/textures"
+cp "$TEX/tex/checker.png" "$M/textures/a.png"
+printf 'TRUEVISION' >"$M/textures/b.tga"
+printf '%s\n' "# made by hand" "newmtl Grey" "Kd 0.5" "d -halo 0.25" "newmtl Clear" "Kd 1 0.5 0" "Tr 0.75" \
+  "newmtl Metal" "Ns 1000" "Pr 0.3" "Pm 1" "map_Kd -s 2 2 1 -clamp on textures\\a.png" "newmtl Tga" "map_Kd textures/b.tga" \
+  "newmtl Unused" "Kd 0 0 0" >"$M/my lib.mtl"
+printf '%s\n' "mtllib my lib.mtl" "v 0 0 0" "v 1 0 0" "v 0 1 0" "v 1 1 0" "vt 0 0" "vt 1 0" "vt 0 1" "vt 1 1" \
+  "f 1/1 2/2 3/3" "usemtl Grey" "f 2/2 4/4 3/3" "usemtl Clear" "f 1/1 3/3 4/4" "usemtl Metal" "f 1/1 2/2 4/4" \
+  "usemtl Tga" "f 4/4 2/2 1/1" "usemtl Nowhere" "f 3/3 2/2 1/1" >"$M/hand.obj"
+run "$VNC" "$M/hand.obj" "$T/hand.glb"
+check "by hand: exits 0" [ $rc -eq 0 ]
+check "by hand: the options, the TGA and the undefined material named" [ "$err" = "vnconvert: warning: $M/hand.obj: my lib.mtl: material Metal: map_Kd's options (-s 2 2 1 -clamp on) are not carried: its texture is used as it is
+vnconvert: warning: $M/hand.obj: my lib.mtl: material Tga: texture textures/b.tga is neither PNG nor JPEG, the images glTF holds: written without it
+vnconvert: warning: $M/hand.obj: the material library defines no Nowhere: written by name only" ]
+check "by hand: a primitive without material, then one a material" [ "$(q "$T/hand.glb" "[p.get('material') for p in d['meshes'][0]['primitives']]")" = "[None, 0, 1, 2, 3, 4]" ]
+check "by hand: every material's factors" [ "$(q "$T/hand.glb" "[(m['name'], m['pbrMetallicRoughness'], m.get('alphaMode')) for m in d['materials']]")" = \
+  "[('Grey', {'metallicFactor': 0.0, 'baseColorFactor': [0.5, 0.5, 0.5, 0.25]}, 'BLEND'), ('Clear', {'metallicFactor': 0.0, 'baseColorFactor': [1.0, 0.5, 0.0, 0.25]}, 'BLEND'), ('Metal', {'metallicFactor': 1.0, 'roughnessFactor': 0.3, 'baseColorTexture': {'index': 0}}, None), ('Tga', {'metallicFactor': 0.0}, None), ('Nowhere', {'metallicFactor': 0.0}, None)]" ]
+check "by hand: the PNG found through the Windows path" [ "$(gcheck materials "$T/hand.glb" | grep '^Metal' | cut -d'|' -f6)" = " image image/png $(sha1sum <"$TEX/tex/checker.png" | cut -c1-40) " ]
+check "by hand: passes the Khronos validator" valid "$T/hand.glb"
+# A library that cannot be read: the materials by name, a warning.
+sed 's/^mtllib .*/mtllib gone.mtl/' "$M/hand.obj" >"$M/gone.obj"
+run "$VNC" "$M/gone.obj" "$T/gone.glb"
+check "missing library: named, materials by name" [ "$rc|$err|$(q "$T/gone.glb" "[m['name'] for m in d['materials']]")" = \
+  "0|vnconvert: warning: $M/gone.obj: material library gone.mtl cannot be read (No such file or directory): its materials are written by name only|['Grey', 'Clear', 'Metal', 'Tga', 'Nowhere']" ]
+# Several mtllib lines whose names have blanks (obj2gltf's box-mtllib-spaces);
+# a library and a texture named where they are not (an author's absolute
+# paths): found beside the OBJ and the .mtl, and named.
+printf '%s\n' "newmtl Grey" "Kd 0.5 0.5 0.5" >"$M/a b.mtl"
+printf '%s\n' "newmtl Metal" "map_Kd C:\\Users\\me\\a.png" >"$M/c d.mtl"
+cp "$M/textures/a.png" "$M/a.png"
+sed 's/^mtllib .*/mtllib a b.mtl\nmtllib \/home\/me\/c d.mtl/' "$M/hand.obj" | grep -v -e Clear -e Tga -e Nowhere >"$M/two.obj"
+run "$VNC" "$M/two.obj" "$T/two.glb"
+check "two libraries with blanks, moved files: named" [ "$err" = "vnconvert: warning: $M/two.obj: material library /home/me/c d.mtl is not there: $M/c d.mtl is used
+vnconvert: warning: $M/two.obj: /home/me/c d.mtl: material Metal: texture C:\\Users\\me\\a.png is not there: $M/a.png is used" ]
+check "two libraries with blanks, moved files: both read" [ "$(gcheck materials "$T/two.glb" | cut -d'|' -f1,2,6)" = "(none) | colour 1.000000 1.000000 1.000000 1.000000 | image - 
+Grey | colour 0.500000 0.500000 0.500000 1.000000 | image - 
+Metal | colour 1.000000 1.000000 1.000000 1.000000 | image image/png $(sha1sum <"$TEX/tex/checker.png" | cut -c1-40) " ]
+# Without texture coordinates a texture cannot be drawn (the validator's error).
+sed 's#/[0-9]##g' "$M/hand.obj" >"$M/nouv.obj"
+run "$VNC" "$M/nouv.obj" "$T/nouv.glb"
+check "no texture coordinates: the texture named, left out" [ "$(echo "$err" | grep -c 'texture .*a.png not written: the mesh has no texture coordinates')|$(q "$T/nouv.glb" "'textures' in d")" = "1|False" ]
+check "no texture coordinates: passes the Khronos validator" valid "$T/nouv.glb"
+# glTF's JSON is UTF-8: a name in Latin-1 (older Windows tools) is read so.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl caf\xe9\nf 1 2 3\n' >"$T/latin.obj"
+run "$VNC" "$T/latin.obj" "$T/latin.glb"
+check "Latin-1 material name: written as UTF-8" [ "$rc|$err|$(q "$T/latin.glb" "d['materials'][0]['name'].encode('utf-8')")" = "0||b'caf\\xc3\\xa9'" ]
+# Formats without materials still say so.
+run "$VNC" "$TEX/grid.obj" "$T/grid.ply"
+check "to PLY: materials named as lost" grep -q "cannot hold materials, object names: not written" "$T/stderr"
 finish

@@ -15,6 +15,7 @@
 
 #include "draco.h"
 #include "gltf.h"
+#include "mtl.h"
 #include "ply.h"
 
 /* ------------------------------------------------------------------ options */
@@ -480,6 +481,9 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 		free(mesh->material_folder);
 		mesh->material_folder = NULL;
 	}
+	/* glTF writes an OBJ's materials from its library. */
+	if (gltf_out && (res = vn_io_mtl_read(mesh, error)) != vn_io_success)
+		return res;
 	input_warnings(c, mesh->warnings);
 	const size_t nonfinite = vn_io_mesh_first_nonfinite(mesh);
 	if (nonfinite < mesh->vertex_count) {

@@ -49,17 +49,22 @@ static const vn_io_format formats[] = {
       {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"}},
      "comments", NULL, NULL, NULL},
     {"obj", "OBJ", "OBJ", ".obj",
-     "Wavefront OBJ (read through Draco: v/vt/vn, polygons, usemtl, o; written with per-corner vn)",
+     "Wavefront OBJ (read through Draco: v/vt/vn, polygons, usemtl, o; the .mtl file's materials into glTF; written "
+     "with per-corner vn)",
      vn_io_obj_read, vn_io_obj_write,
      vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_polygons | vn_io_holds_loose_vertices |
-         vn_io_holds_face_names | vn_io_holds_no_faces | vn_io_holds_nothing,
+         vn_io_holds_face_names | vn_io_holds_materials | vn_io_holds_no_faces | vn_io_holds_nothing,
      vn_io_path_mesh, 0, "the zero vector (`vn 0 0 0`)",
      {{vn_io_holds_texcoords, "texture coordinates", NULL},
       {vn_io_holds_colors, "vertex colours (`v x y z r g b`)", NULL},
       {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"},
-      {vn_io_holds_face_names, "materials (`usemtl` names, the `mtllib` line)", "materials (named)"},
+      {vn_io_holds_materials,
+       "materials (`usemtl` names, the `mtllib` line; to glTF, each as the .mtl file defines it: Kd, d or Tr, Ns, Pr, Pm, "
+       "map_Kd as the PNG or JPEG image itself)",
+       "materials (named)"},
       {vn_io_holds_face_names, "object names (`o`, to the first blank)", "object names (named)"}},
-     "groups (`g`), smoothing groups (`s`), lines, points, curves, vertices no face uses, the .mtl file's contents",
+     "groups (`g`), smoothing groups (`s`), lines, points, curves, vertices no face uses, the rest of the .mtl file "
+     "(Ka, Ks, illum, maps other than map_Kd)",
      NULL, NULL, NULL},
     {"ply", "PLY", "PLY", ".ply",
      "Stanford polygon file (reads ASCII and binary, either byte order; writes binary little-endian)",
@@ -92,12 +97,12 @@ static const vn_io_format formats[] = {
     {"gltf", "glTF", "glTF", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)",
      vn_io_gltf_read, vn_io_gltf_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
-         vn_io_holds_loose_vertices | vn_io_holds_no_faces | vn_io_holds_nothing,
+         vn_io_holds_loose_vertices | vn_io_holds_no_faces | vn_io_holds_nothing | vn_io_holds_materials,
      vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
      GLTF_DOCUMENT_LOSES, "buffers and images"},
     {"glb", "GLB", "glTF", ".glb", "glTF 2.0 binary (as gltf)", vn_io_gltf_read, vn_io_glb_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
-         vn_io_holds_loose_vertices | vn_io_holds_no_faces | vn_io_holds_nothing,
+         vn_io_holds_loose_vertices | vn_io_holds_no_faces | vn_io_holds_nothing | vn_io_holds_materials,
      vn_io_path_gltf, vn_io_draco_document, "(0, 0, 1)", GLTF_READS, GLTF_NEVER_READ, GLTF_DOCUMENT_KEEPS,
      GLTF_DOCUMENT_LOSES, NULL},
     {"drc", "Draco", "Draco", ".drc",

@@ -536,13 +536,55 @@ static std::string gltf_name(const vn_io_attribute& a, int* texcoords, int* colo
 	return a.name[0] == '_' ? std::string(a.name) : "_" + std::string(a.name);
 }
 
-/* A minimal document for mesh: one node, one mesh, one primitive with
- * POSITION, NORMAL, COLOR_0 (vertex colours), TEXCOORD_0 (v flipped, as
- * every TEXCOORD_n: flip_v) and every other attribute (in its type; 32-bit
- * integers, which glTF allows only for indices, as floats): TRIANGLES, or
- * for a mesh without faces (a point cloud) POINTS, every vertex a point,
- * with NORMAL only where the mesh has a normal other than zero (vn computes
- * none without faces). */
+/* s as the UTF-8 glTF's JSON must be: as it is where it is UTF-8, else
+ * read as Latin-1 (names from older Windows tools: "caf\xe9"). */
+static std::string utf8_text(const char* s)
+{
+	try {
+		(void)json(s).dump();
+		return s;
+	} catch (const json::type_error&) {
+		std::string out;
+		for (const unsigned char* p = (const unsigned char*)s; *p; ++p)
+			if (*p < 0x80)
+				out += (char)*p;
+			else
+				out += (char)(0xC0 | (*p >> 6)), out += (char)(0x80 | (*p & 0x3F));
+		return out;
+	}
+}
+
+/* glTF's material for mesh material k: its name (utf8_text); where the
+ * library defines it (vn_io_mtl_read), Kd and d as baseColorFactor (opacity
+ * below 1: alpha mode BLEND), map_Kd as baseColorTexture (texture_index
+ * gives the texture's index) and the roughness; metallicFactor Pm, else 0:
+ * an OBJ describes no metal, and glTF's default, 1, would make it one. */
+static json gltf_material(const vn_io_mesh* mesh, uint32_t k,
+                          const std::function<size_t(const vn_io_material&)>& texture_index)
+{
+	const vn_io_material* m = mesh->material_defs ? &mesh->material_defs[k] : nullptr;
+	json pbr = {{"metallicFactor", m && m->defined ? m->metallic : 0.0}};
+	if (m && m->defined && std::any_of(m->color, m->color + 4, [](double c) { return c != 1.0; }))
+		pbr["baseColorFactor"] = {m->color[0], m->color[1], m->color[2], m->color[3]};
+	if (m && m->defined && m->roughness >= 0.0)
+		pbr["roughnessFactor"] = m->roughness;
+	if (m && m->defined && m->texture)
+		pbr["baseColorTexture"] = {{"index", texture_index(*m)}};
+	json out = {{"name", utf8_text(mesh->materials.names[k])}, {"pbrMetallicRoughness", pbr}};
+	if (m && m->defined && m->color[3] < 1.0)
+		out["alphaMode"] = "BLEND";
+	return out;
+}
+
+/* A minimal document for mesh: one node, one mesh, its vertices' POSITION,
+ * NORMAL, COLOR_0 (vertex colours), TEXCOORD_0 (v flipped, as every
+ * TEXCOORD_n: flip_v) and every other attribute (in its type; 32-bit
+ * integers, which glTF allows only for indices, as floats), and on them
+ * one TRIANGLES primitive per material (OBJ's: gltf_material; one without
+ * material for faces that have none), or for a mesh without faces (a
+ * point cloud) POINTS, every vertex a point, with NORMAL only where the
+ * mesh has a normal other than zero (vn computes none without faces).
+ * Texture images are embedded in the buffer. */
 static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 {
 	/* An empty mesh: a scene without nodes, as a glTF of no mesh is read. */
@@ -553,10 +595,22 @@ static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 		return bytes();
 	}
 	const bool cloud = mesh->face_count == 0;
-	std::vector<uint32_t> indices;
-	for (size_t f = 0; f < mesh->face_count; ++f)
+	/* The triangles of each material (VN_IO_NO_NAME: none), in the order
+	 * of their first faces: a primitive each. */
+	std::vector<uint32_t> keys;
+	std::vector<std::vector<uint32_t>> indices;
+	std::map<uint32_t, size_t> group;
+	for (size_t f = 0; f < mesh->face_count; ++f) {
+		const uint32_t key = mesh->materials.of_face ? mesh->materials.of_face[f] : VN_IO_NO_NAME;
+		if (mesh->face_offsets[f + 1] - mesh->face_offsets[f] < 3)
+			continue;
+		auto at = group.emplace(key, keys.size()).first;
+		if (at->second == keys.size())
+			keys.push_back(key), indices.emplace_back();
+		std::vector<uint32_t>& out = indices[at->second];
 		for (uint32_t c = mesh->face_offsets[f] + 1; c + 1 < mesh->face_offsets[f + 1]; ++c)
-			indices.insert(indices.end(), {mesh->indices[mesh->face_offsets[f]], mesh->indices[c], mesh->indices[c + 1]});
+			out.insert(out.end(), {mesh->indices[mesh->face_offsets[f]], mesh->indices[c], mesh->indices[c + 1]});
+	}
 	if (indices.empty() && !cloud)
 		fail(vn_io_error_unsupported, "glTF needs at least one face with 3 or more corners");
 	const size_t n = mesh->vertex_count;
@@ -636,20 +690,49 @@ static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 			    return texcoord && c == 1 ? flip_v(v, a.component_type, a.normalized != 0) : v; },
 		    false, 34962);
 	}
-	json primitive = {{"attributes", attributes}};
-	if (!cloud) {
-		add("", 5125, 1, false, indices.size(), [&](size_t i, size_t) { return (double)indices[i]; }, false, 34963);
-		primitive["indices"] = accessors.size() - 1;
+	json primitives = json::array(), materials = json::array(), textures = json::array(), images = json::array();
+	std::map<std::string, size_t> texture_of; /* an image file's texture */
+	for (size_t k = 0; k < indices.size(); ++k) {
+		const std::vector<uint32_t>& list = indices[k];
+		add("", 5125, 1, false, list.size(), [&](size_t i, size_t) { return (double)list[i]; }, false, 34963);
+		json primitive = {{"attributes", attributes}, {"indices", accessors.size() - 1}, {"mode", 4}};
+		if (keys[k] != VN_IO_NO_NAME) {
+			primitive["material"] = materials.size();
+			materials.push_back(gltf_material(mesh, keys[k], [&](const vn_io_material& m) {
+				auto known = texture_of.find(m.texture);
+				if (known != texture_of.end())
+					return known->second;
+				char* data;
+				size_t size;
+				vn_io_error e;
+				if (vn_io_read_all(m.texture, &data, &size, &e) != vn_io_success)
+					fail(vn_io_error_open, e.message);
+				bin.resize((bin.size() + 3) / 4 * 4, 0);
+				const size_t offset = bin.size();
+				bin.insert(bin.end(), data, data + size);
+				free(data);
+				views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", size}});
+				images.push_back({{"bufferView", views.size() - 1}, {"mimeType", m.jpeg ? "image/jpeg" : "image/png"}});
+				textures.push_back({{"source", images.size() - 1}});
+				return texture_of[m.texture] = textures.size() - 1;
+			}));
+		}
+		primitives.push_back(primitive);
 	}
-	primitive["mode"] = cloud ? 0 : 4;
+	if (cloud)
+		primitives.push_back({{"attributes", attributes}, {"mode", 0}});
 	j = json{{"asset", {{"version", "2.0"}, {"generator", "vn"}}},
 	         {"scene", 0},
 	         {"scenes", json::array({json{{"nodes", {0}}}})},
 	         {"nodes", json::array({json{{"mesh", 0}}})},
-	         {"meshes", json::array({json{{"primitives", json::array({primitive})}}})},
-	         {"accessors", accessors},
-	         {"bufferViews", views},
-	         {"buffers", json::array({json{{"byteLength", bin.size()}}})}};
+	         {"meshes", json::array({json{{"primitives", primitives}}})}};
+	if (!materials.empty())
+		j["materials"] = materials;
+	if (!textures.empty())
+		j["textures"] = textures, j["images"] = images;
+	j["accessors"] = accessors;
+	j["bufferViews"] = views;
+	j["buffers"] = json::array({json{{"byteLength", bin.size()}}});
 	return bin;
 }
 

@@ -74,6 +74,9 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 		free(sets[k]->of_face);
 	}
 	free(mesh->face_untextured);
+	for (size_t i = 0; mesh->material_defs && i < mesh->materials.count; i++)
+		free(mesh->material_defs[i].texture);
+	free(mesh->material_defs);
 	free(mesh->material_library);
 	free(mesh->material_folder);
 	vn_io_ply_extras_free(mesh->ply_extras);
@@ -209,7 +212,7 @@ size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, cha
 	if (size)
 		text[0] = '\0';
 	const unsigned holds = format ? format->holds : 0;
-	const int names_lost = !(holds & vn_io_holds_face_names);
+	const int names_lost = !(holds & vn_io_holds_face_names), materials_lost = !(holds & vn_io_holds_materials);
 	const int colors_kept = mesh->colors && (holds & vn_io_holds_colors);
 	const char* names[] = {
 	    mesh->normals && format && !format->no_normal ? "vertex normals" : NULL,
@@ -217,7 +220,7 @@ size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, cha
 	    colors_kept && !(holds & vn_io_holds_color_alpha) && has_alpha(mesh) ? "vertex colour alpha" : NULL,
 	    mesh->texcoords && !(holds & vn_io_holds_texcoords) ? "texture coordinates" : NULL,
 	    mesh->face_colors && !(holds & vn_io_holds_face_colors) ? "face colours" : NULL,
-	    mesh->materials.of_face && names_lost ? "materials" : NULL,
+	    mesh->materials.of_face && materials_lost ? "materials" : NULL,
 	    mesh->objects.of_face && names_lost ? "object names" : NULL,
 	};
 	const size_t fixed = sizeof names / sizeof names[0];

@@ -91,6 +91,17 @@ typedef struct vn_io_face_names {
 /* A face that belongs to no named set (faces before an OBJ's first `usemtl`). */
 #define VN_IO_NO_NAME UINT32_MAX
 
+/* What an OBJ's material library (.mtl) says of one material, as far as
+ * glTF's metallic-roughness material carries it (vn_io_mtl_read). */
+typedef struct vn_io_material {
+	double color[4]; /* Kd and d (else 1 - Tr), clamped to [0, 1]: diffuse colour and opacity, 1 where not given */
+	double roughness; /* Pr, else 1 - sqrt(Ns / 1000) (Blender's reading of Ns); -1 where neither is given */
+	double metallic;  /* Pm (the PBR extension of MTL); 0 where not given, as the Phong model has no metal */
+	char* texture;   /* NULL, or map_Kd's image (PNG or JPEG): a path from the working folder, or absolute */
+	int jpeg;        /* the texture is JPEG (else PNG) */
+	int defined;     /* the library has a newmtl of its name (else it is a name only) */
+} vn_io_material;
+
 /* What a PLY file holds besides what vn_io_mesh describes (comments,
  * other face properties, other elements), for the PLY writer to write
  * back; opaque outside ply.c. */
@@ -141,6 +152,9 @@ typedef struct vn_io_mesh {
 	 * folder to that one ("../assets/model.mtl"; as written when the folder
 	 * is the same or this is NULL); absolute names stay. */
 	char* material_folder;
+	/* NULL, or materials.count entries: each material as the library
+	 * defines it (vn_io_mtl_read, for writers of materials: glTF). */
+	vn_io_material* material_defs;
 
 	/* NULL, or what a PLY file held besides the above; only the PLY writer
 	 * keeps it (vn_io_holds_ply_extras). Faces are never reordered, and
@@ -262,11 +276,12 @@ enum {
 	vn_io_holds_face_colors = 8,   /* `face_colors` */
 	vn_io_holds_polygons = 16,     /* faces of more than 3 corners (else fan-triangulated) */
 	vn_io_holds_loose_vertices = 32, /* vertices no face uses (else only the vertices faces use are written) */
-	vn_io_holds_face_names = 64,     /* `materials`, `objects`, `material_library` and its folder */
+	vn_io_holds_face_names = 64,     /* `objects`, `material_library` and its folder */
 	vn_io_holds_color_alpha = 128,   /* the alpha of `colors` (OBJ's `v x y z r g b` has none) */
 	vn_io_holds_no_faces = 256,      /* a mesh without faces but with vertices: a point cloud */
 	vn_io_holds_nothing = 512,       /* a mesh without vertices: an empty file vn reads back */
-	vn_io_holds_ply_extras = 1024    /* `ply_extras` */
+	vn_io_holds_ply_extras = 1024,   /* `ply_extras` */
+	vn_io_holds_materials = 2048     /* each face's material (`materials`), with `material_defs` or the `mtllib` line */
 };
 
 /* How vnconvert converts between two formats of one family (both ends with

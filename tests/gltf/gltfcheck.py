@@ -79,10 +79,18 @@
       is within TOLERANCE (positions: POSITION_TOLERANCE, default the same)
       of such a pair in the other, as each file stores it (TEXCOORD_0 of
       TRIANGLES primitives; OBJ's v and vt).
+  gltfcheck.py materials FILE
+      Prints each material that a TRIANGLES primitive uses, by name: its
+      base colour factor, metallic and roughness factors (6 decimals; glTF's
+      defaults where absent), alpha mode, base colour image (MIME type and
+      SHA-1 of its bytes), and the positions (5 decimals) and total area of
+      its triangles: what a conversion must keep whatever its primitive
+      split, triangulation and vertex order.
 Exit status 0 when the check holds, 1 with one line per problem otherwise.
 """
 import base64
 import copy
+import hashlib
 import json
 import math
 import os
@@ -452,10 +460,13 @@ def unit(v):
     return [x / length for x in v]
 
 
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
 def face_normal(p):
     """The triangle's unit normal, None when it is degenerate."""
-    a, b = sub(p[1], p[0]), sub(p[2], p[0])
-    n = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    n = cross(sub(p[1], p[0]), sub(p[2], p[0]))
     return unit(n) if any(n) else None
 
 
@@ -1065,6 +1076,38 @@ def cmd_drcnormals(path, vnconvert, method, degrees):
                                   [n[i:i + 3] for i in range(0, len(n), 3)], vnconvert, method, degrees) else 0
 
 
+def cmd_materials(path):
+    _, doc, buf = load(path)
+    seen = {}
+    for _, _, prim in primitives(doc):
+        if prim.get("mode", 4) != 4:
+            continue
+        m = doc["materials"][prim["material"]] if "material" in prim else {"name": "(none)"}
+        pbr = m.get("pbrMetallicRoughness", {})
+        tex = pbr.get("baseColorTexture")
+        image = "-"
+        if tex is not None:
+            img = doc["images"][doc["textures"][tex["index"]]["source"]]
+            data = image_bytes(doc, buf, img, os.path.dirname(path))
+            image = "%s %s" % (img.get("mimeType", "?"), hashlib.sha1(data).hexdigest())
+        key = "%s | colour %s | metallic %.6f | roughness %.6f | %s | image %s" % (
+            m.get("name", "?"), " ".join("%.6f" % c for c in pbr.get("baseColorFactor", [1, 1, 1, 1])),
+            pbr.get("metallicFactor", 1), pbr.get("roughnessFactor", 1), m.get("alphaMode", "OPAQUE"), image)
+        pos = accessor_values(doc, buf, prim["attributes"]["POSITION"])
+        corners = triangles(doc, buf, prim)
+        points, area = seen.setdefault(key, (set(), [0.0]))
+        for t in range(0, len(corners) - 2, 3):
+            p = [pos[i] for i in corners[t:t + 3]]
+            c = cross(sub(p[1], p[0]), sub(p[2], p[0]))
+            area[0] += 0.5 * math.sqrt(sum(x * x for x in c))
+            points.update(tuple(round(x, 5) + 0.0 for x in q) for q in p)
+    for key in sorted(seen):
+        points, area = seen[key]
+        print("%s | area %.6f | %d positions %s" % (key, area[0], len(points),
+                                                    hashlib.sha1(repr(sorted(points)).encode()).hexdigest()))
+    return 0
+
+
 def main(argv):
     if len(argv) == 4 and argv[1] == "drc":
         return cmd_drc(argv[2], argv[3])
@@ -1091,8 +1134,9 @@ def main(argv):
     if len(argv) == 4 and argv[1] in ("twosided-check", "twosided-shared-check"):
         return {"twosided-check": cmd_twosided_check,
                 "twosided-shared-check": cmd_twosided_shared_check}[argv[1]](argv[2], float(argv[3]))
-    if len(argv) == 3 and argv[1] in ("scattered", "packed", "bounds"):
-        return {"scattered": cmd_scattered, "packed": cmd_packed, "bounds": cmd_bounds}[argv[1]](argv[2])
+    if len(argv) == 3 and argv[1] in ("scattered", "packed", "bounds", "materials"):
+        return {"scattered": cmd_scattered, "packed": cmd_packed, "bounds": cmd_bounds,
+                "materials": cmd_materials}[argv[1]](argv[2])
     if len(argv) == 4 and argv[1] == "prims":
         return cmd_prims(argv[2], argv[3])
     if len(argv) == 6 and argv[1] in ("ownnormals", "drcnormals"):
