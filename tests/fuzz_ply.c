@@ -4,7 +4,9 @@
  * same vertices, faces, indices, optional arrays and attributes, and is
  * written again byte for byte as it was the first time (so the comments,
  * face properties and elements kept come back as they went); its
- * per-corner texcoords made per vertex keep every corner where it was.
+ * per-corner texcoords made per vertex keep every corner where it was, and
+ * its TextureFile comments made materials give every face one of them or
+ * none.
  */
 #include "fuzz_mesh.h"
 #include "ply.h"
@@ -58,6 +60,15 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 			    memcmp(m.positions + 3 * m.indices[c], back.positions + 3 * back.indices[c], 3 * sizeof(double)) != 0)
 				abort();
 		free(written(&m, &first_length));
+		/* Textures as materials (read from the working folder). */
+		if (vn_io_ply_texture_materials(&m, "comment TextureFile", NULL, &error) != vn_io_success)
+			abort();
+		for (size_t f = 0; m.materials.of_face && f < m.face_count; f++)
+			if (m.materials.of_face[f] != VN_IO_NO_NAME && m.materials.of_face[f] >= m.materials.count)
+				abort();
+		for (size_t i = 0; i < m.materials.count; i++)
+			if (!m.materials.names[i] || !m.material_defs[i].defined)
+				abort();
 	}
 	vn_io_mesh_free(&m);
 	vn_io_mesh_free(&back);

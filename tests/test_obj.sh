@@ -331,15 +331,17 @@ run "$VNC" "$DATA/blender_cube.obj" "$T/cube-m.glb" -q
 check "cube to GLB: Blue and Red as Blender has them" [ "$(q "$T/cube-m.glb" "[(m['name'], m['pbrMetallicRoughness']['baseColorFactor'], round(m['pbrMetallicRoughness']['roughnessFactor'], 9)) for m in d['materials']]")" = "[('Blue', [0.0, 0.0, 1.0, 1.0], 0.4), ('Red', [1.0, 0.0, 0.0, 1.0], 0.4)]" ]
 check "cube to GLB: 4 Blue faces, 2 Red" [ "$(q "$T/cube-m.glb" "[(p['material'], d['accessors'][p['indices']]['count']) for p in d['meshes'][0]['primitives']]")" = "[(0, 24), (1, 12)]" ]
 # By hand: a library whose name has a blank, in another folder than the
-# texture; Kd of one value; d -halo; Tr alone; Pr and Pm over Ns; map_Kd
-# with options and a Windows path; a TGA; a material it does not define;
-# faces before any usemtl (a primitive without material).
+# texture; Kd of one value; d -halo; Tr (not read: MeshLab writes "Tr 1"
+# for opaque, others mean clear); Pr and Pm over Ns; map_Kd with options
+# and a Windows path, its Kd 0.8 not applied (as Blender and obj2gltf read
+# it); a TGA; a material it does not define; faces before any usemtl (a
+# primitive without material).
 M=$T/lib
 mkdir -p "$M/textures"
 cp "$TEX/tex/checker.png" "$M/textures/a.png"
 printf 'TRUEVISION' >"$M/textures/b.tga"
 printf '%s\n' "# made by hand" "newmtl Grey" "Kd 0.5" "d -halo 0.25" "newmtl Clear" "Kd 1 0.5 0" "Tr 0.75" \
-  "newmtl Metal" "Ns 1000" "Pr 0.3" "Pm 1" "map_Kd -s 2 2 1 -clamp on textures\\a.png" "newmtl Tga" "map_Kd textures/b.tga" \
+  "newmtl Metal" "Ns 1000" "Pr 0.3" "Pm 1" "Kd 0.8 0.8 0.8" "map_Kd -s 2 2 1 -clamp on textures\\a.png" "newmtl Tga" "map_Kd textures/b.tga" \
   "newmtl Unused" "Kd 0 0 0" >"$M/my lib.mtl"
 printf '%s\n' "mtllib my lib.mtl" "v 0 0 0" "v 1 0 0" "v 0 1 0" "v 1 1 0" "vt 0 0" "vt 1 0" "vt 0 1" "vt 1 1" \
   "f 1/1 2/2 3/3" "usemtl Grey" "f 2/2 4/4 3/3" "usemtl Clear" "f 1/1 3/3 4/4" "usemtl Metal" "f 1/1 2/2 4/4" \
@@ -351,7 +353,7 @@ vnconvert: warning: $M/hand.obj: my lib.mtl: material Tga: texture textures/b.tg
 vnconvert: warning: $M/hand.obj: the material library defines no Nowhere: written by name only" ]
 check "by hand: a primitive without material, then one a material" [ "$(q "$T/hand.glb" "[p.get('material') for p in d['meshes'][0]['primitives']]")" = "[None, 0, 1, 2, 3, 4]" ]
 check "by hand: every material's factors" [ "$(q "$T/hand.glb" "[(m['name'], m['pbrMetallicRoughness'], m.get('alphaMode')) for m in d['materials']]")" = \
-  "[('Grey', {'metallicFactor': 0.0, 'baseColorFactor': [0.5, 0.5, 0.5, 0.25]}, 'BLEND'), ('Clear', {'metallicFactor': 0.0, 'baseColorFactor': [1.0, 0.5, 0.0, 0.25]}, 'BLEND'), ('Metal', {'metallicFactor': 1.0, 'roughnessFactor': 0.3, 'baseColorTexture': {'index': 0}}, None), ('Tga', {'metallicFactor': 0.0}, None), ('Nowhere', {'metallicFactor': 0.0}, None)]" ]
+  "[('Grey', {'metallicFactor': 0.0, 'baseColorFactor': [0.5, 0.5, 0.5, 0.25]}, 'BLEND'), ('Clear', {'metallicFactor': 0.0, 'baseColorFactor': [1.0, 0.5, 0.0, 1.0]}, None), ('Metal', {'metallicFactor': 1.0, 'roughnessFactor': 0.3, 'baseColorTexture': {'index': 0}}, None), ('Tga', {'metallicFactor': 0.0}, None), ('Nowhere', {'metallicFactor': 0.0}, None)]" ]
 check "by hand: the PNG found through the Windows path" [ "$(gcheck materials "$T/hand.glb" | grep '^Metal' | cut -d'|' -f6)" = " image image/png $(sha1sum <"$TEX/tex/checker.png" | cut -c1-40) " ]
 check "by hand: passes the Khronos validator" valid "$T/hand.glb"
 # A library that cannot be read: the materials by name, a warning.

@@ -200,6 +200,32 @@ run "$VNC" "$T/torus_tex.glb" "$T/torus_glb.obj" -q
 # prints 6 decimals.
 check "textured PLY to GLB: the corners of MeshLab's OBJ" \
   /usr/bin/python3 "$HERE/objcheck.py" close "$T/torus_glb.obj" "$T/ml_torus.obj" 6e-7
+# Its texture ("comment TextureFile", as MeshLab and Metashape name it) is a
+# glTF material: MeshLab's own reading, its OBJ export (material_0, map_Kd),
+# through vn to GLB, has the same material but for the name: image bytes,
+# factors, triangles (the positions at MeshLab's 6 decimals aside).
+mkdir "$T/texply"
+cp "$HERE/data/obj/textured/tex/checker.png" "$T/texply/"
+sed 's/^comment VCGLIB generated$/&\ncomment TextureFile checker.png/' "$T/torus_tex.ply" >"$T/texply/torus.ply"
+xvfb-run -a meshlabserver -i "$T/texply/torus.ply" -o "$T/texply/ml.obj" -m wt >/dev/null 2>&1
+check "MeshLab: the textured torus as OBJ with map_Kd" grep -q "^map_Kd checker.png" "$T/texply/ml.obj.mtl"
+run "$VNC" "$T/texply/torus.ply" "$T/texply/vn.glb"
+"$VNC" "$T/texply/ml.obj" "$T/texply/ml.glb" -q
+material() { python3 "$HERE/gltf/gltfcheck.py" materials "$1" | cut -d'|' -f2-7; }
+check "textured PLY to GLB: no warning" [ "$rc|$err" = "0|" ]
+check "textured PLY to GLB: MeshLab's material" [ "$(material "$T/texply/vn.glb")" = "$(material "$T/texply/ml.glb")" ]
+check "textured PLY to GLB: the PNG's bytes, named by its file" [ "$(python3 "$HERE/gltf/gltfcheck.py" materials "$T/texply/vn.glb" | cut -d'|' -f1,6)" = \
+  "checker.png | image image/png $(sha1sum <"$HERE/data/obj/textured/tex/checker.png" | cut -c1-40) " ]
+# MeshLab's several textures: a face's texnumber picks its TextureFile (and
+# is no longer named as lost); one out of range has none.
+printf '%s\n' ply "format ascii 1.0" "comment TextureFile checker.png" "comment TextureFile gone.png" "element vertex 4" \
+  "property float x" "property float y" "property float z" "element face 3" "property list uchar int vertex_indices" \
+  "property list uchar float texcoord" "property int texnumber" end_header "0 0 0" "1 0 0" "1 1 0" "0 1 0" \
+  "3 0 1 2 6 0 0 1 0 1 1 1" "3 0 2 3 6 0 0 1 1 0 1 0" "3 0 1 3 6 0 0 1 0 0 1 7" >"$T/texply/two.ply"
+run "$VNC" "$T/texply/two.ply" "$T/texply/two.glb"
+check "texnumber: a primitive per texture, the missing one named" [ "$rc|$err|$(q "$T/texply/two.glb" "[(p.get('material'), d['accessors'][p['indices']]['count']) for p in d['meshes'][0]['primitives']]")" = \
+  "0|vnconvert: warning: $T/texply/two.ply: comment TextureFile: material gone.png: texture gone.png cannot be read (No such file or directory): written without it|[(0, 3), (1, 3), (None, 3)]" ]
+check "texnumber: the faces' textures" [ "$(q "$T/texply/two.glb" "[(m['name'], 'baseColorTexture' in m['pbrMetallicRoughness']) for m in d['materials']]")" = "[('gone.png', False), ('checker.png', True)]" ]
 # By hand: a seam at vertex 0 (its two corners differ), vertex 2 shared.
 # Copies share their vertex's normal, with --no-weld too: the file gave
 # them one vertex. A list that is not a pair per corner stays a face list,

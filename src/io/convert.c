@@ -534,6 +534,20 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	if ((c->out_format->holds & (vn_io_holds_ply_extras | vn_io_holds_texcoords)) == vn_io_holds_texcoords &&
 	    (res = vn_io_ply_corner_texcoords(mesh, c->in, &uv_split, error)) != vn_io_success)
 		return res;
+	/* A PLY's textures as glTF materials, once its texture coordinates are
+	 * per vertex; from IN's folder (the working folder for standard input). */
+	if (gltf_out && mesh->ply_extras) {
+		const size_t said = mesh->warnings ? strlen(mesh->warnings) : 0;
+		const char* slash = o->input_is_copy ? NULL : strrchr(c->in, '/');
+		char* folder = slash ? strndup(c->in, slash == c->in ? 1 : (size_t)(slash - c->in)) : NULL;
+		if (slash && !folder)
+			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", c->in);
+		res = vn_io_ply_texture_materials(mesh, "comment TextureFile", folder, error);
+		free(folder);
+		if (res != vn_io_success)
+			return res;
+		input_warnings(c, mesh->warnings ? mesh->warnings + said + (said && mesh->warnings[said] == '\n') : NULL);
+	}
 	const int made_texcoords = !had_texcoords && mesh->texcoords;
 	const double t2 = now();
 	r->vertices = st.vertices;

@@ -555,17 +555,23 @@ static std::string utf8_text(const char* s)
 }
 
 /* glTF's material for mesh material k: its name (utf8_text); where the
- * library defines it (vn_io_mtl_read), Kd and d as baseColorFactor (opacity
- * below 1: alpha mode BLEND), map_Kd as baseColorTexture (texture_index
- * gives the texture's index) and the roughness; metallicFactor Pm, else 0:
- * an OBJ describes no metal, and glTF's default, 1, would make it one. */
+ * library defines it (vn_io_mtl_read), map_Kd as baseColorTexture
+ * (texture_index gives the texture's index), Kd where there is none and d
+ * as baseColorFactor (opacity below 1: alpha mode BLEND), and the
+ * roughness; metallicFactor Pm, else 0: an OBJ describes no metal, and
+ * glTF's default, 1, would make it one. The MTL specification multiplies
+ * map_Kd by Kd, but exporters write Kd 0.8 beside a texture (Blender 2.8),
+ * and Blender and obj2gltf read the texture alone. */
 static json gltf_material(const vn_io_mesh* mesh, uint32_t k,
                           const std::function<size_t(const vn_io_material&)>& texture_index)
 {
 	const vn_io_material* m = mesh->material_defs ? &mesh->material_defs[k] : nullptr;
 	json pbr = {{"metallicFactor", m && m->defined ? m->metallic : 0.0}};
-	if (m && m->defined && std::any_of(m->color, m->color + 4, [](double c) { return c != 1.0; }))
-		pbr["baseColorFactor"] = {m->color[0], m->color[1], m->color[2], m->color[3]};
+	double colour[4] = {1.0, 1.0, 1.0, 1.0};
+	for (int c = 0; m && m->defined && c < 4; ++c)
+		colour[c] = c < 3 && m->texture ? 1.0 : m->color[c];
+	if (std::any_of(colour, colour + 4, [](double c) { return c != 1.0; }))
+		pbr["baseColorFactor"] = {colour[0], colour[1], colour[2], colour[3]};
 	if (m && m->defined && m->roughness >= 0.0)
 		pbr["roughnessFactor"] = m->roughness;
 	if (m && m->defined && m->texture)

@@ -1,13 +1,13 @@
 /*
  * An OBJ's material library (.mtl): of each material the mesh uses, what
  * glTF's metallic-roughness material takes from the Phong model the library
- * describes: the diffuse colour (Kd), the opacity (d, or 1 - Tr), the
- * diffuse texture (map_Kd), whose colour Kd multiplies as glTF's
- * baseColorFactor multiplies baseColorTexture (MTL specification, "map_Kd:
- * the value is multiplied by the Kd value"), and the shininess (Ns) as a
+ * describes: the diffuse colour (Kd) and texture (map_Kd), the opacity (d;
+ * not Tr, which writers mean both ways: MeshLab writes "Tr 1" for opaque,
+ * others for clear, and Blender ignores it) and the shininess (Ns) as a
  * roughness, 1 - sqrt(Ns / 1000), as Blender reads it; the PBR extension's
  * Pr and Pm where given. Ka, Ks, illum, bump and the other maps have no
- * counterpart there and are not read.
+ * counterpart there and are not read. (How they become a glTF material:
+ * gltf_material, gltf_mesh.cpp.)
  */
 #define _GNU_SOURCE /* open_memstream */
 
@@ -288,7 +288,7 @@ int vn_io_mtl_parse(const char* data, size_t size, const char* name, const char*
 	const char* end = data + size;
 	long current = -1; /* the material being defined, when the mesh uses it */
 	char* current_name = NULL;
-	int opacity_given = 0, roughness_given = 0; /* d and Pr, which Tr and Ns do not override */
+	int roughness_given = 0; /* Pr, which Ns does not override */
 	for (const char* line = data; line < end;) {
 		const char* stop = memchr(line, '\n', (size_t)(end - line));
 		if (!stop)
@@ -308,7 +308,7 @@ int vn_io_mtl_parse(const char* data, size_t size, const char* name, const char*
 			current = material_index(mesh, current_name);
 			if (current >= 0)
 				mesh->material_defs[current].defined = 1;
-			opacity_given = roughness_given = 0;
+			roughness_given = 0;
 			continue;
 		}
 		if (current < 0)
@@ -326,7 +326,7 @@ int vn_io_mtl_parse(const char* data, size_t size, const char* name, const char*
 			if (keyword(h, n, "-halo"))
 				p = q;
 			if (numbers(&p, stop, v, 1))
-				m->color[3] = unit(v[0]), opacity_given = 1;
+				m->color[3] = unit(v[0]);
 		} else if (keyword(t, n, "Ns")) {
 			if (numbers(&p, stop, v, 1) && !roughness_given)
 				m->roughness = 1.0 - sqrt(unit(v[0] / 1000.0));
@@ -336,9 +336,6 @@ int vn_io_mtl_parse(const char* data, size_t size, const char* name, const char*
 		} else if (keyword(t, n, "Pm")) {
 			if (numbers(&p, stop, v, 1))
 				m->metallic = unit(v[0]);
-		} else if (keyword(t, n, "Tr")) {
-			if (numbers(&p, stop, v, 1) && !opacity_given)
-				m->color[3] = unit(1.0 - v[0]);
 		} else if (keyword(t, n, "map_Kd")) {
 			if (!texture(p, stop, name, folder, current_name, m, warnings)) {
 				free(current_name);
@@ -441,6 +438,20 @@ static int append_warnings(vn_io_mesh* mesh, const char* more, size_t n)
 	return 1;
 }
 
+/* A texture needs coordinates (glTF's validator: an error): without them,
+ * none is kept, and a warning names each. */
+static void drop_untextured(vn_io_mesh* mesh, FILE* warnings)
+{
+	for (size_t i = 0; !mesh->texcoords && i < mesh->materials.count; i++) {
+		vn_io_material* m = &mesh->material_defs[i];
+		if (m->texture)
+			fprintf(warnings, "material %s: texture %s not written: the mesh has no texture coordinates\n",
+			        mesh->materials.names[i], m->texture);
+		free(m->texture);
+		m->texture = NULL;
+	}
+}
+
 /* Warns of the materials faces use that no library read defines. 0 when
  * out of memory. */
 static int warn_undefined(const vn_io_mesh* mesh, FILE* warnings)
@@ -461,44 +472,70 @@ static int warn_undefined(const vn_io_mesh* mesh, FILE* warnings)
 	return 1;
 }
 
-vn_io_result vn_io_mtl_read(vn_io_mesh* mesh, vn_io_error* error)
+/* The libraries mesh->material_library names: one file whose name may
+ * hold blanks; else the names ending in ".mtl" (several mtllib lines, names
+ * with blanks: "box mtllib red.mtl box mtllib green.mtl"), each else split
+ * at its blanks. 0 when out of memory. */
+static int read_libraries(vn_io_mesh* mesh, const void* unused, FILE* warnings)
 {
-	if (!mesh->materials.count || !mesh->material_library || !mesh->materials.of_face)
-		return vn_io_success;
+	(void)unused;
+	const char* library = mesh->material_library;
+	vn_io_error why;
+	const int blanks = strpbrk(library, " \t") != NULL;
+	int ok = read_library(mesh, library, !blanks, warnings, &why);
+	int read = !why.message[0];
+	if (ok && !read && !blanks)
+		fprintf(warnings, "%s: its materials are written by name only\n", why.message);
+	else if (ok && !read)
+		ok = read_pieces(mesh, library, warnings, &read);
+	return ok && (!read || warn_undefined(mesh, warnings));
+}
+
+/* Library text in memory (vn_io_mtl_read_text's arguments). */
+typedef struct library_text {
+	const char *data, *name, *folder;
+	size_t size;
+} library_text;
+
+static int read_text(vn_io_mesh* mesh, const void* what, FILE* warnings)
+{
+	const library_text* t = (const library_text*)what;
+	return vn_io_mtl_parse(t->data, t->size, t->name, t->folder, mesh, warnings);
+}
+
+/* read(mesh, what, warnings) in the C locale, then the textures that
+ * cannot be drawn dropped, the warnings appended to mesh->warnings. */
+static vn_io_result with_warnings(vn_io_mesh* mesh, int (*read)(vn_io_mesh*, const void*, FILE*), const void* what,
+                                  vn_io_error* error)
+{
 	char* text = NULL;
 	size_t length = 0;
 	FILE* warnings = open_memstream(&text, &length);
 	vn_io_c_locale locale;
 	int ok = warnings && allocate_defs(mesh) && vn_io_c_locale_enter(&locale);
 	if (ok) {
-		/* One file whose name may hold blanks, else the blank-separated names. */
-		/* One file whose name may hold blanks; else the names ending in
-		 * ".mtl" (several mtllib lines, names with blanks: "box mtllib
-		 * red.mtl box mtllib green.mtl"), each else split at its blanks. */
-		const char* library = mesh->material_library;
-		vn_io_error why;
-		const int blanks = strpbrk(library, " \t") != NULL;
-		ok = read_library(mesh, library, !blanks, warnings, &why);
-		int read = !why.message[0];
-		if (ok && !read && !blanks)
-			fprintf(warnings, "%s: its materials are written by name only\n", why.message);
-		else if (ok && !read)
-			ok = read_pieces(mesh, library, warnings, &read);
+		ok = read(mesh, what, warnings);
 		vn_io_c_locale_leave(&locale);
-		ok = ok && (!read || warn_undefined(mesh, warnings));
-		/* A texture needs coordinates (glTF's validator: an error). */
-		for (size_t i = 0; ok && !mesh->texcoords && i < mesh->materials.count; i++) {
-			vn_io_material* m = &mesh->material_defs[i];
-			if (m->texture)
-				fprintf(warnings, "material %s: texture %s not written: the mesh has no texture coordinates\n",
-				        mesh->materials.names[i], m->texture);
-			free(m->texture);
-			m->texture = NULL;
-		}
+		if (ok)
+			drop_untextured(mesh, warnings);
 	}
 	if (warnings && fclose(warnings))
 		ok = 0;
 	ok = ok && append_warnings(mesh, text, length);
 	free(text);
-	return ok ? vn_io_success : vn_io_fail(error, vn_io_error_memory, "out of memory reading the material library");
+	return ok ? vn_io_success : vn_io_fail(error, vn_io_error_memory, "out of memory reading the materials");
+}
+
+vn_io_result vn_io_mtl_read(vn_io_mesh* mesh, vn_io_error* error)
+{
+	if (!mesh->materials.count || !mesh->material_library || !mesh->materials.of_face)
+		return vn_io_success;
+	return with_warnings(mesh, read_libraries, NULL, error);
+}
+
+vn_io_result vn_io_mtl_read_text(vn_io_mesh* mesh, const char* data, size_t size, const char* name, const char* folder,
+                                 vn_io_error* error)
+{
+	const library_text t = {data, name, folder, size};
+	return with_warnings(mesh, read_text, &t, error);
 }

@@ -14,14 +14,15 @@ extern "C" {
 #endif
 
 /* Reads the .mtl files an OBJ mesh names (material_library: one file, or
- * several separated by blanks; relative names from material_folder, else
- * from the working folder) into mesh->material_defs, one entry per name in
- * mesh->materials: Kd, d (else 1 - Tr) and map_Kd. What cannot be used (a
- * library or texture that cannot be read, a texture neither PNG nor JPEG,
- * a material the library does not define, map_Kd options) is a warning
- * line appended to mesh->warnings, naming the file; the material keeps
- * what else it has. Does nothing for a mesh without materials or library.
- * Fails only when out of memory. */
+ * several, see read_libraries; relative names from material_folder, else
+ * from the working folder; a file not there is looked for beside the OBJ)
+ * into mesh->material_defs, one entry per name in mesh->materials: Kd, d,
+ * Ns, Pr, Pm and map_Kd. What cannot be used (a library or texture that
+ * cannot be read, a texture neither PNG nor JPEG or without texture
+ * coordinates to draw it, a material the library does not define, map_Kd
+ * options) is a warning line appended to mesh->warnings, naming the file;
+ * the material keeps what else it has. Does nothing for a mesh without
+ * materials or library. Fails only when out of memory. */
 vn_io_result vn_io_mtl_read(vn_io_mesh* mesh, vn_io_error* error);
 
 /* Parses size bytes of one library (data need not be NUL-terminated) into
@@ -30,6 +31,12 @@ vn_io_result vn_io_mtl_read(vn_io_mesh* mesh, vn_io_error* error);
  * starting with `name`. Returns 0 when out of memory. */
 int vn_io_mtl_parse(const char* data, size_t size, const char* name, const char* folder, vn_io_mesh* mesh,
                     FILE* warnings);
+
+/* Library text held in memory (`size` bytes; `name` its origin in
+ * warnings, textures found from `folder`), as vn_io_mtl_read reads a file:
+ * a PLY's TextureFile comments are given as one. */
+vn_io_result vn_io_mtl_read_text(vn_io_mesh* mesh, const char* data, size_t size, const char* name, const char* folder,
+                                 vn_io_error* error);
 
 #ifdef __cplusplus
 }

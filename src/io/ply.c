@@ -29,6 +29,7 @@
  * after vn's, the other elements after the faces.
  */
 #include "ply.h"
+#include "mtl.h"
 #include "text.h"
 
 #include <math.h>
@@ -984,6 +985,15 @@ size_t vn_io_ply_extras_describe(const vn_io_ply_extras* extras, char* text, siz
 	return l.items + l.more;
 }
 
+/* Removes face property p from x. */
+static void drop_face_property(vn_io_ply_extras* x, ply_property* p)
+{
+	free(p->column);
+	free(p->offsets);
+	memmove(p, p + 1, (size_t)(x->face.properties + x->face.property_count - (p + 1)) * sizeof *p);
+	x->face.property_count--;
+}
+
 vn_io_result vn_io_ply_corner_texcoords(vn_io_mesh* m, const char* name, size_t* split, vn_io_error* error)
 {
 	*split = 0;
@@ -1047,10 +1057,7 @@ vn_io_result vn_io_ply_corner_texcoords(vn_io_mesh* m, const char* name, size_t*
 			m->texcoords = fitted ? fitted : uv;
 			uv = NULL;
 			memcpy(m->indices, corner_vertex, sizeof(uint32_t) * corners);
-			free(p->column);
-			free(p->offsets);
-			memmove(p, p + 1, (size_t)(x->face.properties + x->face.property_count - (p + 1)) * sizeof *p);
-			x->face.property_count--;
+			drop_face_property(x, p);
 			*split = added;
 		}
 	}
@@ -1060,6 +1067,74 @@ vn_io_result vn_io_ply_corner_texcoords(vn_io_mesh* m, const char* name, size_t*
 	free(corner_vertex);
 	free(has);
 	return result;
+}
+
+/* The file a comment line names after `key` (k bytes), without blanks at
+ * either end (*n its length), or NULL when the line is no such comment or
+ * names nothing. */
+static const char* texture_file(const char* line, const char* key, size_t k, size_t* n)
+{
+	if (strncmp(line, key, k))
+		return NULL;
+	const char* start = line + k;
+	const char* end = strchr(start, '\n');
+	while (start < end && (*start == ' ' || *start == '\t'))
+		start++;
+	while (end > start && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\r'))
+		end--;
+	if (n)
+		*n = (size_t)(end - start);
+	return end > start ? start : NULL;
+}
+
+vn_io_result vn_io_ply_texture_materials(vn_io_mesh* m, const char* name, const char* folder, vn_io_error* error)
+{
+	vn_io_ply_extras* x = m->ply_extras;
+	static const char key[] = "comment TextureFile ";
+	const size_t k = sizeof key - 1;
+	size_t count = 0, bytes = 0;
+	for (const char* line = x ? x->comments : NULL; line && *line; line = strchr(line, '\n') + 1)
+		if (texture_file(line, key, k, NULL))
+			count++, bytes += 2 * (size_t)(strchr(line, '\n') - (line + k)) + 16;
+	if (!count || m->materials.count || !m->face_count)
+		return vn_io_success;
+	/* The library "newmtl FILE / map_Kd FILE" of each, in order. */
+	char* text = malloc(bytes + 1);
+	m->materials.names = calloc(count, sizeof(char*));
+	m->materials.of_face = malloc(sizeof(uint32_t) * m->face_count);
+	if (!text || !m->materials.names || !m->materials.of_face) {
+		free(text);
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+	}
+	size_t used = 0;
+	for (const char* line = x->comments; *line; line = strchr(line, '\n') + 1) {
+		size_t n;
+		const char* start = texture_file(line, key, k, &n);
+		if (!start)
+			continue;
+		char* file = malloc(n + 1);
+		if (!file) {
+			free(text);
+			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+		}
+		memcpy(file, start, n);
+		file[n] = '\0';
+		m->materials.names[m->materials.count++] = file;
+		used += (size_t)sprintf(text + used, "newmtl %s\nmap_Kd %s\n", file, file);
+	}
+	/* Each face's texture: texnumber (MeshLab's several textures), else the first. */
+	ply_property* t = find_scalar(&x->face, "texnumber");
+	if (t && x->face.count != m->face_count)
+		t = NULL;
+	for (size_t f = 0; f < m->face_count; f++) {
+		const double v = t ? get_value(t->type, t->column + f * types[t->type].size) : 0.0;
+		m->materials.of_face[f] = v >= 0 && v < (double)count && v == floor(v) ? (uint32_t)v : VN_IO_NO_NAME;
+	}
+	if (t)
+		drop_face_property(x, t);
+	const vn_io_result r = vn_io_mtl_read_text(m, text, used, name, folder, error);
+	free(text);
+	return r;
 }
 
 /* Moves what the writer writes back into m->ply_extras (which the mesh

@@ -94,7 +94,7 @@ typedef struct vn_io_face_names {
 /* What an OBJ's material library (.mtl) says of one material, as far as
  * glTF's metallic-roughness material carries it (vn_io_mtl_read). */
 typedef struct vn_io_material {
-	double color[4]; /* Kd and d (else 1 - Tr), clamped to [0, 1]: diffuse colour and opacity, 1 where not given */
+	double color[4]; /* Kd and d, clamped to [0, 1]: diffuse colour and opacity, 1 where not given */
 	double roughness; /* Pr, else 1 - sqrt(Ns / 1000) (Blender's reading of Ns); -1 where neither is given */
 	double metallic;  /* Pm (the PBR extension of MTL); 0 where not given, as the Phong model has no metal */
 	char* texture;   /* NULL, or map_Kd's image (PNG or JPEG): a path from the working folder, or absolute */
