@@ -8,7 +8,7 @@
  * vertices, faces of 3 or more corners, names within their lists), and
  * writing it and reading that back must give the same counts and corners.
  * The input is also read as the mesh's material library (mtl.c): every
- * colour, roughness and metallic factor within [0, 1].
+ * colour, emission, roughness and metallic factor within [0, 1].
  */
 #include <cfloat>
 #include <cmath>
@@ -31,6 +31,9 @@ static void check_library(vn_io_mesh& m, const uint8_t* data, size_t size)
 	for (size_t i = 0; i < m.materials.count; i++) {
 		const vn_io_material& d = m.material_defs[i];
 		for (double c : d.color)
+			if (!(c >= 0 && c <= 1))
+				abort();
+		for (double c : d.emissive)
 			if (!(c >= 0 && c <= 1))
 				abort();
 		if (!(d.roughness == -1 || (d.roughness >= 0 && d.roughness <= 1)) || !(d.metallic >= 0 && d.metallic <= 1))

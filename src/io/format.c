@@ -60,11 +60,11 @@ static const vn_io_format formats[] = {
       {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"},
       {vn_io_holds_materials,
        "materials (`usemtl` names, the `mtllib` line; to glTF, each as the .mtl file defines it: Kd, d, Ns, Pr, Pm, "
-       "map_Kd as the PNG or JPEG image itself)",
+       "Ke, and map_Kd, map_Bump and map_Ke as the PNG or JPEG images themselves)",
        "materials (named)"},
       {vn_io_holds_face_names, "object names (`o`, to the first blank)", "object names (named)"}},
      "groups (`g`), smoothing groups (`s`), lines, points, curves, vertices no face uses, the rest of the .mtl file "
-     "(Ka, Ks, Tr, illum, maps other than map_Kd)",
+     "(Ka, Ks, Tr, illum, other maps)",
      NULL, NULL, NULL},
     {"ply", "PLY", "PLY", ".ply",
      "Stanford polygon file (reads ASCII and binary, either byte order; writes binary little-endian)",

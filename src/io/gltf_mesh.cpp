@@ -555,30 +555,44 @@ static std::string utf8_text(const char* s)
 }
 
 /* glTF's material for mesh material k: its name (utf8_text); where the
- * library defines it (vn_io_mtl_read), map_Kd as baseColorTexture
- * (texture_index gives the texture's index), Kd where there is none and d
- * as baseColorFactor (opacity below 1: alpha mode BLEND), and the
- * roughness; metallicFactor Pm, else 0: an OBJ describes no metal, and
- * glTF's default, 1, would make it one. The MTL specification multiplies
- * map_Kd by Kd, but exporters write Kd 0.8 beside a texture (Blender 2.8),
- * and Blender and obj2gltf read the texture alone. */
+ * library defines it (vn_io_mtl_read), map_Kd as baseColorTexture, Kd where
+ * there is none and d as baseColorFactor (opacity below 1: alpha mode
+ * BLEND), the roughness, map_Bump as normalTexture (its -bm as scale),
+ * map_Ke as emissiveTexture (factor 1), else Ke as emissiveFactor;
+ * metallicFactor Pm, else 0: an OBJ describes no metal, and glTF's
+ * default, 1, would make it one. The MTL specification multiplies map_Kd
+ * by Kd, but exporters write Kd 0.8 beside a texture (Blender 2.8), and
+ * Blender and obj2gltf read the texture alone (Ke likewise). texture_index
+ * gives the index of a texture of image (path, jpeg). */
 static json gltf_material(const vn_io_mesh* mesh, uint32_t k,
-                          const std::function<size_t(const vn_io_material&)>& texture_index)
+                          const std::function<size_t(const char*, int)>& texture_index)
 {
-	const vn_io_material* m = mesh->material_defs ? &mesh->material_defs[k] : nullptr;
-	json pbr = {{"metallicFactor", m && m->defined ? m->metallic : 0.0}};
+	const vn_io_material* m = mesh->material_defs && mesh->material_defs[k].defined ? &mesh->material_defs[k] : nullptr;
+	const auto texture = [&](int kind) { return m ? m->textures[kind] : nullptr; };
+	json pbr = {{"metallicFactor", m ? m->metallic : 0.0}};
 	double colour[4] = {1.0, 1.0, 1.0, 1.0};
-	for (int c = 0; m && m->defined && c < 4; ++c)
-		colour[c] = c < 3 && m->texture ? 1.0 : m->color[c];
+	for (int c = 0; m && c < 4; ++c)
+		colour[c] = c < 3 && texture(vn_io_texture_base) ? 1.0 : m->color[c];
 	if (std::any_of(colour, colour + 4, [](double c) { return c != 1.0; }))
 		pbr["baseColorFactor"] = {colour[0], colour[1], colour[2], colour[3]};
-	if (m && m->defined && m->roughness >= 0.0)
+	if (m && m->roughness >= 0.0)
 		pbr["roughnessFactor"] = m->roughness;
-	if (m && m->defined && m->texture)
-		pbr["baseColorTexture"] = {{"index", texture_index(*m)}};
+	if (texture(vn_io_texture_base))
+		pbr["baseColorTexture"] = {{"index", texture_index(m->textures[0], m->jpeg[0])}};
 	json out = {{"name", utf8_text(mesh->materials.names[k])}, {"pbrMetallicRoughness", pbr}};
-	if (m && m->defined && m->color[3] < 1.0)
+	if (m && m->color[3] < 1.0)
 		out["alphaMode"] = "BLEND";
+	if (texture(vn_io_texture_normal)) {
+		out["normalTexture"] = {{"index", texture_index(m->textures[1], m->jpeg[1])}};
+		if (m->normal_scale != 1.0)
+			out["normalTexture"]["scale"] = m->normal_scale;
+	}
+	if (texture(vn_io_texture_emissive)) {
+		out["emissiveTexture"] = {{"index", texture_index(m->textures[2], m->jpeg[2])}};
+		out["emissiveFactor"] = {1.0, 1.0, 1.0};
+	} else if (m && std::any_of(m->emissive, m->emissive + 3, [](double c) { return c != 0.0; })) {
+		out["emissiveFactor"] = {m->emissive[0], m->emissive[1], m->emissive[2]};
+	}
 	return out;
 }
 
@@ -704,23 +718,23 @@ static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 		json primitive = {{"attributes", attributes}, {"indices", accessors.size() - 1}, {"mode", 4}};
 		if (keys[k] != VN_IO_NO_NAME) {
 			primitive["material"] = materials.size();
-			materials.push_back(gltf_material(mesh, keys[k], [&](const vn_io_material& m) {
-				auto known = texture_of.find(m.texture);
+			materials.push_back(gltf_material(mesh, keys[k], [&](const char* path, int jpeg) {
+				auto known = texture_of.find(path);
 				if (known != texture_of.end())
 					return known->second;
 				char* data;
 				size_t size;
 				vn_io_error e;
-				if (vn_io_read_all(m.texture, &data, &size, &e) != vn_io_success)
+				if (vn_io_read_all(path, &data, &size, &e) != vn_io_success)
 					fail(vn_io_error_open, e.message);
 				bin.resize((bin.size() + 3) / 4 * 4, 0);
 				const size_t offset = bin.size();
 				bin.insert(bin.end(), data, data + size);
 				free(data);
 				views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", size}});
-				images.push_back({{"bufferView", views.size() - 1}, {"mimeType", m.jpeg ? "image/jpeg" : "image/png"}});
+				images.push_back({{"bufferView", views.size() - 1}, {"mimeType", jpeg ? "image/jpeg" : "image/png"}});
 				textures.push_back({{"source", images.size() - 1}});
-				return texture_of[m.texture] = textures.size() - 1;
+				return texture_of[path] = textures.size() - 1;
 			}));
 		}
 		primitives.push_back(primitive);

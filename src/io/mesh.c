@@ -75,7 +75,8 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 	}
 	free(mesh->face_untextured);
 	for (size_t i = 0; mesh->material_defs && i < mesh->materials.count; i++)
-		free(mesh->material_defs[i].texture);
+		for (int k = 0; k < vn_io_texture_kinds; k++)
+			free(mesh->material_defs[i].textures[k]);
 	free(mesh->material_defs);
 	free(mesh->material_library);
 	free(mesh->material_folder);

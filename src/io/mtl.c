@@ -3,11 +3,13 @@
  * glTF's metallic-roughness material takes from the Phong model the library
  * describes: the diffuse colour (Kd) and texture (map_Kd), the opacity (d;
  * not Tr, which writers mean both ways: MeshLab writes "Tr 1" for opaque,
- * others for clear, and Blender ignores it) and the shininess (Ns) as a
- * roughness, 1 - sqrt(Ns / 1000), as Blender reads it; the PBR extension's
- * Pr and Pm where given. Ka, Ks, illum, bump and the other maps have no
- * counterpart there and are not read. (How they become a glTF material:
- * gltf_material, gltf_mesh.cpp.)
+ * others for clear, and Blender ignores it), the shininess (Ns) as a
+ * roughness, 1 - sqrt(Ns / 1000), as Blender reads it, the emission (Ke,
+ * map_Ke) and the normal map (map_Bump, bump or norm, with its -bm scale,
+ * as Blender and obj2gltf read them); the PBR extension's Pr and Pm where
+ * given. Ka, Ks, illum and the other maps have no counterpart there and are
+ * not read. (How they become a glTF material: gltf_material,
+ * gltf_mesh.cpp.)
  */
 #define _GNU_SOURCE /* open_memstream */
 
@@ -149,6 +151,15 @@ static char* locate(const char* folder, const char* name, int last, int* moved, 
 	if (is_file(path))
 		return path;
 	*error_number = errno;
+	if (strstr(path, "\\ ")) { /* blanks escaped ("my\\ lib.mtl", as tinyobjloader reads them) */
+		char* to = path;
+		for (const char* c = path; *c; c++)
+			if (!(c[0] == '\\' && c[1] == ' '))
+				*to++ = *c;
+		*to = '\0';
+		if (is_file(path))
+			return path;
+	}
 	for (char* c = path; *c; c++)
 		*c = *c == '\\' ? '/' : *c;
 	if (is_file(path))
@@ -181,12 +192,12 @@ static int image_kind(const char* path)
 	return got >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF ? 2 : 0;
 }
 
-/* map_Kd's options (MTL specification) and how many arguments each takes:
- * -o, -s and -t one to three numbers. */
+/* A map's options (MTL specification; -colorspace, tinyobjloader's) and
+ * how many arguments each takes: -o, -s and -t one to three numbers. */
 static int option_arguments(const char* t, size_t n)
 {
 	static const char* const one[] = {"-blendu", "-blendv", "-cc", "-clamp", "-texres", "-bm", "-boost", "-imfchan",
-	                                  "-type"};
+	                                  "-type", "-colorspace"};
 	for (size_t i = 0; i < sizeof one / sizeof one[0]; i++)
 		if (keyword(t, n, one[i]))
 			return 1;
@@ -197,13 +208,15 @@ static int option_arguments(const char* t, size_t n)
 	return -1;
 }
 
-/* map_Kd's arguments [p, end) for material m: its options skipped (named in
- * a warning), then the file, from `folder`. 0 when out of memory. */
-static int texture(const char* p, const char* end, const char* name, const char* folder, const char* material,
-                   vn_io_material* m, FILE* warnings)
+/* A map's arguments [p, end) (`map`: its keyword as written) for texture
+ * `kind` of material m: its options skipped (named in a warning; a normal
+ * map's -bm is its scale), then the file, from `folder`. 0 when out of
+ * memory. */
+static int texture(const char* p, const char* end, const char* map, int kind, const char* name, const char* folder,
+                   const char* material, vn_io_material* m, FILE* warnings)
 {
-	const char* options = NULL;
-	size_t options_length = 0;
+	char skipped[200] = "";
+	size_t used = 0;
 	for (;;) {
 		const char* q = p;
 		size_t n;
@@ -211,38 +224,40 @@ static int texture(const char* p, const char* end, const char* name, const char*
 		const int k = n > 1 && t[0] == '-' ? option_arguments(t, n) : -1;
 		if (k < 0)
 			break;
-		if (!options)
-			options = t;
-		if (k == 3) {
-			double v[3];
-			numbers(&q, end, v, 3);
+		double v[3];
+		if (kind == vn_io_texture_normal && keyword(t, n, "-bm") && numbers(&q, end, v, 1)) {
+			m->normal_scale = v[0];
 		} else {
-			for (int i = 0; i < k; i++)
+			if (k == 3)
+				numbers(&q, end, v, 3);
+			for (int i = 0; k < 3 && i < k; i++)
 				token(&q, end, &n);
+			const int wrote = snprintf(skipped + used, sizeof skipped - used, "%s%.*s", used ? " " : "",
+			                           (int)(q - t), t);
+			used += wrote > 0 && (size_t)wrote < sizeof skipped - used ? (size_t)wrote : 0;
 		}
-		options_length = (size_t)(q - options);
 		p = q;
 	}
 	char* file = trimmed(p, end);
 	if (!file)
 		return 0;
 	if (!file[0]) {
-		fprintf(warnings, "%s: material %s: map_Kd names no file\n", name, material);
+		fprintf(warnings, "%s: material %s: %s names no file\n", name, material, map);
 		free(file);
 		return 1;
 	}
-	if (options)
-		fprintf(warnings, "%s: material %s: map_Kd's options (%.*s) are not carried: its texture is used as it is\n",
-		        name, material, (int)options_length, options);
+	if (used)
+		fprintf(warnings, "%s: material %s: %s's options (%s) are not carried: its texture is used as it is\n", name,
+		        material, map, skipped);
 	int moved = 0, error_number = 0, failed = 0;
 	char* path = locate(folder, file, 1, &moved, &error_number, &failed);
-	const int kind = path ? image_kind(path) : 0;
-	if (kind) {
+	const int image = path ? image_kind(path) : 0;
+	if (image) {
 		if (moved)
 			fprintf(warnings, "%s: material %s: texture %s is not there: %s is used\n", name, material, file, path);
-		free(m->texture);
-		m->texture = path;
-		m->jpeg = kind == 2;
+		free(m->textures[kind]);
+		m->textures[kind] = path;
+		m->jpeg[kind] = image == 2;
 	} else if (path) {
 		fprintf(warnings, "%s: material %s: texture %s is neither PNG nor JPEG, the images glTF holds: written "
 		                  "without it\n",
@@ -276,6 +291,7 @@ static int allocate_defs(vn_io_mesh* mesh)
 		for (int c = 0; c < 4; c++)
 			mesh->material_defs[i].color[c] = 1.0;
 		mesh->material_defs[i].roughness = -1.0;
+		mesh->material_defs[i].normal_scale = 1.0;
 	}
 	return 1;
 }
@@ -336,8 +352,22 @@ int vn_io_mtl_parse(const char* data, size_t size, const char* name, const char*
 		} else if (keyword(t, n, "Pm")) {
 			if (numbers(&p, stop, v, 1))
 				m->metallic = unit(v[0]);
-		} else if (keyword(t, n, "map_Kd")) {
-			if (!texture(p, stop, name, folder, current_name, m, warnings)) {
+		} else if (keyword(t, n, "Ke")) {
+			const int got = numbers(&p, stop, v, 3);
+			if (got == 1 || got == 3)
+				for (int c = 0; c < 3; c++)
+					m->emissive[c] = unit(v[got == 1 ? 0 : c]);
+		} else {
+			/* The maps glTF has a place for (map_Bump, bump, norm: the
+			 * normal map, as Blender and obj2gltf read them). */
+			const int kind = keyword(t, n, "map_Kd")                              ? vn_io_texture_base
+			                 : keyword(t, n, "map_Ke")                            ? vn_io_texture_emissive
+			                 : keyword(t, n, "map_Bump") || keyword(t, n, "bump") ||
+			                         keyword(t, n, "norm")                        ? vn_io_texture_normal
+			                                                                      : -1;
+			char map[16];
+			snprintf(map, sizeof map, "%.*s", (int)n, t);
+			if (kind >= 0 && !texture(p, stop, map, kind, name, folder, current_name, m, warnings)) {
 				free(current_name);
 				return 0;
 			}
@@ -395,7 +425,7 @@ static int read_pieces(vn_io_mesh* mesh, const char* library, FILE* warnings, in
 		const char* stop = piece + strlen(piece);
 		vn_io_error why;
 		ok = !piece[0] || read_library(mesh, piece, 1, warnings, &why);
-		const int split = ok && piece[0] && why.message[0] && strpbrk(piece, " \t");
+		const int split = ok && piece[0] && why.message[0] && strpbrk(piece, " \t") && !strstr(piece, "\\ ");
 		if (ok && piece[0] && !split) {
 			if (why.message[0])
 				fprintf(warnings, "%s: its materials are written by name only\n", why.message);
@@ -442,14 +472,15 @@ static int append_warnings(vn_io_mesh* mesh, const char* more, size_t n)
  * none is kept, and a warning names each. */
 static void drop_untextured(vn_io_mesh* mesh, FILE* warnings)
 {
-	for (size_t i = 0; !mesh->texcoords && i < mesh->materials.count; i++) {
-		vn_io_material* m = &mesh->material_defs[i];
-		if (m->texture)
-			fprintf(warnings, "material %s: texture %s not written: the mesh has no texture coordinates\n",
-			        mesh->materials.names[i], m->texture);
-		free(m->texture);
-		m->texture = NULL;
-	}
+	for (size_t i = 0; !mesh->texcoords && i < mesh->materials.count; i++)
+		for (int k = 0; k < vn_io_texture_kinds; k++) {
+			vn_io_material* m = &mesh->material_defs[i];
+			if (m->textures[k])
+				fprintf(warnings, "material %s: texture %s not written: the mesh has no texture coordinates\n",
+				        mesh->materials.names[i], m->textures[k]);
+			free(m->textures[k]);
+			m->textures[k] = NULL;
+		}
 }
 
 /* Warns of the materials faces use that no library read defines. 0 when
@@ -475,7 +506,8 @@ static int warn_undefined(const vn_io_mesh* mesh, FILE* warnings)
 /* The libraries mesh->material_library names: one file whose name may
  * hold blanks; else the names ending in ".mtl" (several mtllib lines, names
  * with blanks: "box mtllib red.mtl box mtllib green.mtl"), each else split
- * at its blanks. 0 when out of memory. */
+ * at its blanks (unless it escapes them: "my\\ lib.mtl"). 0 when out of
+ * memory. */
 static int read_libraries(vn_io_mesh* mesh, const void* unused, FILE* warnings)
 {
 	(void)unused;

@@ -17,10 +17,11 @@ extern "C" {
  * several, see read_libraries; relative names from material_folder, else
  * from the working folder; a file not there is looked for beside the OBJ)
  * into mesh->material_defs, one entry per name in mesh->materials: Kd, d,
- * Ns, Pr, Pm and map_Kd. What cannot be used (a library or texture that
+ * Ns, Pr, Pm, Ke and the maps map_Kd, map_Ke and map_Bump (bump, norm).
+ * What cannot be used (a library or texture that
  * cannot be read, a texture neither PNG nor JPEG or without texture
- * coordinates to draw it, a material the library does not define, map_Kd
- * options) is a warning line appended to mesh->warnings, naming the file;
+ * coordinates to draw it, a material the library does not define, a
+ * map's options) is a warning line appended to mesh->warnings, naming the file;
  * the material keeps what else it has. Does nothing for a mesh without
  * materials or library. Fails only when out of memory. */
 vn_io_result vn_io_mtl_read(vn_io_mesh* mesh, vn_io_error* error);

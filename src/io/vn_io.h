@@ -91,15 +91,24 @@ typedef struct vn_io_face_names {
 /* A face that belongs to no named set (faces before an OBJ's first `usemtl`). */
 #define VN_IO_NO_NAME UINT32_MAX
 
+/* The images of a material (vn_io_material.textures): its base colour's
+ * (map_Kd), its normal map's (map_Bump, bump or norm) and its emission's
+ * (map_Ke). */
+enum { vn_io_texture_base, vn_io_texture_normal, vn_io_texture_emissive, vn_io_texture_kinds };
+
 /* What an OBJ's material library (.mtl) says of one material, as far as
  * glTF's metallic-roughness material carries it (vn_io_mtl_read). */
 typedef struct vn_io_material {
-	double color[4]; /* Kd and d, clamped to [0, 1]: diffuse colour and opacity, 1 where not given */
-	double roughness; /* Pr, else 1 - sqrt(Ns / 1000) (Blender's reading of Ns); -1 where neither is given */
-	double metallic;  /* Pm (the PBR extension of MTL); 0 where not given, as the Phong model has no metal */
-	char* texture;   /* NULL, or map_Kd's image (PNG or JPEG): a path from the working folder, or absolute */
-	int jpeg;        /* the texture is JPEG (else PNG) */
-	int defined;     /* the library has a newmtl of its name (else it is a name only) */
+	double color[4];    /* Kd and d, clamped to [0, 1]: diffuse colour and opacity, 1 where not given */
+	double emissive[3]; /* Ke, clamped to [0, 1]; 0 where not given */
+	double roughness;   /* Pr, else 1 - sqrt(Ns / 1000) (Blender's reading of Ns); -1 where neither is given */
+	double metallic;    /* Pm (the PBR extension of MTL); 0 where not given, as the Phong model has no metal */
+	double normal_scale; /* the normal map's -bm; 1 where not given */
+	/* NULL, or each kind's image (PNG or JPEG): a path from the working
+	 * folder, or absolute; jpeg: it is JPEG (else PNG). */
+	char* textures[vn_io_texture_kinds];
+	int jpeg[vn_io_texture_kinds];
+	int defined; /* the library has a newmtl of its name (else it is a name only) */
 } vn_io_material;
 
 /* What a PLY file holds besides what vn_io_mesh describes (comments,

@@ -83,9 +83,10 @@
       Prints each material that a TRIANGLES primitive uses, by name: its
       base colour factor, metallic and roughness factors (6 decimals; glTF's
       defaults where absent), alpha mode, base colour image (MIME type and
-      SHA-1 of its bytes), and the positions (5 decimals) and total area of
-      its triangles: what a conversion must keep whatever its primitive
-      split, triangulation and vertex order.
+      SHA-1 of its bytes), normal map (image and scale), emissive factor
+      and image, and the positions (5 decimals) and total area of its
+      triangles: what a conversion must keep whatever its primitive split,
+      triangulation and vertex order.
 Exit status 0 when the check holds, 1 with one line per problem otherwise.
 """
 import base64
@@ -1084,15 +1085,19 @@ def cmd_materials(path):
             continue
         m = doc["materials"][prim["material"]] if "material" in prim else {"name": "(none)"}
         pbr = m.get("pbrMetallicRoughness", {})
-        tex = pbr.get("baseColorTexture")
-        image = "-"
-        if tex is not None:
+
+        def image(tex):
+            if tex is None:
+                return "-"
             img = doc["images"][doc["textures"][tex["index"]]["source"]]
             data = image_bytes(doc, buf, img, os.path.dirname(path))
-            image = "%s %s" % (img.get("mimeType", "?"), hashlib.sha1(data).hexdigest())
-        key = "%s | colour %s | metallic %.6f | roughness %.6f | %s | image %s" % (
+            return "%s %s" % (img.get("mimeType", "?"), hashlib.sha1(data).hexdigest())
+        key = "%s | colour %s | metallic %.6f | roughness %.6f | %s | image %s | normal %s %.6f | emissive %s %s" % (
             m.get("name", "?"), " ".join("%.6f" % c for c in pbr.get("baseColorFactor", [1, 1, 1, 1])),
-            pbr.get("metallicFactor", 1), pbr.get("roughnessFactor", 1), m.get("alphaMode", "OPAQUE"), image)
+            pbr.get("metallicFactor", 1), pbr.get("roughnessFactor", 1), m.get("alphaMode", "OPAQUE"),
+            image(pbr.get("baseColorTexture")), image(m.get("normalTexture")),
+            m.get("normalTexture", {}).get("scale", 1), " ".join("%.6f" % c for c in m.get("emissiveFactor", [0, 0, 0])),
+            image(m.get("emissiveTexture")))
         pos = accessor_values(doc, buf, prim["attributes"]["POSITION"])
         corners = triangles(doc, buf, prim)
         points, area = seen.setdefault(key, (set(), [0.0]))
