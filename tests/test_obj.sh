@@ -369,6 +369,11 @@ sed 's/^mtllib .*/mtllib gone.mtl/' "$M/hand.obj" >"$M/gone.obj"
 run "$VNC" "$M/gone.obj" "$T/gone.glb"
 check "missing library: named, materials by name" [ "$rc|$err|$(q "$T/gone.glb" "[m['name'] for m in d['materials']]")" = \
   "0|vnconvert: warning: $M/gone.obj: material library gone.mtl cannot be read (No such file or directory): its materials are written by name only|['Grey', 'Clear', 'Metal', 'Tga', 'Nowhere']" ]
+# A library or texture that is a folder (or a device: no read that could block).
+mkdir "$M/folder.mtl"
+sed 's/^mtllib .*/mtllib folder.mtl/' "$M/hand.obj" >"$M/folder.obj"
+run "$VNC" "$M/folder.obj" "$T/folder.glb"
+check "a folder for a library: named, not read" [ "$rc|$err" = "0|vnconvert: warning: $M/folder.obj: material library folder.mtl cannot be read (not a regular file): its materials are written by name only" ]
 # Several mtllib lines whose names have blanks (obj2gltf's box-mtllib-spaces);
 # a library and a texture named where they are not (an author's absolute
 # paths): found beside the OBJ and the .mtl, and named.

@@ -127,11 +127,24 @@ static char* folder_of(const char* path, int* failed)
 	return s;
 }
 
-/* A readable regular file. */
+/* A readable regular file; else errno says why (0: it is no regular file,
+ * a folder or a device). */
 static int is_file(const char* path)
 {
 	struct stat st;
-	return stat(path, &st) == 0 && S_ISREG(st.st_mode) && access(path, R_OK) == 0;
+	if (stat(path, &st) != 0)
+		return 0;
+	if (!S_ISREG(st.st_mode)) {
+		errno = 0;
+		return 0;
+	}
+	return access(path, R_OK) == 0;
+}
+
+/* Why is_file said no. */
+static const char* why_not(int error_number)
+{
+	return error_number ? strerror(error_number) : "not a regular file";
 }
 
 /* Where file `name` (as a .obj or .mtl file names it) is, from `folder`:
@@ -265,7 +278,7 @@ static int texture(const char* p, const char* end, const char* map, int kind, co
 		free(path);
 	} else if (!failed) {
 		fprintf(warnings, "%s: material %s: texture %s cannot be read (%s): written without it\n", name, material, file,
-		        strerror(error_number));
+		        why_not(error_number));
 	}
 	free(file);
 	return !failed;
@@ -387,7 +400,7 @@ static int read_library(vn_io_mesh* mesh, const char* file, int last, FILE* warn
 	char* path = locate(mesh->material_folder, file, last, &moved, &error_number, &failed);
 	if (!path) {
 		if (!failed)
-			vn_io_fail(why, vn_io_error_open, "material library %s cannot be read (%s)", file, strerror(error_number));
+			vn_io_fail(why, vn_io_error_open, "material library %s cannot be read (%s)", file, why_not(error_number));
 		return !failed;
 	}
 	char* data;
