@@ -538,12 +538,7 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	 * per vertex; from IN's folder (the working folder for standard input). */
 	if (gltf_out && mesh->ply_extras) {
 		const size_t said = mesh->warnings ? strlen(mesh->warnings) : 0;
-		const char* slash = o->input_is_copy ? NULL : strrchr(c->in, '/');
-		char* folder = slash ? strndup(c->in, slash == c->in ? 1 : (size_t)(slash - c->in)) : NULL;
-		if (slash && !folder)
-			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", c->in);
-		res = vn_io_ply_texture_materials(mesh, "comment TextureFile", folder, error);
-		free(folder);
+		res = vn_io_ply_texture_materials(mesh, "comment TextureFile", o->input_is_copy ? NULL : c->in, error);
 		if (res != vn_io_success)
 			return res;
 		input_warnings(c, mesh->warnings ? mesh->warnings + said + (said && mesh->warnings[said] == '\n') : NULL);

@@ -461,26 +461,6 @@ static int read_pieces(vn_io_mesh* mesh, const char* library, FILE* warnings, in
 	return ok;
 }
 
-/* mesh->warnings with `more` after it; 0 when out of memory. */
-static int append_warnings(vn_io_mesh* mesh, const char* more, size_t n)
-{
-	if (!n)
-		return 1;
-	const size_t old = mesh->warnings ? strlen(mesh->warnings) : 0;
-	const int newline = old && mesh->warnings[old - 1] != '\n';
-	while (n && more[n - 1] == '\n')
-		n--;
-	char* s = realloc(mesh->warnings, old + (size_t)newline + n + 1);
-	if (!s)
-		return 0;
-	if (newline)
-		s[old] = '\n';
-	memcpy(s + old + (size_t)newline, more, n);
-	s[old + (size_t)newline + n] = '\0';
-	mesh->warnings = s;
-	return 1;
-}
-
 /* A texture needs coordinates (glTF's validator: an error): without them,
  * none is kept, and a warning names each. */
 static void drop_untextured(vn_io_mesh* mesh, FILE* warnings)
@@ -538,14 +518,18 @@ static int read_libraries(vn_io_mesh* mesh, const void* unused, FILE* warnings)
 
 /* Library text in memory (vn_io_mtl_read_text's arguments). */
 typedef struct library_text {
-	const char *data, *name, *folder;
+	const char *data, *name, *beside;
 	size_t size;
 } library_text;
 
 static int read_text(vn_io_mesh* mesh, const void* what, FILE* warnings)
 {
 	const library_text* t = (const library_text*)what;
-	return vn_io_mtl_parse(t->data, t->size, t->name, t->folder, mesh, warnings);
+	int failed = 0;
+	char* folder = t->beside ? folder_of(t->beside, &failed) : NULL;
+	const int ok = !failed && vn_io_mtl_parse(t->data, t->size, t->name, folder, mesh, warnings);
+	free(folder);
+	return ok;
 }
 
 /* read(mesh, what, warnings) in the C locale, then the textures that
@@ -566,7 +550,9 @@ static vn_io_result with_warnings(vn_io_mesh* mesh, int (*read)(vn_io_mesh*, con
 	}
 	if (warnings && fclose(warnings))
 		ok = 0;
-	ok = ok && append_warnings(mesh, text, length);
+	while (ok && length && text[length - 1] == '\n')
+		text[--length] = '\0';
+	ok = ok && (!length || vn_io_append_line(&mesh->warnings, text));
 	free(text);
 	return ok ? vn_io_success : vn_io_fail(error, vn_io_error_memory, "out of memory reading the materials");
 }
@@ -578,9 +564,9 @@ vn_io_result vn_io_mtl_read(vn_io_mesh* mesh, vn_io_error* error)
 	return with_warnings(mesh, read_libraries, NULL, error);
 }
 
-vn_io_result vn_io_mtl_read_text(vn_io_mesh* mesh, const char* data, size_t size, const char* name, const char* folder,
+vn_io_result vn_io_mtl_read_text(vn_io_mesh* mesh, const char* data, size_t size, const char* name, const char* beside,
                                  vn_io_error* error)
 {
-	const library_text t = {data, name, folder, size};
+	const library_text t = {data, name, beside, size};
 	return with_warnings(mesh, read_text, &t, error);
 }

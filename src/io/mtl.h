@@ -34,9 +34,10 @@ int vn_io_mtl_parse(const char* data, size_t size, const char* name, const char*
                     FILE* warnings);
 
 /* Library text held in memory (`size` bytes; `name` its origin in
- * warnings, textures found from `folder`), as vn_io_mtl_read reads a file:
- * a PLY's TextureFile comments are given as one. */
-vn_io_result vn_io_mtl_read_text(vn_io_mesh* mesh, const char* data, size_t size, const char* name, const char* folder,
+ * warnings, textures found from the folder of file `beside`, NULL: the
+ * working folder), as vn_io_mtl_read reads a file: a PLY's TextureFile
+ * comments are given as one. */
+vn_io_result vn_io_mtl_read_text(vn_io_mesh* mesh, const char* data, size_t size, const char* name, const char* beside,
                                  vn_io_error* error);
 
 #ifdef __cplusplus

@@ -1087,7 +1087,7 @@ static const char* texture_file(const char* line, const char* key, size_t k, siz
 	return end > start ? start : NULL;
 }
 
-vn_io_result vn_io_ply_texture_materials(vn_io_mesh* m, const char* name, const char* folder, vn_io_error* error)
+vn_io_result vn_io_ply_texture_materials(vn_io_mesh* m, const char* name, const char* beside, vn_io_error* error)
 {
 	vn_io_ply_extras* x = m->ply_extras;
 	static const char key[] = "comment TextureFile ";
@@ -1132,7 +1132,7 @@ vn_io_result vn_io_ply_texture_materials(vn_io_mesh* m, const char* name, const 
 	}
 	if (t)
 		drop_face_property(x, t);
-	const vn_io_result r = vn_io_mtl_read_text(m, text, used, name, folder, error);
+	const vn_io_result r = vn_io_mtl_read_text(m, text, used, name, beside, error);
 	free(text);
 	return r;
 }

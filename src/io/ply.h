@@ -39,12 +39,12 @@ vn_io_result vn_io_ply_corner_texcoords(vn_io_mesh* mesh, const char* name, size
 
 /* The textures mesh->ply_extras names (MeshLab's and Metashape's "comment
  * TextureFile FILE" lines) as materials, for glTF: one per file, named by
- * it, with the file as its texture (found from `folder`, NULL the working
- * folder: vn_io_mtl_read_text), each face the one its `texnumber` face
+ * it, with the file as its texture (found from the folder of file
+ * `beside`, the PLY itself; NULL: the working folder; vn_io_mtl_read_text), each face the one its `texnumber` face
  * property gives (MeshLab's several textures; the property then leaves the
  * extras), else the first. Nothing is done without such a comment, on a
  * mesh without faces or one that has materials. `name` is the file named
  * in messages. */
-vn_io_result vn_io_ply_texture_materials(vn_io_mesh* mesh, const char* name, const char* folder, vn_io_error* error);
+vn_io_result vn_io_ply_texture_materials(vn_io_mesh* mesh, const char* name, const char* beside, vn_io_error* error);
 
 #endif /* VN_IO_PLY_H */
