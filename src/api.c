@@ -56,7 +56,7 @@ static const struct {
     {"jet", "weighted least-squares cubic jet on the 2-ring, in MWA's tangent frame, refitted once",
      "Cazals & Pouget 2003; O(h^3)"},
     {"adaptive",
-     "the 2-ring jet, or a Gaussian-weighted 4-ring fit that averages noise out, by GCV score; "
+     "the 2-ring jet, or a Gaussian-weighted 5-ring fit that averages noise out, by GCV score; "
      "MWAAT where rough: the choice when unsure",
      "beyond Jin et al. 2005; Craven & Wahba 1979 (GCV)"},
 };

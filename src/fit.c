@@ -41,9 +41,9 @@
  * 24 bytes a vertex (seeds) + 8 a corner + 9 a vertex + 1 a polygon + 4 a
  * 1-ring member + 4 a vertex per thread + ring scratch.
  *
- * ADAPTIVE (vn.h) adds the 4-ring, gathered past the 2-ring up to the ring
- * capacity, and where the jet succeeded but is not exact fits a quadric
- * and a cubic there; each vertex keeps two
+ * ADAPTIVE (vn.h) adds, where the jet succeeded, is not exact and the
+ * vertex is not rough, a quadric and a cubic on the 5-ring, gathered then
+ * past the 2-ring up to the ring capacity; each vertex keeps two
  * outcomes (the jet or the quadric, the jet or the cubic, by GCV score) and
  * the statistic of its cubic terms, and a last pass takes one outcome by
  * that statistic over the vertex's 1-ring (56 more bytes a vertex); its
@@ -70,16 +70,29 @@
 #define SEED_COS_MIN 0.5
 /* ADAPTIVE (docs/ACCURACY.md): the 2-ring jet alone where its weighted RMS
  * residual over h is at most ADAPTIVE_JET_EXACT (exact to its model: no
- * wider fit can do better); the rough fallback where the chosen fit's
- * residual over h exceeds ADAPTIVE_FIT_MAX (no polynomial describes the
- * neighbourhood: fractal or turbulent), both chosen with vneval. The 4-ring
+ * wider fit can do better); the rough fallback where it exceeds
+ * ADAPTIVE_ROUGH_MAX (no cubic describes the surface at the scale of its
+ * edges: fractal or turbulent). The jet's residual decides, not a wide
+ * fit's: on a smooth surface whose features are a few rings across (a
+ * noisy isosurface), a wide fit's residual is its model's bias over the
+ * ring, not roughness, and MWAAT is 4 times worse there than the wide
+ * cubic. A wide fit replaces the jet where its GCV score is below
+ * ADAPTIVE_JET_MARGIN times the jet's: the jet's score rests on about 14
+ * effective points for 10 unknowns, so it scatters, and the wide fits'
+ * averaging is kept unless the jet is clearly better. The ring
+ * (ADAPTIVE_RINGS) and the Gaussian's width (ADAPTIVE_WIDTH, relative to
+ * the members' RMS distance) trade the noise averaged out against the
+ * model's bias. These four were chosen with vneval. The wide
  * cubic rather than the quadric where the mean log T over the 1-ring
  * exceeds log ADAPTIVE_T, T = |slope difference|^2 / its variance: 2 is
  * where the quadric's estimated squared slope bias |d|^2 - var(d) passes
  * the variance the cubic adds, var(d) (nested least squares), so the
  * constant is the mean squared error's break-even, not a fitted one. */
 #define ADAPTIVE_JET_EXACT 1e-4
-#define ADAPTIVE_FIT_MAX 0.06
+#define ADAPTIVE_ROUGH_MAX 0.05
+#define ADAPTIVE_JET_MARGIN 2.0
+#define ADAPTIVE_RINGS 5
+#define ADAPTIVE_WIDTH 0.6
 #define ADAPTIVE_T 2.0
 /* log T is kept within +-T_LOG_MAX (T infinite where the cubic's residual is 0). */
 #define T_LOG_MAX 50.0
@@ -168,9 +181,9 @@ VN_INLINE void prepare_lanes(double* q, uint32_t top, const lanes* scale)
 
 /* A batch's points [0, top) as gathered (relative to their vertices), over
  * each lane's h, the mean distance to its first first[l] points (the
- * 1-ring), and weighted (prepare_lanes). A lane whose h is 0 or not finite
- * leaves act. */
-VN_INLINE void scale_lanes(double* q, const uint32_t first[LANES], uint32_t top, int act[LANES])
+ * 1-ring), and weighted (prepare_lanes); scale[l] receives 1 / h. A lane
+ * whose h is 0 or not finite leaves act. */
+VN_INLINE void scale_lanes(double* q, const uint32_t first[LANES], uint32_t top, int act[LANES], double scale[LANES])
 {
 	const lanes zero = {0.0, 0.0, 0.0, 0.0};
 	lanes h = zero, count = zero, divisor, inv;
@@ -190,6 +203,7 @@ VN_INLINE void scale_lanes(double* q, const uint32_t first[LANES], uint32_t top,
 	UNROLL for (int l = 0; l < LANES; ++l) {
 		act[l] = count[l] > 0.0 && h[l] > 0.0 && h[l] <= DBL_MAX;
 		inv[l] = act[l] ? 1.0 / h[l] : 1.0;
+		scale[l] = inv[l];
 	}
 	prepare_lanes(q, top, &inv);
 }
@@ -220,8 +234,8 @@ VN_INLINE void exp_nonpositive(lanes* v)
 }
 
 /* ADAPTIVE's wide fits: the weights of each lane's first count[l] points
- * (the others keep theirs) become exp(-|p|^2 / (2 r^2)), r^2 the mean
- * |p|^2 of the members (a Gaussian as wide as the 4-ring). Sets neff[l],
+ * (the others keep theirs) become exp(-|p|^2 / (2 r^2)), r ADAPTIVE_WIDTH
+ * times the members' RMS distance. Sets neff[l],
  * the effective number of points (sum w)^2 / sum w^2, and sum[l], sum w,
  * the vertex (weight 1) included in both, where count[l] > 0. Each lane's
  * sums in its order (+ 0 past its count). */
@@ -238,7 +252,7 @@ VN_INLINE void gaussian_lanes(double* q, const uint32_t count[LANES], double nef
 		r2 += (lanes)((masks)(x * x + y * y + z * z) & ((zero + (double)i) < m));
 	}
 	const masks some = m > 0.0;
-	const lanes k = -0.5 * m / (lanes)(((masks)r2 & some) | ((masks)one & ~some));
+	const lanes k = -0.5 / (ADAPTIVE_WIDTH * ADAPTIVE_WIDTH) * m / (lanes)(((masks)r2 & some) | ((masks)one & ~some));
 	for (uint32_t i = 0; i < most; ++i) {
 		double* b = q + PT * (size_t)i;
 		const lanes x = LOAD(b), y = LOAD(b + LANES), z = LOAD(b + 2 * LANES);
@@ -497,9 +511,10 @@ static fit_fn fit_kernel(int kind, int simd)
 	return (simd ? fit_kinds_avx2 : fit_kinds)[kind];
 }
 
-static VN_AVX2 void scale_batch_avx2(double* q, const uint32_t first[LANES], uint32_t top, int act[LANES])
+static VN_AVX2 void scale_batch_avx2(double* q, const uint32_t first[LANES], uint32_t top, int act[LANES],
+                                     double scale[LANES])
 {
-	scale_lanes(q, first, top, act);
+	scale_lanes(q, first, top, act, scale);
 }
 
 static VN_AVX2 void gaussian_batch_avx2(double* q, const uint32_t count[LANES], double neff[LANES], double sum[LANES])
@@ -515,17 +530,18 @@ static fit_fn fit_kernel(int kind, int simd)
 #endif
 
 /* scale_lanes, in AVX2 registers where simd is set (the same bits). */
-static void scale_batch(double* q, const uint32_t first[LANES], uint32_t top, int act[LANES], int simd)
+static void scale_batch(double* q, const uint32_t first[LANES], uint32_t top, int act[LANES], double scale[LANES],
+                        int simd)
 {
 #ifdef VN_HAVE_AVX2
 	if (simd) {
-		scale_batch_avx2(q, first, top, act);
+		scale_batch_avx2(q, first, top, act, scale);
 		return;
 	}
 #else
 	(void)simd;
 #endif
-	scale_lanes(q, first, top, act);
+	scale_lanes(q, first, top, act, scale);
 }
 
 /* gaussian_lanes, in AVX2 registers where simd is set (the same bits). */
@@ -607,7 +623,8 @@ int vn_fit_frame(const double* p, uint32_t m, double h, double* scratch, const d
 typedef struct scratch {
 	uint32_t* stamp; /* nv: the tag of the ring a vertex was last added to */
 	uint32_t tag;
-	uint32_t* ring;  /* up to cap members (and room for one more) */
+	uint32_t* rings; /* LANES lists of up to cap members (and room for one more): a batch's lanes' */
+	uint32_t* ring;  /* the list being built: the first, or a lane's (gather_vertex) */
 	double* q;       /* PT cap: the batch's points (PT): x, y, z minus the vertex's, then over h, weight */
 	size_t cap;
 } scratch;
@@ -859,14 +876,46 @@ static void load_members(const fit_job* j, const scratch* s, uint32_t from, uint
 	}
 }
 
-/* Vertex v's points into lane `lane` of the batch, relative to v (not yet
- * over h): its 1-ring (ring[0, m[0])), then for JET and ADAPTIVE its
- * 2-ring (to m[1]), then for ADAPTIVE its 3- and 4-rings (to m[2] and
- * m[3], the members nearest by rings first when they would pass the
- * scratch's capacity). m all 0 when v keeps its seed. */
-static void gather_vertex(const fit_job* j, scratch* s, uint32_t v, unsigned lane, uint32_t m[4])
+/* Zeros in lane l's points [from, to) of a batch: the fits read every
+ * lane's points up to the batch's longest (with weight 0 past a lane's
+ * count), so they must be finite. */
+static void zero_points(double* q, unsigned l, uint32_t from, uint32_t to)
 {
-	m[0] = m[1] = m[2] = m[3] = 0;
+	for (uint32_t i = from; i < to; ++i)
+		for (int d = 0; d < 4; ++d)
+			q[PT * (size_t)i + d * LANES + l] = 0.0;
+}
+
+/* Rings from + 1 to `to` of a vertex at o whose rings up to `from` are
+ * s->ring[0, m[from - 1]) (stamped): each appended to s->ring (to m[r] for
+ * ring r + 1; the members nearest by rings first when they would pass the
+ * scratch's capacity) and loaded into lane `lane`; m[r] = m[r - 1] past
+ * `to`. */
+static void expand_rings(const fit_job* j, scratch* s, const double o[3], unsigned lane, int from, int to,
+                         uint32_t m[ADAPTIVE_RINGS])
+{
+	for (int r = from; r < to; ++r) {
+		m[r] = m[r - 1];
+		for (uint32_t i = r > 1 ? m[r - 2] : 0; i < m[r - 1]; ++i) {
+			const uint32_t u = s->ring[i];
+			if (j->nstart[u + 1] - j->nstart[u] <= RING_HUB_MAX)
+				m[r] = expand(j, s, u, m[r]);
+		}
+		load_members(j, s, m[r - 1], m[r], o, lane);
+	}
+	for (int r = to; r < ADAPTIVE_RINGS; ++r)
+		m[r] = m[r - 1];
+}
+
+/* Vertex v's points into lane `lane` of the batch, relative to v (not yet
+ * over h), and its members into the lane's list (s->ring becomes it): its
+ * 1-ring (ring[0, m[0])), then for JET and ADAPTIVE its 2-ring (to m[1]);
+ * m[r] = m[r - 1] past it (ADAPTIVE's wider rings come later, from
+ * widen_vertex, where they are fitted). m all 0 when v keeps its seed. */
+static void gather_vertex(const fit_job* j, scratch* s, uint32_t v, unsigned lane, uint32_t m[ADAPTIVE_RINGS])
+{
+	memset(m, 0, sizeof(uint32_t) * ADAPTIVE_RINGS);
+	s->ring = s->rings + (s->cap + 1) * lane;
 	const double* seed = j->seed + 3 * (size_t)v;
 	if (seed[0] == 0.0 && seed[1] == 0.0 && seed[2] == 0.0)
 		return;
@@ -878,19 +927,29 @@ static void gather_vertex(const fit_job* j, scratch* s, uint32_t v, unsigned lan
 	double o[3];
 	vn_load(&j->w, j->w.type, v, o);
 	load_members(j, s, 0, first, o, lane);
-	m[0] = m[1] = m[2] = m[3] = first;
-	const int rings = j->w.method == vn_method_quadric ? 1 : j->w.method == vn_method_jet ? 2 : 4;
-	for (int r = 1; r < rings; ++r) {
-		m[r] = m[r - 1];
-		for (uint32_t i = r > 1 ? m[r - 2] : 0; i < m[r - 1]; ++i) {
-			const uint32_t u = s->ring[i];
-			if (j->nstart[u + 1] - j->nstart[u] <= RING_HUB_MAX)
-				m[r] = expand(j, s, u, m[r]);
-		}
-		load_members(j, s, m[r - 1], m[r], o, lane);
-	}
-	for (int r = rings; r < 4; ++r)
-		m[r] = m[r - 1];
+	m[0] = first;
+	expand_rings(j, s, o, lane, 1, j->w.method == vn_method_quadric ? 1 : 2, m);
+}
+
+/* ADAPTIVE's 3- to 5-rings of vertex v (gathered by gather_vertex into
+ * lane `lane`, m its ends) into the lane, after its 2-ring (to m[1] .. m[4])
+ * and over its h (scale: 1 / h, the same product as scale_lanes's): the
+ * points one gathering would give. Its members are stamped again (the
+ * other lanes' gathering stamped theirs since). */
+static void widen_vertex(const fit_job* j, scratch* s, uint32_t v, unsigned lane, double scale,
+                         uint32_t m[ADAPTIVE_RINGS])
+{
+	s->ring = s->rings + (s->cap + 1) * lane;
+	new_tag(j, s);
+	s->stamp[v] = s->tag;
+	for (uint32_t i = 0; i < m[1]; ++i)
+		s->stamp[s->ring[i]] = s->tag;
+	double o[3];
+	vn_load(&j->w, j->w.type, v, o);
+	expand_rings(j, s, o, lane, 2, ADAPTIVE_RINGS, m);
+	for (uint32_t i = m[1]; i < m[ADAPTIVE_RINGS - 1]; ++i)
+		for (int d = 0; d < 3; ++d)
+			s->q[PT * (size_t)i + d * LANES + lane] *= scale;
 }
 
 /* Generalized cross-validation score of a fit of k unknowns with weighted
@@ -915,27 +974,30 @@ static double effective_points(const double* q, uint32_t m)
 }
 
 /* ADAPTIVE at the active lanes, after the 2-ring jet f (ok, residual res):
- * the jet where it is exact; else the quadric and the cubic on the 4-ring
- * with Gaussian weights, in the jet's frame. The wide fits only where the
+ * the jet where it is exact, the rough fallback where its residual exceeds
+ * ADAPTIVE_ROUGH_MAX; else the quadric and the cubic on the 5-ring with
+ * Gaussian weights, in the jet's frame. The wide fits only where the
  * jet succeeded: where it failed, the 2-ring is too small or degenerate,
  * and a wide fit would rest on far points (a cone fan's rim vertex: the
  * rim on a conic and the apex, which tilts the quadric at will).
  * pick[v] receives two outcomes, the jet or the quadric (the cubic where
- * the quadric failed) by the lower GCV score, and the jet or the cubic
- * (the quadric where the cubic failed) likewise, each the rough fallback
- * where its residual exceeds ADAPTIVE_FIT_MAX, then log T where both wide
- * fits succeeded (NaN elsewhere): phase_choose takes one. fall[l] is
- * the fallback where no fit is taken: the rough one (MWAAT's) where the jet
- * was fitted, JET's own where it could not be. Vertices from v1 on are
+ * the quadric failed) by GCV score (ADAPTIVE_JET_MARGIN), and the jet or
+ * the cubic (the quadric where the cubic failed) likewise, then log T where
+ * both wide fits succeeded (NaN elsewhere): phase_choose takes one. fall[l]
+ * is the fallback where no fit is taken: the rough one (MWAAT's) where the
+ * jet was fitted, JET's own where it could not be. The batch's points
+ * (s->q, finite up to top, scale[l] = 1 / h) gain the 5-rings of the lanes
+ * that fit them (widen_vertex; m: the ring ends). Vertices from v1 on are
  * another worker's. */
-static void adaptive_lanes(const fit_job* j, double* pts, const int act[LANES], const uint32_t m[LANES][4],
-                           const double* const seed[LANES], const double f[LANES][3], const int ok[LANES],
-                           const double res[LANES], const double* const fall[LANES], const uint32_t v0,
-                           const uint32_t v1)
+static void adaptive_lanes(const fit_job* j, scratch* s, uint32_t top, const double scale[LANES], const int act[LANES],
+                           uint32_t m[LANES][ADAPTIVE_RINGS], const double* const seed[LANES], const double f[LANES][3],
+                           const int ok[LANES], const double res[LANES], const double* const fall[LANES],
+                           const uint32_t v0, const uint32_t v1)
 {
 	int wide[LANES], any = 0;
 	double neff[LANES], sw[LANES], best[LANES];
-	uint32_t count[LANES];
+	double* const pts = s->q;
+	uint32_t count[LANES], widest = top;
 	lanes axis[3];
 	for (unsigned l = 0; l < LANES; ++l) {
 		wide[l] = 0, count[l] = 0;
@@ -946,20 +1008,29 @@ static void adaptive_lanes(const fit_job* j, double* pts, const int act[LANES], 
 		double* out = j->pick + 7 * (size_t)(v0 + l);
 		const int jet = act[l] && ok[l];
 		/* Without a ring, or where no fit is taken: the fallback. */
-		memcpy(out, jet && res[l] <= ADAPTIVE_FIT_MAX ? f[l] : fall[l], 3 * sizeof(double));
+		const int smooth = jet && res[l] <= ADAPTIVE_ROUGH_MAX;
+		memcpy(out, smooth ? f[l] : fall[l], 3 * sizeof(double));
 		memcpy(out + 3, out, 3 * sizeof(double));
 		out[6] = NAN;
-		best[l] = !jet ? DBL_MAX : res[l] <= ADAPTIVE_JET_EXACT ? 0.0 : gcv(res[l], effective_points(pts + l, m[l][1]), 10);
-		wide[l] = jet && best[l] > 0.0 && m[l][3] > m[l][0];
+		best[l] = !smooth || res[l] <= ADAPTIVE_JET_EXACT
+		              ? 0.0
+		              : ADAPTIVE_JET_MARGIN * gcv(res[l], effective_points(pts + l, m[l][1]), 10);
+		if (best[l] > 0.0) {
+			widen_vertex(j, s, v0 + l, l, scale[l], m[l]);
+			widest = m[l][ADAPTIVE_RINGS - 1] > widest ? m[l][ADAPTIVE_RINGS - 1] : widest;
+		}
+		wide[l] = best[l] > 0.0 && m[l][ADAPTIVE_RINGS - 1] > m[l][0];
 		if (wide[l]) {
 			any = 1;
 			for (int d = 0; d < 3; ++d) /* the wide fits' frame */
 				axis[d][l] = f[l][d];
 		}
-		count[l] = wide[l] ? m[l][3] : 0;
+		count[l] = wide[l] ? m[l][ADAPTIVE_RINGS - 1] : 0;
 	}
 	if (!any)
 		return;
+	for (unsigned l = 0; l < LANES; ++l) /* [0, top) is finite already */
+		zero_points(pts, l, m[l][ADAPTIVE_RINGS - 1] > top ? m[l][ADAPTIVE_RINGS - 1] : top, widest);
 	gaussian_batch(pts, count, neff, sw, j->w.simd);
 	fits w[2];
 	fit_kernel(2, j->w.simd)(pts, count, wide, axis, w);
@@ -977,14 +1048,14 @@ static void adaptive_lanes(const fit_job* j, double* pts, const int act[LANES], 
 			double* o = out + 3 * k;
 			const double r = cubic ? rc : rq;
 			if (gcv(r, neff[l], cubic ? 10 : 6) < best[l])
-				memcpy(o, r <= ADAPTIVE_FIT_MAX ? (cubic ? c : q) : j->rough + 3 * (size_t)(v0 + l), 3 * sizeof(double));
+				memcpy(o, cubic ? c : q, 3 * sizeof(double));
 		}
 		if (okq && okc) {
 			/* d, the quadric's slopes minus the cubic's (one frame); var(d)
 			 * = sigma^2 (vs_cubic - vs_quadric) for nested least squares,
 			 * sigma^2 from the cubic's residual over its degrees of freedom. */
 			const double d1 = w[0].c[1][l] - w[1].c[1][l], d2 = w[0].c[2][l] - w[1].c[2][l];
-			const double var = rc * rc * sw[l] / ((double)m[l][3] + 1.0 - 10.0) * (w[1].vs[l] - w[0].vs[l]);
+			const double var = rc * rc * sw[l] / ((double)m[l][ADAPTIVE_RINGS - 1] + 1.0 - 10.0) * (w[1].vs[l] - w[0].vs[l]);
 			const double t = (d1 * d1 + d2 * d2) / var;
 			out[6] = !(var > 0.0) ? T_LOG_MAX : t > 0.0 ? fmin(fmax(log(t), -T_LOG_MAX), T_LOG_MAX) : -T_LOG_MAX;
 		}
@@ -1022,8 +1093,8 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 {
 	const double* seed[LANES];
 	int act[LANES], ok[LANES];
-	uint32_t m[LANES][4], top = 0, ring[LANES], first[LANES];
-	double n[LANES][3], res[LANES];
+	uint32_t m[LANES][ADAPTIVE_RINGS], top = 0, ring[LANES], first[LANES];
+	double n[LANES][3], res[LANES], scale[LANES];
 	for (unsigned l = 0; l < LANES; ++l) {
 		const uint32_t v = v0 + l;
 		seed[l] = j->seed + 3 * (size_t)(v < v1 ? v : v0);
@@ -1032,17 +1103,13 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 		else
 			memset(m[l], 0, sizeof(m[l]));
 		act[l] = m[l][0] > 0;
-		top = m[l][3] > top ? m[l][3] : top;
+		top = m[l][ADAPTIVE_RINGS - 1] > top ? m[l][ADAPTIVE_RINGS - 1] : top;
 		ring[l] = m[l][1], first[l] = m[l][0];
 		memcpy(n[l], seed[l], sizeof(n[l]));
 	}
-	/* Every lane's points up to the batch's longest are finite: the fits
-	 * read them all (with weight 0 past a lane's count). */
 	for (unsigned l = 0; l < LANES; ++l)
-		for (uint32_t i = m[l][3]; i < top; ++i)
-			for (int d = 0; d < 4; ++d)
-				s->q[PT * (size_t)i + d * LANES + l] = 0.0;
-	scale_batch(s->q, first, top, act, j->w.simd);
+		zero_points(s->q, l, m[l][ADAPTIVE_RINGS - 1], top);
+	scale_batch(s->q, first, top, act, scale, j->w.simd);
 	if (j->w.method == vn_method_quadric)
 		fit_twice(s->q, first, act, seed, 0, j->w.simd, n, ok, NULL, NULL);
 	else if (j->w.method == vn_method_adaptive) { /* stored by phase_choose */
@@ -1061,7 +1128,7 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 		}
 		if (again)
 			fit_twice(s->q, first, unfit, seed, 0, j->w.simd, n, quadric_ok, NULL, NULL);
-		adaptive_lanes(j, s->q, act, (const uint32_t(*)[4])m, seed, (const double(*)[3])f, ok, res, fall, v0, v1);
+		adaptive_lanes(j, s, top, scale, act, m, seed, (const double(*)[3])f, ok, res, fall, v0, v1);
 		return;
 	} else {
 		double f[LANES][3];
@@ -1192,7 +1259,7 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 		/* A 2-ring has at most top (1 + top) members, and fewer than nv. */
 		const uint64_t want = (uint64_t)top * (1 + (uint64_t)top);
 		const size_t cap = want < nv ? (size_t)want : nv;
-		const size_t ring_bytes = (sizeof(uint32_t) * ((size_t)nv + cap + 1) + 7) & ~(size_t)7;
+		const size_t ring_bytes = (sizeof(uint32_t) * ((size_t)nv + LANES * (cap + 1)) + 7) & ~(size_t)7;
 		unsigned t = 0;
 		for (; t < nt; ++t) {
 			scratch* s = j.scratch + t;
@@ -1201,7 +1268,7 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 				break;
 			memset(s->stamp, 0, sizeof(uint32_t) * nv);
 			s->tag = 0;
-			s->ring = s->stamp + nv;
+			s->rings = s->ring = s->stamp + nv;
 			s->q = (double*)(void*)((unsigned char*)s->stamp + ring_bytes);
 			s->cap = cap;
 		}

@@ -119,14 +119,19 @@ typedef enum vn_method {
 	                      falls back to QUADRIC. */
 	vn_method_adaptive, /* per vertex, one of three fits: JET's 2-ring jet
 	                      (without its QUADRIC fallback), and on the vertex
-	                      and its 4-ring a quadric and a cubic with weights
-	                      exp(-|p|^2 / (2 r^2)), r^2 the mean |p|^2 of the
-	                      4-ring members (wide enough to average out the
-	                      position noise of e.g. marching-tetrahedra
+	                      and its 5-ring a quadric and a cubic with weights
+	                      exp(-|p|^2 / (2 r^2)), r 0.6 times the 5-ring
+	                      members' RMS distance (wide enough to average out
+	                      the position noise of e.g. marching-tetrahedra
 	                      vertices), both fitted once, in the jet's
 	                      frame. The jet is taken
 	                      outright where its e <= 1e-4 (exact to its
 	                      model; e a fit's weighted RMS residual over h).
+	                      Where the jet's e exceeds 0.05 (no cubic
+	                      describes the surface at the scale of its edges:
+	                      fractal or turbulent), or the jet strays over 60
+	                      degrees from S, MWAAT's normal (the best of the
+	                      seven on rough height fields), without wide fits.
 	                      Else the quadric or the cubic, by T = |d|^2 /
 	                      var(d), d the quadric's slopes minus the
 	                      cubic's, var(d) = s^2 (V_c - V_q), V the sum of
@@ -143,23 +148,22 @@ typedef enum vn_method {
 	                      jet by generalized cross-validation (Craven &
 	                      Wahba 1979) e^2 / (1 - k / n)^2, k its unknowns (6
 	                      or 10), n its effective number of points (sum
-	                      w)^2 / sum w^2: the lower wins. Where the chosen
-	                      fit's e exceeds 0.06 (no polynomial describes the
-	                      neighbourhood: fractal or turbulent), or the jet
-	                      strays over 60 degrees from S, MWAAT's normal
-	                      (the best of the seven on rough height fields).
-	                      Where the jet cannot be fitted (fewer points than
+	                      w)^2 / sum w^2: the wide fit unless the jet's
+	                      score is below half of its (the jet's rests on
+	                      about 14 effective points for 10 unknowns, and
+	                      scatters). Where the jet cannot be fitted (fewer points than
 	                      unknowns, or ill-conditioned), JET's fallback:
 	                      the 1-ring quadric, else S (on an open
 	                      cylinder's strip S is exact, MWAAT 5 degrees
 	                      off); the wide fits are not tried there: at e.g.
-	                      a boundary vertex of a cone's fan, whose 4-ring
+	                      a boundary vertex of a cone's fan, whose 5-ring
 	                      is the rim (on a conic) and the apex, a quadric
 	                      through them all tilts as the apex asks (40
-	                      degrees). The 4-ring stops at the ring
+	                      degrees). The 5-ring stops at the ring
 	                      capacity of JET's 2-rings (the largest vertex's
 	                      candidate count c: c (c + 1) members, nearest
-	                      rings first). The thresholds 1e-4 and 0.06 were
+	                      rings first). The thresholds 1e-4 and 0.05, the
+	                      factor 2, the 5-ring and the width 0.6 were
 	                      chosen with vneval (docs/ACCURACY.md): the scheme
 	                      to use when unsure. */
 	/* The fits (QUADRIC, JET, ADAPTIVE): rings are the vertices sharing a
@@ -184,11 +188,13 @@ typedef enum vn_method {
 	 * other fitted normal is unit with a positive dot product with S.
 	 * Memory: about 9 bytes a corner + 1 a polygon + 33 a vertex (ADAPTIVE 113)
 	 * + 4 a 1-ring member (JET, ADAPTIVE) + 4 a vertex per thread from the
-	 * allocator (the workspace serves the seed pass only), + 128 bytes a
+	 * allocator (the workspace serves the seed pass only), + 144 bytes a
 	 * 2-ring member per thread. Cost on one thread, on a smooth torus:
-	 * QUADRIC about 10x MWSELR's, JET about 25x, ADAPTIVE about 45x (less
-	 * where the jet is exact to 1e-4 h, which skips the 4-ring's fits;
-	 * docs/PERFORMANCE.md). Per corner
+	 * QUADRIC about 10x MWSELR's, JET about 25x, ADAPTIVE about 28x (the
+	 * jet is exact to 1e-4 h there, and neither the 5-ring is gathered nor
+	 * its fits made; also where rough); where every vertex fits its 5-ring
+	 * (a marching-tetrahedra isosurface), about 120x (docs/PERFORMANCE.md).
+	 * Per corner
 	 * (vn_corner_normals, vn_polygon_corner_normals): a
 	 * corner whose fan is its vertex's whole star (one fan, no degenerate
 	 * face, with face strengths all equally strong) gets the vertex's

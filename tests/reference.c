@@ -240,9 +240,15 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
 #define RCOND_MIN 1e-10L      /* smallest 1 / (|R|_F |R^-1|_F)^2 */
 #define SEED_COS_MIN 0.5L     /* 60 degrees from the seed */
 /* ADAPTIVE: the jet alone at or below this weighted RMS residual over h;
- * the rough fallback (MWAAT) above this residual of the chosen fit. */
+ * the rough fallback (MWAAT) above this residual of the jet; a wide fit
+ * where its GCV score is below the margin times the jet's; the wide fits
+ * on this ring, with a Gaussian this wide relative to the members' RMS
+ * distance. */
 #define ADAPTIVE_JET_EXACT 1e-4L
-#define ADAPTIVE_FIT_MAX 0.06L
+#define ADAPTIVE_ROUGH_MAX 0.05L
+#define ADAPTIVE_JET_MARGIN 2.0L
+#define ADAPTIVE_RINGS 5
+#define ADAPTIVE_WIDTH 0.6L
 /* ADAPTIVE: the cubic's outcome where the mean log T over the vertex and its
  * 1-ring is above log ADAPTIVE_T (vn.h); log T is kept within +-T_LOG_MAX. */
 #define ADAPTIVE_T 2.0L
@@ -637,67 +643,67 @@ typedef struct adaptive_result {
 	int t_borderline;   /* whether log_t's presence or value is within rounding */
 } adaptive_result;
 
-/* The last step of an outcome: the fit f on path `path` unless its
- * residual is above ADAPTIVE_FIT_MAX, then the rough fallback (normal
- * left unset: fit_normals writes MWAAT's). */
-static void outcome(const fit_result* f, int path, long double slack, adaptive_result* a, int k)
+/* The last step of an outcome: the fit f on path `path`. */
+static void outcome(const fit_result* f, int path, adaptive_result* a, int k)
 {
-	a->borderline |= near(f->residual, ADAPTIVE_FIT_MAX, slack + fit_slack(f->rcond));
-	a->path[k] = f->residual <= ADAPTIVE_FIT_MAX ? path : ref_path_rough;
+	a->path[k] = path;
 	a->normal[k] = f->normal;
 	a->rcond[k] = f->rcond;
 }
 
-/* ADAPTIVE at a vertex with the 1-, 2- and 4-ring ends m1 <= m2 <= m4 of
- * q: the jet on the 2-ring; where it succeeded and its residual is above
- * ADAPTIVE_JET_EXACT, the quadric and the cubic on the 4-ring with Gaussian
- * weights as wide as the ring (gauss = the mean |q|^2 / h^2), each fitted
- * once in the jet's frame. Two outcomes: the jet
- * or the quadric (the cubic if the quadric failed), whichever has the lower
- * GCV score, and the jet or the cubic (the quadric if the cubic failed)
- * likewise; each the fallback where its residual is above
- * ADAPTIVE_FIT_MAX. Where the jet could not be fitted (not trusted in its
- * first frame), JET's fallback: the quadric on the 1-ring, else S; where it
- * was fitted but strays from S, the rough fallback. log T, T = |d|^2 /
+/* ADAPTIVE at a vertex with the 1-, 2- and 5-ring ends m1 <= m2 <= m5 of
+ * q: the jet on the 2-ring; the rough fallback where its residual is above
+ * ADAPTIVE_ROUGH_MAX; where it is between ADAPTIVE_JET_EXACT and that, the
+ * quadric and the cubic on the 5-ring with Gaussian weights
+ * (gauss = ADAPTIVE_WIDTH^2 times the mean |q|^2 / h^2), each fitted once
+ * in the jet's frame. Two outcomes: the jet or the quadric (the cubic if
+ * the quadric failed), the wide fit where its GCV score is below
+ * ADAPTIVE_JET_MARGIN times the jet's, and the jet or the cubic (the
+ * quadric if the cubic failed) likewise. Where the jet could not be fitted
+ * (not trusted in its first frame), JET's fallback: the quadric on the
+ * 1-ring, else S; where it was fitted but strays from S, the rough
+ * fallback. log T, T = |d|^2 /
  * var(d): d the quadric's slopes minus the cubic's, var(d) = sigma^2
  * (vs_cubic - vs_quadric), sigma^2 = the cubic's sum w e^2 over (points -
  * 10). */
-static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m4, vec s, long double h, adaptive_result* a)
+static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m5, vec s, long double h, adaptive_result* a)
 {
 	fit_result jet, wq = {.rows = 0}, wc;
 	int jet_ok = 0, fitted = 0, q_ok = 0, c_ok = 0;
-	long double best = INFINITY, slack = 0;
+	long double best = 0, slack = 0;
 	a->log_t = NAN;
 	a->borderline = a->t_borderline = 0;
 	if (fit_twice(q, m2, s, 3, h, 0, &jet, &a->borderline, &fitted)) {
 		slack = fit_slack(jet.rcond);
-		jet_ok = 1;
+		a->borderline |= near(jet.residual, ADAPTIVE_ROUGH_MAX, slack);
+		jet_ok = jet.residual <= ADAPTIVE_ROUGH_MAX;
 		a->borderline |= fabsl(jet.residual - ADAPTIVE_JET_EXACT) < BORDER + slack;
-		best = jet.residual <= ADAPTIVE_JET_EXACT ? 0 : gcv(jet.residual, effective_points(q, m2, h, 0), 10);
+		if (jet_ok && jet.residual > ADAPTIVE_JET_EXACT)
+			best = ADAPTIVE_JET_MARGIN * gcv(jet.residual, effective_points(q, m2, h, 0), 10);
 	}
 	int fallback = fitted                                                  ? ref_path_rough
 	               : fit_twice(q, m1, s, 2, h, 0, &wq, &a->borderline, NULL) ? ref_path_quadric
 	                                                                         : ref_path_seed;
 	for (int k = 0; k < 2; k++) {
 		if (jet_ok) {
-			outcome(&jet, ref_path_jet, 0, a, k);
+			outcome(&jet, ref_path_jet, a, k);
 		} else {
 			a->path[k] = fallback;
 			a->normal[k] = wq.normal;
 			a->rcond[k] = wq.rcond;
 		}
 	}
-	if (!(jet_ok && best > 0 && m4 > m1))
+	if (!(best > 0 && m5 > m1))
 		return;
 	vec axis = jet.normal;
 	long double gauss = 0;
-	for (size_t i = 0; i < m4; i++)
+	for (size_t i = 0; i < m5; i++)
 		gauss += vec_dot(q[i], q[i]) / (h * h);
-	gauss /= (long double)m4;
-	long double n = effective_points(q, m4, h, gauss);
+	gauss *= ADAPTIVE_WIDTH * ADAPTIVE_WIDTH / (long double)m5;
+	long double n = effective_points(q, m5, h, gauss);
 	int fit_border = 0;
-	q_ok = fit_once(q, m4, axis, s, 2, h, gauss, slack, &wq, &fit_border);
-	c_ok = fit_once(q, m4, axis, s, 3, h, gauss, slack, &wc, &fit_border);
+	q_ok = fit_once(q, m5, axis, s, 2, h, gauss, slack, &wq, &fit_border);
+	c_ok = fit_once(q, m5, axis, s, 3, h, gauss, slack, &wc, &fit_border);
 	a->borderline |= fit_border;
 	a->t_borderline |= fit_border;
 	for (int k = 0; k < 2 && (q_ok || c_ok); k++) {
@@ -706,7 +712,7 @@ static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m4, vec s
 		long double g = gcv(w->residual, n, cubic ? 10 : 6);
 		a->borderline |= near(g, best, slack + fit_slack(w->rcond) + (jet_ok ? fit_slack(jet.rcond) : 0));
 		if (g < best)
-			outcome(w, ref_path_wide, slack, a, k);
+			outcome(w, ref_path_wide, a, k);
 	}
 	if (q_ok && c_ok) {
 		long double d0 = wq.slope[0] - wc.slope[0], d1 = wq.slope[1] - wc.slope[1];
@@ -763,7 +769,7 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		path[v] = ref_path_seed;
 		vec p = position(t->positions, (uint32_t)v);
 		mark[v] = 1;
-		size_t m1 = add_ring(t, (uint32_t)v, mark, ring, 0), m2 = m1, m4 = m1;
+		size_t m1 = add_ring(t, (uint32_t)v, mark, ring, 0), m2 = m1, m5 = m1;
 		long double h = 0;
 		for (size_t i = 0; i < m1; i++) {
 			q[i] = vec_sub(position(t->positions, ring[i]), p);
@@ -774,21 +780,21 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 			for (size_t i = 0; i < m1; i++)
 				if (!hub[ring[i]])
 					m2 = add_ring(t, ring[i], mark, ring, m2);
-			m4 = m2;
+			m5 = m2;
 		}
-		for (size_t from = m1, r = 3; method == ref_adaptive && r <= 4; r++) { /* the 3- and 4-rings */
-			size_t to = m4;
+		for (size_t from = m1, r = 3; method == ref_adaptive && r <= ADAPTIVE_RINGS; r++) { /* the 3- to 5-rings */
+			size_t to = m5;
 			for (size_t i = from; i < to; i++)
 				if (!hub[ring[i]])
-					m4 = add_ring(t, ring[i], mark, ring, m4);
+					m5 = add_ring(t, ring[i], mark, ring, m5);
 			from = to;
 		}
-		for (size_t i = m1; i < m4; i++)
+		for (size_t i = m1; i < m5; i++)
 			q[i] = vec_sub(position(t->positions, ring[i]), p);
 		fit_result f = {.rows = 0};
 		int borderline = 0;
 		if (m1 && method == ref_adaptive)
-			adaptive_vertex(q, m1, m2, m4, s, h, ad + v); /* chosen below */
+			adaptive_vertex(q, m1, m2, m5, s, h, ad + v); /* chosen below */
 		else if (m1 && method == ref_jet && fit_twice(q, m2, s, 3, h, 0, &f, &borderline, NULL)) {
 			path[v] = ref_path_jet;
 		} else if (m1 && method != ref_adaptive && fit_twice(q, m1, s, 2, h, 0, &f, &borderline, NULL)) {
@@ -800,7 +806,7 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		}
 		if (borderline)
 			path[v] |= ref_path_borderline;
-		for (size_t i = 0; i < m4; i++)
+		for (size_t i = 0; i < m5; i++)
 			mark[ring[i]] = 0;
 		mark[v] = 0;
 	}

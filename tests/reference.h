@@ -38,7 +38,7 @@ enum {
 	ref_path_cotangent, /* SMEWCSA: the MEWCSA normal, its sign corrected */
 	ref_path_quadric,  /* the 1-ring quadric fit */
 	ref_path_jet,      /* the 2-ring cubic jet fit */
-	ref_path_wide,     /* ADAPTIVE: a 4-ring fit with Gaussian weights */
+	ref_path_wide,     /* ADAPTIVE: a 5-ring fit with Gaussian weights */
 	ref_path_rough,    /* ADAPTIVE's rough fallback: MWAAT */
 	/* Added to the path: a decision on the way (a pivot, the 60 degree or
 	 * 30 degree rule, ADAPTIVE's residual, SMEWCSA's flatness) was within

@@ -422,7 +422,7 @@ static void torus_outward_everywhere(void** state)
 /* ADAPTIVE on the ellipsoid band (64 x 32, jittered): sampled exactly, as
  * accurate as the jet; with every vertex moved along its exact normal by up
  * to `noise` of the mean edge (as marching tetrahedra misplace vertices),
- * better than every one of the seven by its 4-ring fits; with noise as large
+ * better than every one of the seven by its 5-ring fits; with noise as large
  * as the edges, MWAAT, its fallback. Returns the median errors of ADAPTIVE,
  * JET, the best of the seven and MWAAT. */
 static void adaptive_medians(double noise, double med[4])
@@ -635,7 +635,7 @@ static void hubs_not_expanded(void** state)
  * vertex's 2-ring is the rim (on a conic) and the apex, the jet fails
  * there, and ADAPTIVE gives a face-weighted normal, exact on a cone (any
  * symmetric weights are): the cone's normal (cos t, sin t, 2) / sqrt(5). A
- * quadric on its 4-ring (the same points) would go through them all tilted
+ * quadric on its 5-ring (the same points) would go through them all tilted
  * by 40 degrees. */
 static void adaptive_cone_rim(void** state)
 {

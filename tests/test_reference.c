@@ -722,7 +722,7 @@ static int same3(const double* a, const double* b, double sign)
  * returns its seed method's normal bit for bit (MWA's for the fits, and
  * MWAAT's for ADAPTIVE's rough one; MWSELR's for SMEWCSA), JET's and
  * ADAPTIVE's fallback to the 1-ring quadric is QUADRIC's very computation
- * and ADAPTIVE's 2-ring fit is JET's (any other ADAPTIVE normal is a 4-ring
+ * and ADAPTIVE's 2-ring fit is JET's (any other ADAPTIVE normal is a 5-ring
  * fit); SMEWCSA's other path is MEWCSA's normal or its negation. -1: none
  * of these. A fit that equals its fallback to the last bit (possible on a
  * plane) reads as the fallback. */
@@ -1344,7 +1344,7 @@ static void test_beyond_the_paper(void** state)
 	mesh_free(&m);
 
 	/* Noise of up to 12% of an edge in every direction: ADAPTIVE takes the
-	 * 4-ring fits at most vertices, the jet at some; at 60%, its fallback
+	 * 5-ring fits at most vertices, the jet at some; at 60%, its fallback
 	 * (MWAAT) at a part. */
 	mesh_init(&m, "noisy height field");
 	make_height_field(&m, 21, 30, 26, 0.07, 0.3);
