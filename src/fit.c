@@ -47,8 +47,9 @@
  * outcomes (the jet or the quadric, the jet or the cubic, by GCV score) and
  * the statistic of its cubic terms, and a last pass takes one outcome by
  * that statistic over the vertex's 1-ring (56 more bytes a vertex); its
- * rough fallback, MWAAT, is a second pass of the weighted kernels (24
- * more). Where the jet cannot be fitted it falls back as JET does. */
+ * rough fallback, MWAAT, is a second pass of the weighted kernels, and
+ * MWSELR, which it takes for a jet that agrees with it, a third (24 more
+ * each). Where the jet cannot be fitted it falls back as JET does. */
 #include "internal.h"
 #include "simd.h"
 
@@ -82,7 +83,16 @@
  * averaging is kept unless the jet is clearly better. The ring
  * (ADAPTIVE_RINGS) and the Gaussian's width (ADAPTIVE_WIDTH, relative to
  * the members' RMS distance) trade the noise averaged out against the
- * model's bias. These four were chosen with vneval. The wide
+ * model's bias. These four were chosen with vneval. Where the jet is
+ * taken, MWSELR's normal replaces it if the two are within
+ * ADAPTIVE_MWSELR_AGREE times the jet's residual over h, in radians: the
+ * jet cannot tell them apart, and MWSELR is exact where the jet is only
+ * O(h^3): at a vertex whose parameter lines are circles through it and
+ * whose grid quads have their corners on circles, as on a sphere's or a
+ * torus's latitude-longitude grid (MWSELR's sum is twice the vector area
+ * of the 1-ring inverted in a sphere about the vertex, Max 1999; there
+ * the inverted ring's area is the cross product of the grid's two
+ * diagonals, tangent to the parameter circles). The wide
  * cubic rather than the quadric where the mean log T over the 1-ring
  * exceeds log ADAPTIVE_T, T = |slope difference|^2 / its variance: 2 is
  * where the quadric's estimated squared slope bias |d|^2 - var(d) passes
@@ -90,6 +100,7 @@
  * constant is the mean squared error's break-even, not a fitted one. */
 #define ADAPTIVE_JET_EXACT 1e-4
 #define ADAPTIVE_ROUGH_MAX 0.05
+#define ADAPTIVE_MWSELR_AGREE 0.5
 #define ADAPTIVE_JET_MARGIN 2.0
 #define ADAPTIVE_RINGS 5
 #define ADAPTIVE_WIDTH 0.6
@@ -633,6 +644,7 @@ typedef struct fit_job {
 	vn_work w;
 	const double* seed;    /* 3 per vertex */
 	const double* rough;   /* ADAPTIVE: 3 per vertex, ADAPTIVE_ROUGH's normals */
+	const double* mwselr;  /* ADAPTIVE: 3 per vertex, MWSELR's normals */
 	double* pick;          /* ADAPTIVE: 7 per vertex: the outcomes (adaptive_lanes), log T */
 	unsigned char* finite; /* per vertex: its coordinates are finite */
 	unsigned char* usable; /* polygons: per face, its corners are finite and at least 3 */
@@ -961,6 +973,17 @@ static double gcv(double res, double n, int k)
 	return d > 0.0 ? res * res / (d * d) : DBL_MAX;
 }
 
+/* Whether unit normal a is within `angle` radians of unit normal b (never
+ * where a is zero). */
+static int within(const double a[3], const double b[3], double angle)
+{
+	if (a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0)
+		return 0;
+	double c[3];
+	vn_cross(a, b, c);
+	return atan2(sqrt(vn_dot(c, c)), vn_dot(a, b)) < angle;
+}
+
 /* The effective number of one lane's first m points (q at the lane's
  * first), (sum w)^2 / sum w^2, the vertex (weight 1) included. */
 static double effective_points(const double* q, uint32_t m)
@@ -1009,7 +1032,9 @@ static void adaptive_lanes(const fit_job* j, scratch* s, uint32_t top, const dou
 		const int jet = act[l] && ok[l];
 		/* Without a ring, or where no fit is taken: the fallback. */
 		const int smooth = jet && res[l] <= ADAPTIVE_ROUGH_MAX;
-		memcpy(out, smooth ? f[l] : fall[l], 3 * sizeof(double));
+		const double* mwselr = j->mwselr + 3 * (size_t)(v0 + l);
+		memcpy(out, !smooth ? fall[l] : within(mwselr, f[l], ADAPTIVE_MWSELR_AGREE * res[l]) ? mwselr : f[l],
+		       3 * sizeof(double));
 		memcpy(out + 3, out, 3 * sizeof(double));
 		out[6] = NAN;
 		best[l] = !smooth || res[l] <= ADAPTIVE_JET_EXACT
@@ -1200,7 +1225,7 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 	/* The seeds (and ADAPTIVE's rough fallback), by the weighted family's
 	 * kernels (which check the indices). */
 	const int adaptive = work->method == vn_method_adaptive;
-	double* seed = (double*)heap.allocate(heap.user, (adaptive ? 13 : 3) * sizeof(double) * (size_t)nv);
+	double* seed = (double*)heap.allocate(heap.user, (adaptive ? 16 : 3) * sizeof(double) * (size_t)nv);
 	if (!seed)
 		return vn_result_out_of_memory;
 	const vn_accumulate_fn weighted =
@@ -1213,15 +1238,18 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 	j.w.out = &seeds;
 	j.w.keep_existing = 0;
 	vn_result r = vn_run(&j.w, weighted, o, st);
-	if (adaptive && r == vn_result_success) {
-		const vn_vectors rough = {seed + 3 * (size_t)nv, 3 * sizeof(double), vn_scalar_float64};
+	for (int k = 1; adaptive && k < 3 && r == vn_result_success; ++k) { /* the rough fallback, MWSELR */
+		const vn_vectors more = {seed + 3 * k * (size_t)nv, 3 * sizeof(double), vn_scalar_float64};
 		vn_range_stats unused = {0, 0, 0, 0};
-		j.w.method = ADAPTIVE_ROUGH;
-		j.w.out = &rough;
+		j.w.method = k == 1 ? ADAPTIVE_ROUGH : vn_method_mwselr;
+		j.w.out = &more;
 		j.w.want_stats = 0;
 		r = vn_run(&j.w, weighted, o, &unused);
+	}
+	if (adaptive) {
 		j.rough = seed + 3 * (size_t)nv;
-		j.pick = seed + 6 * (size_t)nv;
+		j.mwselr = seed + 6 * (size_t)nv;
+		j.pick = seed + 9 * (size_t)nv;
 	}
 	j.w = *work;
 	j.seed = seed;

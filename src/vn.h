@@ -151,7 +151,12 @@ typedef enum vn_method {
 	                      w)^2 / sum w^2: the wide fit unless the jet's
 	                      score is below half of its (the jet's rests on
 	                      about 14 effective points for 10 unknowns, and
-	                      scatters). Where the jet cannot be fitted (fewer points than
+	                      scatters). Where the jet is taken and MWSELR's
+	                      normal is within 0.5 e radians of it (the jet
+	                      cannot tell them apart), MWSELR's: exact where
+	                      the jet is not, e.g. on a sphere's or a torus's
+	                      latitude-longitude grid. Where the jet cannot be
+	                      fitted (fewer points than
 	                      unknowns, or ill-conditioned), JET's fallback:
 	                      the 1-ring quadric, else S (on an open
 	                      cylinder's strip S is exact, MWAAT 5 degrees
@@ -163,7 +168,7 @@ typedef enum vn_method {
 	                      capacity of JET's 2-rings (the largest vertex's
 	                      candidate count c: c (c + 1) members, nearest
 	                      rings first). The thresholds 1e-4 and 0.05, the
-	                      factor 2, the 5-ring and the width 0.6 were
+	                      factors 2 and 0.5, the 5-ring and the width 0.6 were
 	                      chosen with vneval (docs/ACCURACY.md): the scheme
 	                      to use when unsure. */
 	/* The fits (QUADRIC, JET, ADAPTIVE): rings are the vertices sharing a
@@ -186,11 +191,11 @@ typedef enum vn_method {
 	 * ones the union of their sheets. A vertex whose S is zero gets zero
 	 * (ADAPTIVE: MWAAT's, zero as well unless the sums cancel); every
 	 * other fitted normal is unit with a positive dot product with S.
-	 * Memory: about 9 bytes a corner + 1 a polygon + 33 a vertex (ADAPTIVE 113)
+	 * Memory: about 9 bytes a corner + 1 a polygon + 33 a vertex (ADAPTIVE 137)
 	 * + 4 a 1-ring member (JET, ADAPTIVE) + 4 a vertex per thread from the
 	 * allocator (the workspace serves the seed pass only), + 144 bytes a
 	 * 2-ring member per thread. Cost on one thread, on a smooth torus:
-	 * QUADRIC about 10x MWSELR's, JET about 25x, ADAPTIVE about 28x (the
+	 * QUADRIC about 10x MWSELR's, JET about 25x, ADAPTIVE about 30x (the
 	 * jet is exact to 1e-4 h there, and neither the 5-ring is gathered nor
 	 * its fits made; also where rough); where every vertex fits its 5-ring
 	 * (a marching-tetrahedra isosurface), about 120x (docs/PERFORMANCE.md).

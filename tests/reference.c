@@ -246,6 +246,9 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
  * distance. */
 #define ADAPTIVE_JET_EXACT 1e-4L
 #define ADAPTIVE_ROUGH_MAX 0.05L
+/* ADAPTIVE: MWSELR's normal for the jet's within this many times the
+ * jet's residual (radians). */
+#define ADAPTIVE_MWSELR_AGREE 0.5L
 #define ADAPTIVE_JET_MARGIN 2.0L
 #define ADAPTIVE_RINGS 5
 #define ADAPTIVE_WIDTH 0.6L
@@ -659,14 +662,17 @@ static void outcome(const fit_result* f, int path, adaptive_result* a, int k)
  * in the jet's frame. Two outcomes: the jet or the quadric (the cubic if
  * the quadric failed), the wide fit where its GCV score is below
  * ADAPTIVE_JET_MARGIN times the jet's, and the jet or the cubic (the
- * quadric if the cubic failed) likewise. Where the jet could not be fitted
+ * quadric if the cubic failed) likewise; the jet's outcome is MWSELR's
+ * normal `sel` where that is within ADAPTIVE_MWSELR_AGREE times the jet's
+ * residual of the jet's. Where the jet could not be fitted
  * (not trusted in its first frame), JET's fallback: the quadric on the
  * 1-ring, else S; where it was fitted but strays from S, the rough
  * fallback. log T, T = |d|^2 /
  * var(d): d the quadric's slopes minus the cubic's, var(d) = sigma^2
  * (vs_cubic - vs_quadric), sigma^2 = the cubic's sum w e^2 over (points -
  * 10). */
-static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m5, vec s, long double h, adaptive_result* a)
+static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m5, vec s, const double* sel, long double h,
+                            adaptive_result* a)
 {
 	fit_result jet, wq = {.rows = 0}, wc;
 	int jet_ok = 0, fitted = 0, q_ok = 0, c_ok = 0;
@@ -684,8 +690,19 @@ static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m5, vec s
 	int fallback = fitted                                                  ? ref_path_rough
 	               : fit_twice(q, m1, s, 2, h, 0, &wq, &a->borderline, NULL) ? ref_path_quadric
 	                                                                         : ref_path_seed;
+	int agree = 0;
+	if (jet_ok && !is_zero(sel)) {
+		vec e = load(sel);
+		long double angle = atan2l(vec_length(vec_cross(e, jet.normal)), vec_dot(e, jet.normal));
+		long double limit = ADAPTIVE_MWSELR_AGREE * jet.residual;
+		a->borderline |= fabsl(angle - limit) < BORDER + slack;
+		agree = angle < limit;
+	}
 	for (int k = 0; k < 2; k++) {
-		if (jet_ok) {
+		if (agree) {
+			a->path[k] = ref_path_mwselr;
+			a->normal[k] = load(sel);
+		} else if (jet_ok) {
 			outcome(&jet, ref_path_jet, a, k);
 		} else {
 			a->path[k] = fallback;
@@ -735,10 +752,12 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 {
 	size_t n = t->vertex_count;
 	weighted_normals(ref_mwa, t, out, cond); /* S, kept where chosen */
-	double* rough = NULL;
+	double *rough = NULL, *sel = NULL; /* ADAPTIVE: MWAAT's and MWSELR's normals, then conditions */
 	if (method == ref_adaptive) {
 		rough = checked_calloc(4 * n, sizeof *rough);
 		weighted_normals(ref_mwaat, t, rough, rough + 3 * n);
+		sel = checked_calloc(4 * n, sizeof *sel);
+		weighted_normals(ref_mwselr, t, sel, sel + 3 * n);
 	}
 	char* mark = checked_calloc(n, 1);
 	uint32_t* ring = checked_calloc(n, sizeof *ring);
@@ -794,7 +813,7 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		fit_result f = {.rows = 0};
 		int borderline = 0;
 		if (m1 && method == ref_adaptive)
-			adaptive_vertex(q, m1, m2, m5, s, h, ad + v); /* chosen below */
+			adaptive_vertex(q, m1, m2, m5, s, sel + 3 * v, h, ad + v); /* chosen below */
 		else if (m1 && method == ref_jet && fit_twice(q, m2, s, 3, h, 0, &f, &borderline, NULL)) {
 			path[v] = ref_path_jet;
 		} else if (m1 && method != ref_adaptive && fit_twice(q, m1, s, 2, h, 0, &f, &borderline, NULL)) {
@@ -833,9 +852,10 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		int differ = a->path[0] != a->path[1] || vec_dot(a->normal[0], a->normal[1]) != vec_dot(a->normal[0], a->normal[0]);
 		border |= count && fabsl(sum / (long double)count - logl(ADAPTIVE_T)) < T_SLACK;
 		path[v] = (unsigned char)a->path[k];
-		if (path[v] == ref_path_rough) {
-			memcpy(out + 3 * v, rough + 3 * v, 3 * sizeof *out);
-			cond[v] = rough[3 * n + v];
+		if (path[v] == ref_path_rough || path[v] == ref_path_mwselr) {
+			const double* from = path[v] == ref_path_rough ? rough : sel;
+			memcpy(out + 3 * v, from + 3 * v, 3 * sizeof *out);
+			cond[v] = from[3 * n + v];
 		} else if (path[v] != ref_path_seed) {
 			o_set(out + 3 * v, a->normal[k]);
 			cond[v] = (double)a->rcond[k];
@@ -845,6 +865,7 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 	}
 	free(ad);
 	free(rough);
+	free(sel);
 	free(q);
 	free(ring);
 	free(mark);

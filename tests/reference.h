@@ -40,11 +40,13 @@ enum {
 	ref_path_jet,      /* the 2-ring cubic jet fit */
 	ref_path_wide,     /* ADAPTIVE: a 5-ring fit with Gaussian weights */
 	ref_path_rough,    /* ADAPTIVE's rough fallback: MWAAT */
+	ref_path_mwselr,   /* ADAPTIVE: MWSELR, for a jet that agrees with it */
+	ref_path_count,
 	/* Added to the path: a decision on the way (a pivot, the 60 degree or
 	 * 30 degree rule, ADAPTIVE's residual, SMEWCSA's flatness) was within
 	 * rounding of its threshold; another correct implementation may decide
 	 * otherwise. */
-	ref_path_borderline = 8
+	ref_path_borderline = 16
 };
 
 /* Unit normals of every vertex. positions has 3 doubles per vertex; face f has

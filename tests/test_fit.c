@@ -460,6 +460,23 @@ static void adaptive_across_noise(void** state)
 	assert_true(med[0] == med[3]); /* no fit describes it: the fallback */
 }
 
+/* ADAPTIVE takes MWSELR's normal where the jet agrees with it to within
+ * half its residual: on the torus's latitude-longitude grid, where MWSELR
+ * is exact (its grid quads have their corners on circles, its parameter
+ * lines are circles), ADAPTIVE is exact too, where the jet is not. */
+static void adaptive_exact_where_mwselr_is(void** state)
+{
+	(void)state;
+	grid_mesh g = make_surface(1, 48, 24, 0);
+	const double a = median_error(&g, 48, vn_method_adaptive), s = median_error(&g, 48, vn_method_mwselr),
+	             j = median_error(&g, 48, vn_method_jet);
+	print_message("torus grid: adaptive %g, mwselr %g, jet %g degrees\n", a, s, j);
+	assert_true(s < 1e-9);
+	assert_true(a < 1e-9);
+	assert_true(j > 1e-3);
+	grid_free(&g);
+}
+
 static void threads_bit_identical(void** state)
 {
 	(void)state;
@@ -743,6 +760,7 @@ int main(void)
 	    cmocka_unit_test(mwa_converges_as_h),
 	    cmocka_unit_test(torus_outward_everywhere),
 	    cmocka_unit_test(adaptive_across_noise),
+	    cmocka_unit_test(adaptive_exact_where_mwselr_is),
 	    cmocka_unit_test(threads_bit_identical),
 	    cmocka_unit_test(nonfinite_vertex_as_if_absent),
 	    cmocka_unit_test(degenerate_rings),

@@ -605,6 +605,10 @@ static void write_convergence_svg(int c, const series* s, const char* dir)
 			svg_line(f, &p, x, y, n, k);
 		char order[16];
 		format_order(order, sizeof(order), s->order[k]);
+		/* Exact to rounding on too many grids for an order, but not on all:
+		 * the line has dots, and the legend says on how many it is exact. */
+		if (isnan(s->order[k]) && n)
+			snprintf(order, sizeof(order), "exact on %d of %d", CONV_STEPS - n, CONV_STEPS);
 		snprintf(labels[k], sizeof(labels[k]), "%s: %s%s", vn_method_name((vn_method)k), isnan(s->order[k]) ? "" : "order ",
 		         order);
 		names[k] = labels[k], ids[k] = k;
