@@ -57,7 +57,7 @@ static const struct {
      "Cazals & Pouget 2003; O(h^3)"},
     {"adaptive",
      "the 2-ring jet, or a Gaussian-weighted 5-ring fit that averages noise out, by GCV score; "
-     "MWSELR where the jet agrees with it; "
+     "MWSELR on spheres and where the jet agrees with it; "
      "MWAAT where rough: the choice when unsure",
      "beyond Jin et al. 2005; Craven & Wahba 1979 (GCV)"},
 };

@@ -48,8 +48,9 @@
  * the statistic of its cubic terms, and a last pass takes one outcome by
  * that statistic over the vertex's 1-ring (56 more bytes a vertex); its
  * rough fallback, MWAAT, is a second pass of the weighted kernels, and
- * MWSELR, which it takes for a jet that agrees with it, a third (24 more
- * each). Where the jet cannot be fitted it falls back as JET does. */
+ * MWSELR, which it takes on a sphere (sphere_lanes) and for a jet that
+ * agrees with it, a third (24 more each). Where the jet cannot be fitted
+ * it falls back as JET does. */
 #include "internal.h"
 #include "simd.h"
 
@@ -100,6 +101,18 @@
  * constant is the mean squared error's break-even, not a fitted one. */
 #define ADAPTIVE_JET_EXACT 1e-4
 #define ADAPTIVE_ROUGH_MAX 0.05
+/* ADAPTIVE takes MWSELR's normal outright where the vertex's 2-ring lies on
+ * a sphere through it, tangent to MWSELR's plane, to ADAPTIVE_SPHERE_ROUNDING
+ * units of rounding of the coordinates' precision (float32's where every
+ * coordinate is a float32 value, as from glTF, whatever type the caller
+ * passes; else float64's), and at most ADAPTIVE_JET_EXACT h: MWSELR is then
+ * that sphere's normal (Max 1999), which no fit reproduces, and the data
+ * cannot be told from a sphere. Measured in those units: Blender's UV
+ * spheres (float32) up to 275 at 500 segments; every vertex of the paper's
+ * other models above 1e8 (float64), and above 6e-4 h. */
+#define ADAPTIVE_SPHERE_ROUNDING 1024.0
+/* The sphere needs two points beyond the three that fit one. */
+#define ADAPTIVE_SPHERE_POINTS 5
 #define ADAPTIVE_MWSELR_AGREE 0.5
 #define ADAPTIVE_JET_MARGIN 2.0
 #define ADAPTIVE_RINGS 5
@@ -646,6 +659,7 @@ typedef struct fit_job {
 	const double* rough;   /* ADAPTIVE: 3 per vertex, ADAPTIVE_ROUGH's normals */
 	const double* mwselr;  /* ADAPTIVE: 3 per vertex, MWSELR's normals */
 	double* pick;          /* ADAPTIVE: 7 per vertex: the outcomes (adaptive_lanes), log T */
+	double unit;           /* ADAPTIVE: the coordinates' unit roundoff (coordinate_unit) */
 	unsigned char* finite; /* per vertex: its coordinates are finite */
 	unsigned char* usable; /* polygons: per face, its corners are finite and at least 3 */
 	uint32_t* face_of;     /* polygons: per corner */
@@ -964,6 +978,108 @@ static void widen_vertex(const fit_job* j, scratch* s, uint32_t v, unsigned lane
 			s->q[PT * (size_t)i + d * LANES + lane] *= scale;
 }
 
+/* The sums of ADAPTIVE's sphere test (sphere_lanes) over each lane's first
+ * count[l] points of q, in its order (+ 0 past its count), n[.][l] the
+ * lane's unit normal: zb = sum z b, bb = sum b^2, bmax = max b, z = p . n
+ * and b = |p|^2 / 2. */
+VN_INLINE void sphere_sums(const double* q, const double count[LANES], const lanes n[3], lanes sums[3])
+{
+	const lanes zero = {0.0, 0.0, 0.0, 0.0}, c = {count[0], count[1], count[2], count[3]};
+	lanes zb = zero, bb = zero, bmax = zero;
+	uint32_t most = 0;
+	UNROLL for (int l = 0; l < LANES; ++l)
+		most = (uint32_t)count[l] > most ? (uint32_t)count[l] : most;
+	for (uint32_t i = 0; i < most; ++i) {
+		const double* p = q + PT * (size_t)i;
+		const lanes x = LOAD(p), y = LOAD(p + LANES), z = LOAD(p + 2 * LANES), b = 0.5 * (x * x + y * y + z * z);
+		const masks in = (zero + (double)i) < c, above = in & (b > bmax);
+		zb += (lanes)((masks)((x * n[0] + y * n[1] + z * n[2]) * b) & in), bb += (lanes)((masks)(b * b) & in);
+		bmax = (lanes)(((masks)b & above) | ((masks)bmax & ~above));
+	}
+	sums[0] = zb, sums[1] = bb, sums[2] = bmax;
+}
+
+#ifdef VN_HAVE_AVX2
+static VN_AVX2 void sphere_sums_avx2(const double* q, const double count[LANES], const lanes n[3], lanes sums[3])
+{
+	sphere_sums(q, count, n, sums);
+}
+#endif
+
+/* sphere_sums, in AVX2 registers where simd is set (the same bits). */
+static void sphere_batch(const double* q, const double count[LANES], const lanes n[3], lanes sums[3], int simd)
+{
+#ifdef VN_HAVE_AVX2
+	if (simd) {
+		sphere_sums_avx2(q, count, n, sums);
+		return;
+	}
+#else
+	(void)simd;
+#endif
+	sphere_sums(q, count, n, sums);
+}
+
+/* ADAPTIVE's sphere test at the batch's lanes l whose vertex v0 + l is below
+ * v1 and active: whether its 2-ring (m[l][1] points of q, relative to it,
+ * over h = 1 / scale[l]) lies on one sphere through it tangent to MWSELR's
+ * plane (unit normal n): z = k b at every point (sphere_sums), k by least
+ * squares, to ADAPTIVE_SPHERE_ROUNDING units of rounding (j->unit,
+ * relative) of the largest coordinate among them (at most the vertex's
+ * plus the farthest point's distance), over h, and at most
+ * ADAPTIVE_JET_EXACT; not where the sphere is a plane to that tolerance
+ * (there the jet is exact). */
+static void sphere_lanes(const fit_job* j, const double* q, uint32_t m[LANES][ADAPTIVE_RINGS], const int act[LANES],
+                         const double scale[LANES], uint32_t v0, uint32_t v1, int sphere[LANES])
+{
+	lanes n[3], sums[3];
+	double count[LANES];
+	for (unsigned l = 0; l < LANES; ++l) {
+		const double* s = j->mwselr + 3 * (size_t)(v0 + l < v1 ? v0 + l : v0);
+		const int in = v0 + l < v1 && act[l] && m[l][1] >= ADAPTIVE_SPHERE_POINTS &&
+		               !(s[0] == 0.0 && s[1] == 0.0 && s[2] == 0.0);
+		count[l] = in ? (double)m[l][1] : 0.0;
+		for (int d = 0; d < 3; ++d)
+			n[d][l] = s[d];
+	}
+	sphere_batch(q, count, n, sums, j->w.simd);
+	for (unsigned l = 0; l < LANES; ++l) {
+		sphere[l] = 0;
+		if (!(count[l] > 0.0))
+			continue;
+		double o[3];
+		vn_load(&j->w, j->w.type, v0 + l, o);
+		const double bmax = sums[2][l], x = fabs(o[0]), y = fabs(o[1]), z = fabs(o[2]), r = x > y ? x : y;
+		const double rounding = ADAPTIVE_SPHERE_ROUNDING * j->unit * ((r > z ? r : z) * scale[l] + sqrt(2.0 * bmax));
+		const double tol = rounding < ADAPTIVE_JET_EXACT ? rounding : ADAPTIVE_JET_EXACT;
+		const double k = sums[1][l] > 0.0 ? sums[0][l] / sums[1][l] : 0.0;
+		if (!(fabs(k) * bmax > tol))
+			continue;
+		uint32_t i = 0;
+		for (; i < m[l][1]; ++i) {
+			const double* p = q + PT * (size_t)i + l;
+			const double px = p[0], py = p[LANES], pz = p[2 * LANES];
+			if (!(fabs(px * n[0][l] + py * n[1][l] + pz * n[2][l] - k * 0.5 * (px * px + py * py + pz * pz)) <= tol))
+				break;
+		}
+		sphere[l] = i == m[l][1];
+	}
+}
+
+/* The unit roundoff of the coordinates' precision: float32's where every
+ * coordinate is a float32 value (or not finite), else float64's. */
+static double coordinate_unit(const vn_work* w)
+{
+	for (uint32_t v = 0; w->type == vn_scalar_float64 && v < w->vertex_count; ++v) {
+		double p[3];
+		vn_load(w, w->type, v, p);
+		for (int d = 0; d < 3; ++d)
+			if (isfinite(p[d]) && !(fabs(p[d]) <= FLT_MAX && (double)(float)p[d] == p[d]))
+				return DBL_EPSILON / 2;
+	}
+	return FLT_EPSILON / 2;
+}
+
 /* Generalized cross-validation score of a fit of k unknowns with weighted
  * RMS residual res over n effective points (Craven & Wahba 1979): the
  * residual inflated for the freedom the fit used to reach it. */
@@ -1017,9 +1133,10 @@ static void adaptive_lanes(const fit_job* j, scratch* s, uint32_t top, const dou
                            const int ok[LANES], const double res[LANES], const double* const fall[LANES],
                            const uint32_t v0, const uint32_t v1)
 {
-	int wide[LANES], any = 0;
+	int wide[LANES], sphere[LANES], any = 0;
 	double neff[LANES], sw[LANES], best[LANES];
 	double* const pts = s->q;
+	sphere_lanes(j, pts, m, act, scale, v0, v1, sphere);
 	uint32_t count[LANES], widest = top;
 	lanes axis[3];
 	for (unsigned l = 0; l < LANES; ++l) {
@@ -1033,11 +1150,15 @@ static void adaptive_lanes(const fit_job* j, scratch* s, uint32_t top, const dou
 		/* Without a ring, or where no fit is taken: the fallback. */
 		const int smooth = jet && res[l] <= ADAPTIVE_ROUGH_MAX;
 		const double* mwselr = j->mwselr + 3 * (size_t)(v0 + l);
-		memcpy(out, !smooth ? fall[l] : within(mwselr, f[l], ADAPTIVE_MWSELR_AGREE * res[l]) ? mwselr : f[l],
+		memcpy(out,
+		       sphere[l] ? mwselr
+		       : !smooth ? fall[l]
+		       : within(mwselr, f[l], ADAPTIVE_MWSELR_AGREE * res[l]) ? mwselr
+		                                                                : f[l],
 		       3 * sizeof(double));
 		memcpy(out + 3, out, 3 * sizeof(double));
 		out[6] = NAN;
-		best[l] = !smooth || res[l] <= ADAPTIVE_JET_EXACT
+		best[l] = sphere[l] || !smooth || res[l] <= ADAPTIVE_JET_EXACT
 		              ? 0.0
 		              : ADAPTIVE_JET_MARGIN * gcv(res[l], effective_points(pts + l, m[l][1]), 10);
 		if (best[l] > 0.0) {
@@ -1250,6 +1371,7 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 		j.rough = seed + 3 * (size_t)nv;
 		j.mwselr = seed + 6 * (size_t)nv;
 		j.pick = seed + 9 * (size_t)nv;
+		j.unit = coordinate_unit(work);
 	}
 	j.w = *work;
 	j.seed = seed;

@@ -155,7 +155,21 @@ typedef enum vn_method {
 	                      normal is within 0.5 e radians of it (the jet
 	                      cannot tell them apart), MWSELR's: exact where
 	                      the jet is not, e.g. on a sphere's or a torus's
-	                      latitude-longitude grid. Where the jet cannot be
+	                      latitude-longitude grid. Before all of these,
+	                      MWSELR's normal outright where the vertex's
+	                      2-ring (5 points or more) lies on a sphere
+	                      through it tangent to MWSELR's plane (z = k |p|^2
+	                      / 2, z the height over that plane, k by least
+	                      squares), every point within 1024 units of
+	                      rounding of the largest coordinate among them
+	                      (float32's where every coordinate of the mesh is
+	                      a float32 value, whatever type it is passed in,
+	                      as from glTF; else float64's) and at most 1e-4 h,
+	                      and the sphere not a plane to that tolerance:
+	                      MWSELR is that sphere's normal (Max 1999), so
+	                      ADAPTIVE is exact on any mesh whose vertices lie
+	                      on a sphere (UV spheres, icospheres), to the
+	                      precision of its coordinates. Where the jet cannot be
 	                      fitted (fewer points than
 	                      unknowns, or ill-conditioned), JET's fallback:
 	                      the 1-ring quadric, else S (on an open

@@ -5,6 +5,7 @@
  */
 #include "reference.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -249,6 +250,12 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
 /* ADAPTIVE: MWSELR's normal for the jet's within this many times the
  * jet's residual (radians). */
 #define ADAPTIVE_MWSELR_AGREE 0.5L
+/* ADAPTIVE: MWSELR's normal outright where the 2-ring lies on a sphere
+ * through the vertex tangent to MWSELR's plane, to this many units of
+ * rounding of the coordinates' precision (at most ADAPTIVE_JET_EXACT h),
+ * with at least ADAPTIVE_SPHERE_POINTS points. */
+#define ADAPTIVE_SPHERE_ROUNDING 1024.0L
+#define ADAPTIVE_SPHERE_POINTS 5
 #define ADAPTIVE_JET_MARGIN 2.0L
 #define ADAPTIVE_RINGS 5
 #define ADAPTIVE_WIDTH 0.6L
@@ -671,14 +678,48 @@ static void outcome(const fit_result* f, int path, adaptive_result* a, int k)
  * var(d): d the quadric's slopes minus the cubic's, var(d) = sigma^2
  * (vs_cubic - vs_quadric), sigma^2 = the cubic's sum w e^2 over (points -
  * 10). */
+/* Whether the m points q (relative to the vertex at p) lie on a sphere
+ * through the vertex tangent to the plane of unit normal n: z = k |q|^2 / 2,
+ * z = q . n, k by least squares, every point within the tolerance: unit
+ * (the coordinates' unit roundoff) times ADAPTIVE_SPHERE_ROUNDING times
+ * the largest coordinate among them (bounded by p's largest plus the
+ * farthest point's distance), at most ADAPTIVE_JET_EXACT h; and the sphere
+ * not a plane to it (|k| max |q|^2 / 2 above it). Sets *borderline where a
+ * test is within a factor 2 of its tolerance: near rounding, the two
+ * implementations' sums differ by about as much as the tolerance allows. */
+static int on_sphere(const vec* q, size_t m, vec p, vec n, long double h, long double unit, int* borderline)
+{
+	if (m < ADAPTIVE_SPHERE_POINTS || (n.x == 0 && n.y == 0 && n.z == 0))
+		return 0;
+	long double zb = 0, bb = 0, bmax = 0;
+	for (size_t i = 0; i < m; i++) {
+		long double b = vec_dot(q[i], q[i]) / 2;
+		zb += vec_dot(q[i], n) * b, bb += b * b, bmax = fmaxl(bmax, b);
+	}
+	long double k = bb > 0 ? zb / bb : 0;
+	long double big = fmaxl(fabsl(p.x), fmaxl(fabsl(p.y), fabsl(p.z))) + sqrtl(2 * bmax);
+	long double tol = fminl(ADAPTIVE_SPHERE_ROUNDING * unit * big, ADAPTIVE_JET_EXACT * h);
+	long double worst = 0;
+	for (size_t i = 0; i < m; i++)
+		worst = fmaxl(worst, fabsl(vec_dot(q[i], n) - k * vec_dot(q[i], q[i]) / 2));
+	long double bend = fabsl(k) * bmax;
+	*borderline |= (bend > tol / 2 && bend < 2 * tol) || (worst > tol / 2 && worst < 2 * tol);
+	return bend > tol && worst <= tol;
+}
+
 static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m5, vec s, const double* sel, long double h,
-                            adaptive_result* a)
+                            vec p, long double unit, adaptive_result* a)
 {
 	fit_result jet, wq = {.rows = 0}, wc;
 	int jet_ok = 0, fitted = 0, q_ok = 0, c_ok = 0;
 	long double best = 0, slack = 0;
 	a->log_t = NAN;
 	a->borderline = a->t_borderline = 0;
+	if (on_sphere(q, m2, p, load(sel), h, unit, &a->borderline)) {
+		for (int k = 0; k < 2; k++)
+			a->path[k] = ref_path_mwselr, a->normal[k] = load(sel);
+		return;
+	}
 	if (fit_twice(q, m2, s, 3, h, 0, &jet, &a->borderline, &fitted)) {
 		slack = fit_slack(jet.rcond);
 		a->borderline |= near(jet.residual, ADAPTIVE_ROUGH_MAX, slack);
@@ -759,6 +800,13 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		sel = checked_calloc(4 * n, sizeof *sel);
 		weighted_normals(ref_mwselr, t, sel, sel + 3 * n);
 	}
+	/* The coordinates' unit roundoff: float32's where every one is a
+	 * float32 value (or not finite), else float64's. */
+	long double unit = FLT_EPSILON / 2;
+	for (size_t i = 0; i < 3 * n; i++)
+		if (isfinite(t->positions[i]) &&
+		    !(fabs(t->positions[i]) <= FLT_MAX && (double)(float)t->positions[i] == t->positions[i]))
+			unit = DBL_EPSILON / 2;
 	char* mark = checked_calloc(n, 1);
 	uint32_t* ring = checked_calloc(n, sizeof *ring);
 	vec* q = checked_calloc(n, sizeof *q);
@@ -813,7 +861,7 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		fit_result f = {.rows = 0};
 		int borderline = 0;
 		if (m1 && method == ref_adaptive)
-			adaptive_vertex(q, m1, m2, m5, s, sel + 3 * v, h, ad + v); /* chosen below */
+			adaptive_vertex(q, m1, m2, m5, s, sel + 3 * v, h, p, unit, ad + v); /* chosen below */
 		else if (m1 && method == ref_jet && fit_twice(q, m2, s, 3, h, 0, &f, &borderline, NULL)) {
 			path[v] = ref_path_jet;
 		} else if (m1 && method != ref_adaptive && fit_twice(q, m1, s, 2, h, 0, &f, &borderline, NULL)) {

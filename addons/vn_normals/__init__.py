@@ -60,7 +60,7 @@ METHODS = (
      "weighted least-squares cubic jet on the 2-ring, in MWA's tangent frame, refitted once",
      "Cazals & Pouget 2003; O(h^3)"),
     ("ADAPTIVE", "Adaptive: fits where smooth, else MWAAT (ADAPTIVE)",
-     "the 2-ring jet, or a Gaussian-weighted 5-ring fit that averages noise out, by GCV score; MWSELR where the jet agrees with it; MWAAT where rough: the choice when unsure",
+     "the 2-ring jet, or a Gaussian-weighted 5-ring fit that averages noise out, by GCV score; MWSELR on spheres and where the jet agrees with it; MWAAT where rough: the choice when unsure",
      "beyond Jin et al. 2005; Craven & Wahba 1979 (GCV)"),
 )
 # MEWCSA turns 28.5% of Suzanne's corners by more than 90 degrees.
