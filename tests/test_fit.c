@@ -569,6 +569,33 @@ static void adaptive_exact_on_spheres(void** state)
 	const double radial[3] = {g.pos[3 * 20] - c[0], g.pos[3 * 20 + 1] - c[1], g.pos[3 * 20 + 2] - c[2]};
 	assert_true(angle_deg(jet + 3 * 20, radial) > 0.01); /* the jet is not exact there */
 	free(jet);
+	/* Its quads as polygons (the poles' fans stay triangles): the 2-ring
+	 * takes the quads' far corners too, on the sphere as well. */
+	const size_t nq = g.ni / 6 - 16; /* 6 indices: a quad's two triangles, or a segment's two fans */
+	uint32_t* poly = (uint32_t*)malloc(sizeof(uint32_t) * (4 * nq + 3 * 2 * 16));
+	uint32_t* offsets = (uint32_t*)malloc(sizeof(uint32_t) * (nq + 2 * 16 + 1));
+	size_t np = 0, nf = 0;
+	for (size_t t = 0; t < g.ni; t += 6) {
+		const uint32_t* x = g.idx + t;
+		const int fans = t % (6 * 7) == 0; /* each segment: its two fans, then its 6 quads */
+		const uint32_t corners[2][4] = {{x[0], x[1], x[2], 0}, {x[3], x[4], x[5], 0}}, quad[4] = {x[0], x[1], x[5], x[2]};
+		for (int k = 0; k < (fans ? 2 : 1); ++k) {
+			offsets[nf++] = (uint32_t)np;
+			memcpy(poly + np, fans ? corners[k] : quad, (fans ? 3 : 4) * sizeof(uint32_t)), np += fans ? 3 : 4;
+		}
+	}
+	offsets[nf] = (uint32_t)np;
+	double* out[2];
+	const vn_positions pp = {g.pos, g.nv, 0, vn_scalar_float64};
+	for (int k = 0; k < 2; ++k) {
+		out[k] = (double*)malloc(3 * sizeof(double) * g.nv);
+		const vn_vectors o = {out[k], 0, vn_scalar_float64};
+		assert_int_equal(vn_polygon_normals(&o, &pp, poly, offsets, nf, k ? vn_method_mwselr : vn_method_adaptive,
+		                                    NULL, NULL),
+		                 vn_result_success);
+	}
+	assert_memory_equal(out[0], out[1], 3 * sizeof(double) * g.nv);
+	free(poly), free(offsets), free(out[0]), free(out[1]);
 	grid_free(&g);
 	g = make_uv_sphere(16, 8, c, 2.0, 1.98, 1);
 	const size_t same = adaptive_is_mwselr(&g, 1, c, &worst);
