@@ -51,6 +51,9 @@
  * MWSELR, which it takes on a sphere (sphere_lanes) and for a jet that
  * agrees with it, a third (24 more each). Where the jet cannot be fitted
  * it falls back as JET does. */
+#include <stdio.h>
+#include <stdlib.h>
+
 #include "internal.h"
 #include "simd.h"
 
@@ -105,11 +108,13 @@
  * a sphere through it, tangent to MWSELR's plane, to ADAPTIVE_SPHERE_ROUNDING
  * units of rounding of the coordinates' precision (float32's where every
  * coordinate is a float32 value, as from glTF, whatever type the caller
- * passes; else float64's), and at most ADAPTIVE_JET_EXACT h: MWSELR is then
- * that sphere's normal (Max 1999), which no fit reproduces, and the data
- * cannot be told from a sphere. Measured in those units: Blender's UV
- * spheres (float32) up to 275 at 500 segments; every vertex of the paper's
- * other models above 1e8 (float64), and above 6e-4 h. */
+ * passes; the text's where every one was read from few decimal digits,
+ * vn_coordinate_rounding; else float64's), and at most ADAPTIVE_JET_EXACT
+ * h: MWSELR is then that sphere's normal (Max 1999), which no fit
+ * reproduces, and the data cannot be told from a sphere. Measured in those
+ * units: Blender's UV spheres (float32) up to 275 at 500 segments; every
+ * vertex of the paper's other models above 1e8 (float64), and above 6e-4
+ * h. */
 #define ADAPTIVE_SPHERE_ROUNDING 1024.0
 /* The sphere needs two points beyond the three that fit one. */
 #define ADAPTIVE_SPHERE_POINTS 5
@@ -659,7 +664,7 @@ typedef struct fit_job {
 	const double* rough;   /* ADAPTIVE: 3 per vertex, ADAPTIVE_ROUGH's normals */
 	const double* mwselr;  /* ADAPTIVE: 3 per vertex, MWSELR's normals */
 	double* pick;          /* ADAPTIVE: 7 per vertex: the outcomes (adaptive_lanes), log T */
-	double unit;           /* ADAPTIVE: the coordinates' unit roundoff (coordinate_unit) */
+	double unit, quantum;  /* ADAPTIVE: the coordinates' rounding (vn_coordinate_rounding) */
 	unsigned char* finite; /* per vertex: its coordinates are finite */
 	unsigned char* usable; /* polygons: per face, its corners are finite and at least 3 */
 	uint32_t* face_of;     /* polygons: per corner */
@@ -1024,9 +1029,9 @@ static void sphere_batch(const double* q, const double count[LANES], const lanes
  * v1 and active: whether its 2-ring (m[l][1] points of q, relative to it,
  * over h = 1 / scale[l]) lies on one sphere through it tangent to MWSELR's
  * plane (unit normal n): z = k b at every point (sphere_sums), k by least
- * squares, to ADAPTIVE_SPHERE_ROUNDING units of rounding (j->unit,
- * relative) of the largest coordinate among them (at most the vertex's
- * plus the farthest point's distance), over h, and at most
+ * squares, to ADAPTIVE_SPHERE_ROUNDING units of rounding of the largest
+ * coordinate among them (the vertex's, at least j->quantum, plus the
+ * farthest point's distance, each times j->unit), over h, and at most
  * ADAPTIVE_JET_EXACT; not where the sphere is a plane to that tolerance
  * (there the jet is exact). */
 static void sphere_lanes(const fit_job* j, const double* q, uint32_t m[LANES][ADAPTIVE_RINGS], const int act[LANES],
@@ -1050,7 +1055,8 @@ static void sphere_lanes(const fit_job* j, const double* q, uint32_t m[LANES][AD
 		double o[3];
 		vn_load(&j->w, j->w.type, v0 + l, o);
 		const double bmax = sums[2][l], x = fabs(o[0]), y = fabs(o[1]), z = fabs(o[2]), r = x > y ? x : y;
-		const double rounding = ADAPTIVE_SPHERE_ROUNDING * j->unit * ((r > z ? r : z) * scale[l] + sqrt(2.0 * bmax));
+		const double big = j->unit * (r > z ? r : z), vertex = big > j->quantum ? big : j->quantum;
+		const double rounding = ADAPTIVE_SPHERE_ROUNDING * (vertex * scale[l] + j->unit * sqrt(2.0 * bmax));
 		const double tol = rounding < ADAPTIVE_JET_EXACT ? rounding : ADAPTIVE_JET_EXACT;
 		const double k = sums[1][l] > 0.0 ? sums[0][l] / sums[1][l] : 0.0;
 		if (!(fabs(k) * bmax > tol))
@@ -1066,18 +1072,119 @@ static void sphere_lanes(const fit_job* j, const double* q, uint32_t m[LANES][AD
 	}
 }
 
-/* The unit roundoff of the coordinates' precision: float32's where every
- * coordinate is a float32 value (or not finite), else float64's. */
-static double coordinate_unit(const vn_work* w)
+/* Coordinates read from text with at most this many decimal places, or
+ * significant digits, count as decimals (Blender's OBJ and ASCII STL write
+ * 6 places, other STL writers %e, 7 digits): their rounding is the text's,
+ * not float64's. */
+#define DECIMAL_PLACES_MAX 12
+#define DECIMAL_DIGITS_MAX 15
+
+/* 10^n for n from -22 to 22 (exact from 0 up): the nearest doubles. */
+static const double ten_to[45] = {1e-22, 1e-21, 1e-20, 1e-19, 1e-18, 1e-17, 1e-16, 1e-15, 1e-14, 1e-13, 1e-12, 1e-11,
+                                  1e-10, 1e-9,  1e-8,  1e-7,  1e-6,  1e-5,  1e-4,  1e-3,  1e-2,  1e-1,  1e0,   1e1,
+                                  1e2,   1e3,   1e4,   1e5,   1e6,   1e7,   1e8,   1e9,   1e10,  1e11,  1e12,  1e13,
+                                  1e14,  1e15,  1e16,  1e17,  1e18,  1e19,  1e20,  1e21,  1e22};
+#define TEN_TO(n) ten_to[22 + (n)]
+
+/* Whether a > 0 is the double nearest N 10^-k (what a correctly rounding
+ * reader makes of text with k places; k < 0: N 10^|k|), N an integer below
+ * 2^51: N = a 10^k rounded, and N 10^-k, both factors exact (|k| <= 22), is
+ * then correctly rounded. */
+static int decimal_at(double a, int k)
 {
-	for (uint32_t v = 0; w->type == vn_scalar_float64 && v < w->vertex_count; ++v) {
+	const int up = k >= 0;
+	const double ten = TEN_TO(up ? k : -k), t = up ? a * ten : a / ten;
+	if (!(t < 0x1p51)) /* N's rounding unknown past here */
+		return 0;
+	const double n = (t + 0x1p52) - 0x1p52; /* t rounded to an integer (0 <= t < 2^51): no libm call */
+	return (up ? n / ten : n * ten) == a;
+}
+
+/* Whether printf's %e to s significant digits reads back as a. */
+static int printed_at(double a, int s)
+{
+	char text[40];
+	snprintf(text, sizeof(text), "%.*e", s - 1, a);
+	return strtod(text, NULL) == a;
+}
+
+/* How the coordinates seen so far read as decimals: whether every one has
+ * at most DECIMAL_PLACES_MAX places (fixed) and at most DECIMAL_DIGITS_MAX
+ * significant digits (digits_ok), and the fewest places and digits that
+ * write them all. */
+typedef struct decimals {
+	int fixed, digits_ok, places, digits;
+} decimals;
+
+/* Adds finite x to d. A decimal with k places has them all for every k
+ * above its fewest (N gains zeros), so x changes nothing where it has
+ * min(places, digits - 1 - e) places, e = floor(log10 |x|): one test for
+ * most coordinates. e from the binary exponent, then against the powers of
+ * ten; where a power needed is not exact (|x| below about 1e-8, as cos(pi /
+ * 2) leaves, or 1e22 or above), digits as printf writes them. */
+static void add_decimal(double x, decimals* d)
+{
+	const double a = fabs(x);
+	/* Fixed places first: with k <= places, |x| < 10^(digits - places) gives
+	 * it at most digits (no e needed). */
+	if (a == 0.0 || (d->fixed && d->digits_ok && a < TEN_TO(d->digits - d->places) && decimal_at(a, d->places)))
+		return;
+	uint64_t bits;
+	memcpy(&bits, &a, sizeof(bits));
+	/* The binary exponent b (2^b <= a; subnormals: lower, not exact), times
+	 * log10 2 (1233 / 4096 is below it by 5e-6), rounded down (made
+	 * positive for the division): e is floor(log10 a) or one off. */
+	const int b = (int)(bits >> 52) - 1023;
+	int e = (b * 1233 + 2048 * 4096) / 4096 - 2048;
+	const int exact = e >= -22 && e <= 21;
+	if (exact) {
+		e -= a < TEN_TO(e);
+		e += e < 21 && a >= TEN_TO(e + 1);
+	}
+	const int both = d->places < d->digits - 1 - e ? d->places : d->digits - 1 - e;
+	if (exact && d->fixed && d->digits_ok && both >= -22 && decimal_at(a, both))
+		return;
+	int k = d->places;
+	while (d->fixed && !decimal_at(a, k))
+		d->fixed = ++k <= DECIMAL_PLACES_MAX;
+	d->places = k;
+	int s = d->digits > 1 ? d->digits : 1;
+	for (; d->digits_ok; d->digits_ok = ++s <= DECIMAL_DIGITS_MAX) {
+		const int shift = s - 1 - e;
+		if (exact && shift >= -22 && shift <= 22 ? decimal_at(a, shift) : printed_at(a, s))
+			break;
+	}
+	d->digits = s;
+}
+
+/* The rounding of the coordinates, for ADAPTIVE's sphere test: *unit
+ * relative to a coordinate, *quantum absolute. float32's unit (quantum 0)
+ * where every finite coordinate is a float32 value. Else float64's unit,
+ * raised to half a unit in the last of the fewest significant digits that
+ * write every coordinate (where there are such), and quantum half a unit
+ * in the last of the fewest places that do (where there are such, else
+ * 0): text is written to fixed places (%f) or to digits (%g, %e), and each
+ * bound holds for the way that leaves it. */
+void vn_coordinate_rounding(const vn_work* w, double* unit, double* quantum)
+{
+	int floats = 1;
+	decimals d = {1, 1, 0, 0};
+	for (uint32_t v = 0; w->type == vn_scalar_float64 && (floats || d.fixed || d.digits_ok) && v < w->vertex_count;
+	     ++v) {
 		double p[3];
 		vn_load(w, w->type, v, p);
-		for (int d = 0; d < 3; ++d)
-			if (isfinite(p[d]) && !(fabs(p[d]) <= FLT_MAX && (double)(float)p[d] == p[d]))
-				return DBL_EPSILON / 2;
+		for (int c = 0; c < 3; ++c)
+			if (isfinite(p[c])) {
+				floats = floats && fabs(p[c]) <= FLT_MAX && (double)(float)p[c] == p[c];
+				if (d.fixed || d.digits_ok)
+					add_decimal(p[c], &d);
+			}
 	}
-	return FLT_EPSILON / 2;
+	*unit = floats ? FLT_EPSILON / 2 : DBL_EPSILON / 2, *quantum = 0.0;
+	if (!floats && d.digits_ok && d.digits > 0 && 0.5 * TEN_TO(1 - d.digits) > *unit)
+		*unit = 0.5 * TEN_TO(1 - d.digits);
+	if (!floats && d.fixed)
+		*quantum = 0.5 * TEN_TO(-d.places);
 }
 
 /* Generalized cross-validation score of a fit of k unknowns with weighted
@@ -1371,7 +1478,7 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 		j.rough = seed + 3 * (size_t)nv;
 		j.mwselr = seed + 6 * (size_t)nv;
 		j.pick = seed + 9 * (size_t)nv;
-		j.unit = coordinate_unit(work);
+		vn_coordinate_rounding(work, &j.unit, &j.quantum);
 	}
 	j.w = *work;
 	j.seed = seed;

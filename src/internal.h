@@ -89,6 +89,9 @@ vn_result vn_fit_run(const vn_work* w, const vn_options* o, vn_range_stats* st);
  * unknowns, an ill-conditioned system or a zero normal. */
 int vn_fit_frame(const double* p, uint32_t m, double h, double* scratch, const double a[3], int degree, double n[3],
                  double* residual);
+/* The rounding of w's coordinates, as ADAPTIVE's sphere test takes it
+ * (fit.c): *unit relative to a coordinate, *quantum absolute (0: none). */
+void vn_coordinate_rounding(const vn_work* w, double* unit, double* quantum);
 
 /* One triangle's corner contributions: c[k] receives the vector the method's
  * triangle kernel adds to corner k's sum, computed with the same operations,

@@ -164,7 +164,12 @@ typedef enum vn_method {
 	                      rounding of the largest coordinate among them
 	                      (float32's where every coordinate of the mesh is
 	                      a float32 value, whatever type it is passed in,
-	                      as from glTF; else float64's) and at most 1e-4 h,
+	                      as from glTF; where every one is a decimal of at
+	                      most 12 places or 15 significant digits, as read
+	                      from text, the larger of half a unit in the last
+	                      place and in the last digit that write them all,
+	                      e.g. 5e-7 for Blender's OBJ; else float64's) and
+	                      at most 1e-4 h,
 	                      and the sphere not a plane to that tolerance:
 	                      MWSELR is that sphere's normal (Max 1999), so
 	                      ADAPTIVE is exact on any mesh whose vertices lie

@@ -678,16 +678,71 @@ static void outcome(const fit_result* f, int path, adaptive_result* a, int k)
  * var(d): d the quadric's slopes minus the cubic's, var(d) = sigma^2
  * (vs_cubic - vs_quadric), sigma^2 = the cubic's sum w e^2 over (points -
  * 10). */
+typedef struct rounding {
+	long double unit, quantum; /* relative to a coordinate, absolute */
+} rounding;
+
+/* Whether x, written by printf's `format` ("%.*f": k places, k <= 12, with
+ * N = |x| 10^k below 2^51, the library's bound; "%.*e": k + 1 significant
+ * digits, k < 15), reads back as x, for the fewest such k; raises *count to
+ * that k ("%.*f") or to the text's significant digits ("%.*e"). The library
+ * finds the same by arithmetic. */
+static int decimal_text(double x, const char* format, int* count)
+{
+	char text[400];
+	int places = format[3] == 'f';
+	x = fabs(x);
+	for (int k = 0; places ? k <= 12 && x * powl(10, k) < 0x1p51L : k < 15; k++) {
+		snprintf(text, sizeof text, format, k, x);
+		if (strtod(text, NULL) != x)
+			continue;
+		int n = 0, last = 0;
+		for (char* c = text; *c && *c != 'e'; c++)
+			if (*c >= '0' && *c <= '9')
+				n += n || *c != '0', last = *c != '0' ? n : last;
+		last = places ? k : last;
+		*count = last > *count ? last : *count;
+		return 1;
+	}
+	return 0;
+}
+
+/* The coordinates' rounding: float32's unit where every finite one is a
+ * float32 value; else float64's unit, raised to half a unit in the last of
+ * the fewest significant digits that write every coordinate (at most 15,
+ * decimal_text), and quantum half a unit in the last of the fewest places
+ * that do (at most 12; else 0). */
+static rounding coordinate_rounding(const double* x, size_t n)
+{
+	int floats = 1, fixed = 1, digits_ok = 1, places = 0, digits = 0;
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(x[i])) {
+			floats &= fabs(x[i]) <= FLT_MAX && (double)(float)x[i] == x[i];
+			fixed = fixed && decimal_text(x[i], "%.*f", &places);
+			digits_ok = digits_ok && decimal_text(x[i], "%.*e", &digits);
+		}
+	rounding r = {FLT_EPSILON / 2, 0};
+	if (!floats) {
+		r.unit = DBL_EPSILON / 2;
+		if (digits_ok && digits > 0)
+			r.unit = fmaxl(r.unit, 0.5L * powl(10, 1 - digits));
+		if (fixed)
+			r.quantum = 0.5L * powl(10, -places);
+	}
+	return r;
+}
+
 /* Whether the m points q (relative to the vertex at p) lie on a sphere
  * through the vertex tangent to the plane of unit normal n: z = k |q|^2 / 2,
- * z = q . n, k by least squares, every point within the tolerance: unit
- * (the coordinates' unit roundoff) times ADAPTIVE_SPHERE_ROUNDING times
- * the largest coordinate among them (bounded by p's largest plus the
- * farthest point's distance), at most ADAPTIVE_JET_EXACT h; and the sphere
+ * z = q . n, k by least squares, every point within the tolerance:
+ * ADAPTIVE_SPHERE_ROUNDING times the rounding r of the largest coordinate
+ * among them (bounded by the rounding of p's largest, at least r.quantum,
+ * plus r.unit times the farthest point's distance), at most
+ * ADAPTIVE_JET_EXACT h; and the sphere
  * not a plane to it (|k| max |q|^2 / 2 above it). Sets *borderline where a
  * test is within a factor 2 of its tolerance: near rounding, the two
  * implementations' sums differ by about as much as the tolerance allows. */
-static int on_sphere(const vec* q, size_t m, vec p, vec n, long double h, long double unit, int* borderline)
+static int on_sphere(const vec* q, size_t m, vec p, vec n, long double h, rounding r, int* borderline)
 {
 	if (m < ADAPTIVE_SPHERE_POINTS || (n.x == 0 && n.y == 0 && n.z == 0))
 		return 0;
@@ -697,8 +752,9 @@ static int on_sphere(const vec* q, size_t m, vec p, vec n, long double h, long d
 		zb += vec_dot(q[i], n) * b, bb += b * b, bmax = fmaxl(bmax, b);
 	}
 	long double k = bb > 0 ? zb / bb : 0;
-	long double big = fmaxl(fabsl(p.x), fmaxl(fabsl(p.y), fabsl(p.z))) + sqrtl(2 * bmax);
-	long double tol = fminl(ADAPTIVE_SPHERE_ROUNDING * unit * big, ADAPTIVE_JET_EXACT * h);
+	long double big = fmaxl(r.unit * fmaxl(fabsl(p.x), fmaxl(fabsl(p.y), fabsl(p.z))), r.quantum) +
+	                  r.unit * sqrtl(2 * bmax);
+	long double tol = fminl(ADAPTIVE_SPHERE_ROUNDING * big, ADAPTIVE_JET_EXACT * h);
 	long double worst = 0;
 	for (size_t i = 0; i < m; i++)
 		worst = fmaxl(worst, fabsl(vec_dot(q[i], n) - k * vec_dot(q[i], q[i]) / 2));
@@ -708,14 +764,14 @@ static int on_sphere(const vec* q, size_t m, vec p, vec n, long double h, long d
 }
 
 static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m5, vec s, const double* sel, long double h,
-                            vec p, long double unit, adaptive_result* a)
+                            vec p, rounding r, adaptive_result* a)
 {
 	fit_result jet, wq = {.rows = 0}, wc;
 	int jet_ok = 0, fitted = 0, q_ok = 0, c_ok = 0;
 	long double best = 0, slack = 0;
 	a->log_t = NAN;
 	a->borderline = a->t_borderline = 0;
-	if (on_sphere(q, m2, p, load(sel), h, unit, &a->borderline)) {
+	if (on_sphere(q, m2, p, load(sel), h, r, &a->borderline)) {
 		for (int k = 0; k < 2; k++)
 			a->path[k] = ref_path_mwselr, a->normal[k] = load(sel);
 		return;
@@ -800,13 +856,7 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		sel = checked_calloc(4 * n, sizeof *sel);
 		weighted_normals(ref_mwselr, t, sel, sel + 3 * n);
 	}
-	/* The coordinates' unit roundoff: float32's where every one is a
-	 * float32 value (or not finite), else float64's. */
-	long double unit = FLT_EPSILON / 2;
-	for (size_t i = 0; i < 3 * n; i++)
-		if (isfinite(t->positions[i]) &&
-		    !(fabs(t->positions[i]) <= FLT_MAX && (double)(float)t->positions[i] == t->positions[i]))
-			unit = DBL_EPSILON / 2;
+	const rounding coords = coordinate_rounding(t->positions, 3 * n);
 	char* mark = checked_calloc(n, 1);
 	uint32_t* ring = checked_calloc(n, sizeof *ring);
 	vec* q = checked_calloc(n, sizeof *q);
@@ -861,7 +911,7 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		fit_result f = {.rows = 0};
 		int borderline = 0;
 		if (m1 && method == ref_adaptive)
-			adaptive_vertex(q, m1, m2, m5, s, sel + 3 * v, h, p, unit, ad + v); /* chosen below */
+			adaptive_vertex(q, m1, m2, m5, s, sel + 3 * v, h, p, coords, ad + v); /* chosen below */
 		else if (m1 && method == ref_jet && fit_twice(q, m2, s, 3, h, 0, &f, &borderline, NULL)) {
 			path[v] = ref_path_jet;
 		} else if (m1 && method != ref_adaptive && fit_twice(q, m1, s, 2, h, 0, &f, &borderline, NULL)) {

@@ -9,7 +9,9 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -604,6 +606,106 @@ static void adaptive_exact_on_spheres(void** state)
 	grid_free(&g);
 }
 
+/* vn_coordinate_rounding of n <= 3 float64 vertices (x[i], 0, 0). */
+static void rounding_of(const double* x, size_t n, double* unit, double* quantum)
+{
+	double p[9] = {0};
+	for (size_t i = 0; i < n; ++i)
+		p[3 * i] = x[i];
+	vn_work w;
+	memset(&w, 0, sizeof(w));
+	w.positions = (const unsigned char*)p, w.stride = 3 * sizeof(double), w.type = vn_scalar_float64;
+	w.vertex_count = (uint32_t)n;
+	vn_coordinate_rounding(&w, unit, quantum);
+}
+
+/* The rounding ADAPTIVE's sphere test allows coordinates, by hand: float32
+ * values; decimals (fixed places and significant digits: 0.25 is 2 places
+ * and 2 digits, 1e-5 5 places and 1 digit); no fixed places past 12, but
+ * digits at any exponent (printf's where 10^k is not exact); float64 where a
+ * coordinate needs 16 digits or more. */
+static void coordinate_rounding_by_hand(void** state)
+{
+	(void)state;
+	double unit, quantum;
+	const double floats[3] = {0.5, 1.25, -3.0};
+	rounding_of(floats, 3, &unit, &quantum);
+	assert_true(unit == FLT_EPSILON / 2 && quantum == 0.0);
+	const double places[3] = {0.1, -0.25, 1e-5}; /* 5 places, 2 digits */
+	rounding_of(places, 3, &unit, &quantum);
+	assert_true(fabs(unit - 0.05) < 1e-17 && fabs(quantum - 5e-6) < 1e-21);
+	const double obj[3] = {0.995185, -2.480785, 1234.5}; /* Blender's OBJ: 6 places; 7 digits */
+	rounding_of(obj, 3, &unit, &quantum);
+	assert_true(fabs(unit - 5e-7) < 1e-22 && fabs(quantum - 5e-7) < 1e-22);
+	const double stl[3] = {9.951847e-01, 6.123234e-17, -2.5e+30}; /* %e: 7 digits, places past 12 */
+	rounding_of(stl, 3, &unit, &quantum);
+	assert_true(fabs(unit - 5e-7) < 1e-22 && quantum == 0.0);
+	const double tiny[3] = {1e-300, 4.9406564584124654e-324, 1e22}; /* 1 digit each, the middle one a subnormal */
+	rounding_of(tiny, 3, &unit, &quantum);
+	assert_true(unit == 0.5 && quantum == 0.0);
+	const double sum[3] = {0.1 + 0.2, 1.0, 2.0}; /* 0.30000000000000004: 17 digits */
+	rounding_of(sum, 3, &unit, &quantum);
+	assert_true(unit == DBL_EPSILON / 2 && quantum == 0.0);
+	const double powers[3] = {9.999999, 10.0, 0.001}; /* near and at powers of ten: 7 digits, 6 places */
+	rounding_of(powers, 3, &unit, &quantum);
+	assert_true(fabs(unit - 5e-7) < 1e-22 && fabs(quantum - 5e-7) < 1e-22);
+}
+
+/* g's positions as text writes them: printf's `format`, read back by
+ * strtod (a correctly rounding reader, as vn's). */
+static void as_text(grid_mesh* g, const char* format)
+{
+	char text[64];
+	for (size_t i = 0; i < 3 * g->nv; ++i) {
+		snprintf(text, sizeof(text), format, g->pos[i]);
+		g->pos[i] = strtod(text, NULL);
+	}
+}
+
+/* The same where the coordinates were read from text with few digits: 6
+ * places (Blender's OBJ), 7 significant digits (ASCII STL's %e). Their
+ * rounding is the text's: the float64 sphere's rule would not hold them
+ * (one coordinate off the decimals, 1 ulp, and ADAPTIVE is MWSELR at few
+ * vertices); 1% flattened is still no sphere. */
+static void adaptive_exact_on_decimal_spheres(void** state)
+{
+	(void)state;
+	const double c[3] = {0.3, -0.2, 5.0};
+	const char* formats[2] = {"%.6f", "%.6e"};
+	double worst;
+	for (int k = 0; k < 2; ++k) {
+		grid_mesh g = make_uv_sphere(16, 8, c, 2.0, 2.0, 0);
+		as_text(&g, formats[k]);
+		assert_int_equal(adaptive_is_mwselr(&g, 0, c, &worst), g.nv);
+		print_message("sphere as %s text: adaptive within %g degrees of radial\n", formats[k], worst);
+		assert_true(worst < 1e-3);
+		g.pos[3 * 40 + 1] = nextafter(g.pos[3 * 40 + 1], 1.0);
+		const size_t same = adaptive_is_mwselr(&g, 0, c, &worst);
+		print_message("one coordinate 1 ulp off: %zu of %zu vertices take MWSELR\n", same, g.nv);
+		assert_true(same < g.nv / 4);
+		grid_free(&g);
+	}
+	/* A small sphere near the origin with a vertex at 12345.678901 (no face
+	 * uses it), 6 places: 11 digits, whose unit is far below the places'
+	 * rounding of the sphere's coordinates (half of 1e-6). */
+	const double o[3] = {0.01, -0.02, 0.03};
+	grid_mesh g = make_uv_sphere(16, 8, o, 0.5, 0.5, 0);
+	g.pos = (double*)realloc(g.pos, 3 * sizeof(double) * ++g.nv);
+	const double far[3] = {12345.678901, 0.0, 0.0};
+	memcpy(g.pos + 3 * (g.nv - 1), far, sizeof(far));
+	as_text(&g, formats[0]);
+	assert_int_equal(adaptive_is_mwselr(&g, 0, o, &worst), g.nv);
+	print_message("small sphere as %s text, 11 digits: adaptive within %g degrees of radial\n", formats[0], worst);
+	assert_true(worst < 1e-3);
+	grid_free(&g);
+	g = make_uv_sphere(16, 8, c, 2.0, 1.98, 0);
+	as_text(&g, formats[0]);
+	const size_t same = adaptive_is_mwselr(&g, 0, c, &worst);
+	print_message("flattened sphere as text: %zu of %zu vertices take MWSELR\n", same, g.nv);
+	assert_true(same < g.nv / 4);
+	grid_free(&g);
+}
+
 static void threads_bit_identical(void** state)
 {
 	(void)state;
@@ -889,6 +991,8 @@ int main(void)
 	    cmocka_unit_test(adaptive_across_noise),
 	    cmocka_unit_test(adaptive_exact_where_mwselr_is),
 	    cmocka_unit_test(adaptive_exact_on_spheres),
+	    cmocka_unit_test(coordinate_rounding_by_hand),
+	    cmocka_unit_test(adaptive_exact_on_decimal_spheres),
 	    cmocka_unit_test(threads_bit_identical),
 	    cmocka_unit_test(nonfinite_vertex_as_if_absent),
 	    cmocka_unit_test(degenerate_rings),

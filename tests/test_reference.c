@@ -1344,6 +1344,26 @@ static void test_beyond_the_paper(void** state)
 	check_mesh_paths(&m, worst, 1);
 	mesh_free(&m);
 
+	/* A UV sphere read from text with 6 places (Blender's OBJ) and 7
+	 * significant digits (ASCII STL; cos(pi / 2) as 6.123234e-17):
+	 * ADAPTIVE's sphere test at the text's rounding, which both find (the
+	 * reference by printf and strtod). */
+	const char* formats[2] = {"%.6f", "%.6e"};
+	for (int k = 0; k < 2; k++) {
+		char name[64], text[64];
+		snprintf(name, sizeof name, "uv sphere as %s text", formats[k]);
+		mesh_init(&m, name);
+		make_uv_sphere(&m, 2, 12, 20, 0);
+		if (k == 0) /* no face: 11 digits, the places' rounding is the larger */
+			mesh_vertex(&m, 12345.678901, 0, 0);
+		for (size_t i = 0; i < 3 * m.nv; i++) {
+			snprintf(text, sizeof text, formats[k], m.pos[i]);
+			m.pos[i] = strtod(text, NULL);
+		}
+		check_mesh_paths(&m, worst, 1);
+		mesh_free(&m);
+	}
+
 	mesh_init(&m, "jittered torus quads");
 	make_torus(&m, 20, 36, 14, 0.25, 1);
 	check_mesh_paths(&m, worst, 1);
