@@ -105,11 +105,6 @@ typedef struct job {
 	worker* workers;
 } job;
 
-VN_INLINE int usable(const double* u)
-{
-	return u[0] != 0.0 || u[1] != 0.0 || u[2] != 0.0;
-}
-
 /* ---------------------------------------------------------------- phase 1: contributions and counts */
 
 static void triangle_contributions(const job* j, uint32_t f0, uint32_t f1, worker* wk)
@@ -150,7 +145,7 @@ static void polygon_contributions(const job* j, uint32_t f0, uint32_t f1, worker
 		w.face_normals = j->unit + 3 * (size_t)a;
 		j->walk(&w, 0, w.vertex_count, &st);
 		for (uint32_t f = a; f < b; ++f) {
-			const uint32_t mark = usable(j->unit + 3 * (size_t)f) ? f : UNUSABLE;
+			const uint32_t mark = vn_is_zero(j->unit + 3 * (size_t)f) ? UNUSABLE : f;
 			for (uint32_t c = off[f]; c < off[f + 1]; ++c)
 				j->face_of[c] = mark;
 		}
@@ -350,7 +345,7 @@ static size_t small_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t k
 			lo = off[f], hi = off[f + 1];
 		} else {
 			f = c / 3, lo = 3 * f, hi = lo + 3;
-			if (!usable(j->unit + 3 * (size_t)f))
+			if (vn_is_zero(j->unit + 3 * (size_t)f))
 				return SIZE_MAX;
 		}
 		const uint32_t next = c + 1 == hi ? lo : c + 1, pc = c == lo ? hi - 1 : c - 1;
@@ -453,7 +448,7 @@ static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t 
 			lo = off[f], hi = off[f + 1];
 		} else {
 			f = c / 3, lo = 3 * f, hi = lo + 3;
-			if (!usable(j->unit + 3 * (size_t)f)) {
+			if (vn_is_zero(j->unit + 3 * (size_t)f)) {
 				s->face[i] = UNUSABLE;
 				degenerate = 1;
 				continue;
@@ -537,7 +532,7 @@ static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t 
 			if (s->face[r] >= UNUSABLE) {
 				const double* a = s->face[r] == UNUSABLE ? all : NULL;
 				static const double nothing[3] = {0.0, 0.0, 0.0};
-				zero += !a || (a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0);
+				zero += !a || vn_is_zero(a);
 				vn_store(&j->out, L[r], a ? a : nothing);
 				continue;
 			}
@@ -577,7 +572,7 @@ static size_t vertex_fans(const job* j, uint32_t v, const uint32_t* L, uint32_t 
 		const double* a = s->face[i] == NONE       ? nothing
 		                  : s->face[i] == UNUSABLE ? all
 		                                           : s->acc + 3 * (size_t)s->parent[i];
-		zero += a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0;
+		zero += vn_is_zero(a);
 		vn_store(&j->out, L[i], a);
 	}
 	return zero;

@@ -210,7 +210,7 @@ int vn_smewcsa_finish(const double acc[4], const double s[3], double n[3])
 		return 0;
 	}
 	memcpy(n, s, 3 * sizeof(double));
-	return s[0] == 0.0 && s[1] == 0.0 && s[2] == 0.0;
+	return vn_is_zero(s);
 }
 
 void vn_smewcsa_finalize(const vn_work* w, uint32_t lo, uint32_t hi, vn_range_stats* st)

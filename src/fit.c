@@ -948,7 +948,7 @@ static void gather_vertex(const fit_job* j, scratch* s, uint32_t v, unsigned lan
 	memset(m, 0, sizeof(uint32_t) * ADAPTIVE_RINGS);
 	s->ring = s->rings + (s->cap + 1) * lane;
 	const double* seed = j->seed + 3 * (size_t)v;
-	if (seed[0] == 0.0 && seed[1] == 0.0 && seed[2] == 0.0)
+	if (vn_is_zero(seed))
 		return;
 	new_tag(j, s);
 	s->stamp[v] = s->tag;
@@ -1041,8 +1041,7 @@ static void sphere_lanes(const fit_job* j, const double* q, uint32_t m[LANES][AD
 	double count[LANES];
 	for (unsigned l = 0; l < LANES; ++l) {
 		const double* s = j->mwselr + 3 * (size_t)(v0 + l < v1 ? v0 + l : v0);
-		const int in = v0 + l < v1 && act[l] && m[l][1] >= ADAPTIVE_SPHERE_POINTS &&
-		               !(s[0] == 0.0 && s[1] == 0.0 && s[2] == 0.0);
+		const int in = v0 + l < v1 && act[l] && m[l][1] >= ADAPTIVE_SPHERE_POINTS && !vn_is_zero(s);
 		count[l] = in ? (double)m[l][1] : 0.0;
 		for (int d = 0; d < 3; ++d)
 			n[d][l] = s[d];
@@ -1200,7 +1199,7 @@ static double gcv(double res, double n, int k)
  * where a is zero). */
 static int within(const double a[3], const double b[3], double angle)
 {
-	if (a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0)
+	if (vn_is_zero(a))
 		return 0;
 	double c[3];
 	vn_cross(a, b, c);
@@ -1336,7 +1335,7 @@ static void phase_choose(void* ctx, unsigned t)
 				sum += x, ++count;
 		}
 		const double* r = pick + (count && sum > limit * count ? 3 : 0);
-		if (!(j->w.keep_existing && r[0] == 0.0 && r[1] == 0.0 && r[2] == 0.0))
+		if (!(j->w.keep_existing && vn_is_zero(r)))
 			vn_store(j->w.out, v, r);
 	}
 }
@@ -1399,7 +1398,7 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 	}
 	for (unsigned l = 0; l < LANES && v0 + l < v1; ++l) {
 		const double* r = n[l];
-		if (!(j->w.keep_existing && r[0] == 0.0 && r[1] == 0.0 && r[2] == 0.0))
+		if (!(j->w.keep_existing && vn_is_zero(r)))
 			vn_store(j->w.out, v0 + l, r);
 	}
 }

@@ -246,6 +246,13 @@ VN_INLINE double vn_dot(const double a[3], const double b[3])
 	return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/* Whether a is the zero vector (+0 or -0 in each component): the normal
+ * of a vertex no usable face reaches, or of an unusable face. */
+VN_INLINE int vn_is_zero(const double a[3])
+{
+	return a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0;
+}
+
 VN_INLINE void vn_add_scaled(double* acc, const double v[3], double s)
 {
 	acc[0] += v[0] * s, acc[1] += v[1] * s, acc[2] += v[2] * s;
