@@ -169,14 +169,14 @@ typedef enum vn_method {
 	                      from text, the larger of half a unit in the last
 	                      place and in the last digit that write them all,
 	                      e.g. 5e-7 for Blender's OBJ; else float64's) and
-	                      at most 1e-4 h,
-	                      and the sphere not a plane to that tolerance:
-	                      MWSELR is that sphere's normal (Max 1999), so
-	                      ADAPTIVE is exact on any mesh whose vertices lie
-	                      on a sphere (UV spheres, icospheres), to the
-	                      precision of its coordinates. Where the jet cannot be
-	                      fitted (fewer points than
-	                      unknowns, or ill-conditioned), JET's fallback:
+	                      at most 1e-4 h, and the sphere not a plane to
+	                      that tolerance: MWSELR is that sphere's normal
+	                      (Max 1999), so ADAPTIVE is exact on any mesh
+	                      whose vertices lie on a sphere (UV spheres,
+	                      icospheres), to the precision of its
+	                      coordinates. Where the jet cannot be fitted
+	                      (fewer points than unknowns, or
+	                      ill-conditioned), JET's fallback:
 	                      the 1-ring quadric, else S (on an open
 	                      cylinder's strip S is exact, MWAAT 5 degrees
 	                      off); the wide fits are not tried there: at e.g.

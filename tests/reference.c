@@ -661,39 +661,21 @@ static void outcome(const fit_result* f, int path, adaptive_result* a, int k)
 	a->rcond[k] = f->rcond;
 }
 
-/* ADAPTIVE at a vertex with the 1-, 2- and 5-ring ends m1 <= m2 <= m5 of
- * q: the jet on the 2-ring; the rough fallback where its residual is above
- * ADAPTIVE_ROUGH_MAX; where it is between ADAPTIVE_JET_EXACT and that, the
- * quadric and the cubic on the 5-ring with Gaussian weights
- * (gauss = ADAPTIVE_WIDTH^2 times the mean |q|^2 / h^2), each fitted once
- * in the jet's frame. Two outcomes: the jet or the quadric (the cubic if
- * the quadric failed), the wide fit where its GCV score is below
- * ADAPTIVE_JET_MARGIN times the jet's, and the jet or the cubic (the
- * quadric if the cubic failed) likewise; the jet's outcome is MWSELR's
- * normal `sel` where that is within ADAPTIVE_MWSELR_AGREE times the jet's
- * residual of the jet's. Where the jet could not be fitted
- * (not trusted in its first frame), JET's fallback: the quadric on the
- * 1-ring, else S; where it was fitted but strays from S, the rough
- * fallback. log T, T = |d|^2 /
- * var(d): d the quadric's slopes minus the cubic's, var(d) = sigma^2
- * (vs_cubic - vs_quadric), sigma^2 = the cubic's sum w e^2 over (points -
- * 10). */
 typedef struct rounding {
 	long double unit, quantum; /* relative to a coordinate, absolute */
 } rounding;
 
-/* Whether x, written by printf's `format` ("%.*f": k places, k <= 12, with
- * N = |x| 10^k below 2^51, the library's bound; "%.*e": k + 1 significant
- * digits, k < 15), reads back as x, for the fewest such k; raises *count to
- * that k ("%.*f") or to the text's significant digits ("%.*e"). The library
- * finds the same by arithmetic. */
-static int decimal_text(double x, const char* format, int* count)
+/* Whether x, written by printf with k places ("%.*f", k <= 12, with N =
+ * |x| 10^k below 2^51, the library's bound) or, without `places`, with
+ * k + 1 significant digits ("%.*e", k < 15), reads back as x, for the
+ * fewest such k; raises *count to that k (places) or to the text's
+ * significant digits. The library finds the same by arithmetic. */
+static int decimal_text(double x, int places, int* count)
 {
 	char text[400];
-	int places = format[3] == 'f';
 	x = fabs(x);
 	for (int k = 0; places ? k <= 12 && x * powl(10, k) < 0x1p51L : k < 15; k++) {
-		snprintf(text, sizeof text, format, k, x);
+		snprintf(text, sizeof text, places ? "%.*f" : "%.*e", k, x);
 		if (strtod(text, NULL) != x)
 			continue;
 		int n = 0, last = 0;
@@ -718,8 +700,8 @@ static rounding coordinate_rounding(const double* x, size_t n)
 	for (size_t i = 0; i < n; i++)
 		if (isfinite(x[i])) {
 			floats &= fabs(x[i]) <= FLT_MAX && (double)(float)x[i] == x[i];
-			fixed = fixed && decimal_text(x[i], "%.*f", &places);
-			digits_ok = digits_ok && decimal_text(x[i], "%.*e", &digits);
+			fixed = fixed && decimal_text(x[i], 1, &places);
+			digits_ok = digits_ok && decimal_text(x[i], 0, &digits);
 		}
 	rounding r = {FLT_EPSILON / 2, 0};
 	if (!floats) {
@@ -738,8 +720,8 @@ static rounding coordinate_rounding(const double* x, size_t n)
  * ADAPTIVE_SPHERE_ROUNDING times the rounding r of the largest coordinate
  * among them (bounded by the rounding of p's largest, at least r.quantum,
  * plus r.unit times the farthest point's distance), at most
- * ADAPTIVE_JET_EXACT h; and the sphere
- * not a plane to it (|k| max |q|^2 / 2 above it). Sets *borderline where a
+ * ADAPTIVE_JET_EXACT h; and the sphere not a plane to it (|k| max |q|^2 / 2
+ * above it). Sets *borderline where a
  * test is within a factor 2 of its tolerance: near rounding, the two
  * implementations' sums differ by about as much as the tolerance allows. */
 static int on_sphere(const vec* q, size_t m, vec p, vec n, long double h, rounding r, int* borderline)
@@ -763,6 +745,24 @@ static int on_sphere(const vec* q, size_t m, vec p, vec n, long double h, roundi
 	return bend > tol && worst <= tol;
 }
 
+/* ADAPTIVE at a vertex p with the 1-, 2- and 5-ring ends m1 <= m2 <= m5 of
+ * q: MWSELR's normal `sel` where the 2-ring lies on a sphere (on_sphere,
+ * the coordinates' rounding r); else the jet on the 2-ring; the rough fallback where its residual is above
+ * ADAPTIVE_ROUGH_MAX; where it is between ADAPTIVE_JET_EXACT and that, the
+ * quadric and the cubic on the 5-ring with Gaussian weights
+ * (gauss = ADAPTIVE_WIDTH^2 times the mean |q|^2 / h^2), each fitted once
+ * in the jet's frame. Two outcomes: the jet or the quadric (the cubic if
+ * the quadric failed), the wide fit where its GCV score is below
+ * ADAPTIVE_JET_MARGIN times the jet's, and the jet or the cubic (the
+ * quadric if the cubic failed) likewise; the jet's outcome is MWSELR's
+ * normal `sel` where that is within ADAPTIVE_MWSELR_AGREE times the jet's
+ * residual of the jet's. Where the jet could not be fitted
+ * (not trusted in its first frame), JET's fallback: the quadric on the
+ * 1-ring, else S; where it was fitted but strays from S, the rough
+ * fallback. log T, T = |d|^2 /
+ * var(d): d the quadric's slopes minus the cubic's, var(d) = sigma^2
+ * (vs_cubic - vs_quadric), sigma^2 = the cubic's sum w e^2 over (points -
+ * 10). */
 static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m5, vec s, const double* sel, long double h,
                             vec p, rounding r, adaptive_result* a)
 {
