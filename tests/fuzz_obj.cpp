@@ -6,7 +6,8 @@
  *
  * Every accepted input must give a consistent mesh (indices within the
  * vertices, faces of 3 or more corners, names within their lists), and
- * writing it and reading that back must give the same counts and corners.
+ * writing it and reading that back must give the same counts and corners,
+ * and every face the same group and smoothing group.
  * The input is also read as the mesh's material library (mtl.c): every
  * colour, emission, roughness and metallic factor within [0, 1].
  */
@@ -65,6 +66,21 @@ static void check_mesh(const vn_io_mesh& m)
 			abort();
 	check_names(m.materials, m.face_count);
 	check_names(m.objects, m.face_count);
+	check_names(m.groups, m.face_count);
+	check_names(m.smoothing, m.face_count);
+}
+
+/* Whether every face has the same name (or none) in a and b. */
+static bool same_names(const vn_io_face_names& a, const vn_io_face_names& b, size_t faces)
+{
+	if (!a.of_face || !b.of_face)
+		return !a.of_face == !b.of_face;
+	for (size_t f = 0; f < faces; f++) {
+		const uint32_t i = a.of_face[f], k = b.of_face[f];
+		if ((i == VN_IO_NO_NAME) != (k == VN_IO_NO_NAME) || (i != VN_IO_NO_NAME && strcmp(a.names[i], b.names[k])))
+			return false;
+	}
+	return true;
 }
 
 /* The writer keeps a double in full, but a double that is exactly a float
@@ -101,7 +117,8 @@ static void check_round_trip(const vn_io_mesh& m)
 	if (back.face_count != m.face_count || back.vertex_count > m.vertex_count ||
 	    memcmp(back.face_offsets, m.face_offsets, (m.face_count + 1) * sizeof(uint32_t)) != 0 ||
 	    !back.normals != !m.normals || !back.texcoords != !m.texcoords ||
-	    !back.materials.of_face != !m.materials.of_face || !back.objects.of_face != !m.objects.of_face)
+	    !back.materials.of_face != !m.materials.of_face || !back.objects.of_face != !m.objects.of_face ||
+	    !same_names(back.groups, m.groups, m.face_count) || !same_names(back.smoothing, m.smoothing, m.face_count))
 		abort();
 	for (uint32_t c = 0; c < corners; c++)
 		if (!same_coordinates(back.positions + 3 * back.indices[c], m.positions + 3 * m.indices[c]))

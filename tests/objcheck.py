@@ -1,6 +1,7 @@
 """OBJ facts for tests/test_obj.sh, read independently of Draco and vn.
 
-    objcheck.py faces FILE [D]  one line per face: "object|material|corners: ..." with the corners'
+    objcheck.py faces FILE [D]  one line per face: "object|group|smoothing group|material|corners: ..."
+                                ("-" where none is set yet; a group's names joined by one blank) with the corners'
                                 positions and texture coordinates as float32 (printed with D
                                 decimals, as MeshLab's "%f" prints them, when D is given)
     objcheck.py close A B TOL   exit status 1 unless A's and B's faces, in order, have as many
@@ -20,7 +21,7 @@ def f32(text):
 
 def read(path):
     v, vt, vn, faces = [], [], [], []
-    material = obj = "-"
+    material = obj = group = smoothing = "-"
     for line in open(path, encoding="utf-8"):
         words = line.split("#")[0].split()
         if not words:
@@ -32,13 +33,17 @@ def read(path):
             material = line.split(None, 1)[1].strip()
         elif key == "o":
             obj = rest[0]
+        elif key == "g":
+            group = " ".join(rest)
+        elif key == "s":
+            smoothing = " ".join(rest)
         elif key == "f":
             corners = []
             for word in rest:
                 refs = (word.split("/") + ["", ""])[:3]
                 corners.append(tuple(int(r) + (len(a) + 1 if int(r) < 0 else 0) if r else 0
                                      for r, a in zip(refs, (v, vt, vn))))
-            faces.append((obj, material, corners))
+            faces.append((f"{obj}|{group}|{smoothing}", material, corners))
     return v, vt, vn, faces
 
 
@@ -47,10 +52,10 @@ def main():
     v, vt, vn, faces = read(path)
     if what == "faces":
         number = repr if len(sys.argv) < 4 else lambda x: f"{x:.{int(sys.argv[3])}f}"
-        for obj, material, corners in faces:
+        for names, material, corners in faces:
             text = " ".join(",".join(number(x) for x in v[p - 1] + (vt[t - 1] if t else []))
                             for p, t, _ in corners)
-            print(f"{obj}|{material}|{len(corners)}: {text}")
+            print(f"{names}|{material}|{len(corners)}: {text}")
     elif what == "close":
         w, wt, _, other = read(sys.argv[3])
         def values(p, t, pos, tex):

@@ -3,8 +3,9 @@
 # exporter (tests/data/obj), read through Draco's ObjDecoder and written by vn.
 #   test_obj.sh PATH/TO/vnconvert NODE_MODULES_DIR
 # Checks: the triangle count Draco's own tools see, OBJ -> OBJ keeping every
-# face's corners (positions, texture coordinates), polygons, materials and
-# object names exactly (and a second round trip changing no byte), mtllib
+# face's corners (positions, texture coordinates), polygons, materials,
+# object names, groups and smoothing groups exactly (and a second round trip
+# changing no byte), mtllib
 # names written from the output's folder to the input's .mtl files, unit
 # normals, one v line per position with corners told apart by vn, OBJ -> OFF
 # -> OBJ, OBJ -> GLB through the Khronos validator, and one-line errors for
@@ -41,7 +42,8 @@ for m in $meshes; do
   check "$m: --stats counts the file's faces" [ "$(stat faces)" = "$(grep -c '^f' "$in")" ]
   objcheck faces "$in" >"$T/$m.in-faces"
   objcheck faces "$T/$m.obj" >"$T/$m.out-faces"
-  check "$m: OBJ -> OBJ keeps every face, its corners, material and object" cmp -s "$T/$m.in-faces" "$T/$m.out-faces"
+  check "$m: OBJ -> OBJ keeps every face, its corners, material, object, group and smoothing group" \
+    cmp -s "$T/$m.in-faces" "$T/$m.out-faces"
   check "$m: unit normals" objcheck unit "$T/$m.obj"
   check "$m: one v line per position" [ "$(grep '^v ' "$T/$m.obj" | sort | uniq -d)" = "" ]
   # Every vertex vn read (a v/vt/vn combination) is one combination written.
@@ -50,8 +52,8 @@ for m in $meshes; do
   check "$m: a second OBJ -> OBJ changes no byte" cmp -s "$T/$m.obj" "$T/$m.2.obj"
   run "$VNC" "$in" "$T/$m.off" -q
   "$VNC" "$T/$m.off" "$T/$m.3.obj" -q
-  objcheck faces "$T/$m.3.obj" | sed 's/^[^|]*|[^|]*|/-|-|/' >"$T/$m.off-faces"
-  sed 's/^[^|]*|[^|]*|/-|-|/' "$T/$m.in-faces" >"$T/$m.in-plain"
+  objcheck faces "$T/$m.3.obj" | cut -d'|' -f5- >"$T/$m.off-faces"
+  cut -d'|' -f5- "$T/$m.in-faces" >"$T/$m.in-plain"
   check "$m: OBJ -> OFF -> OBJ keeps every face and its corners" cmp -s "$T/$m.in-plain" "$T/$m.off-faces"
   "$VNC" "$in" "$T/$m.glb" -q
   check "$m: OBJ -> GLB passes the Khronos validator" \
@@ -273,12 +275,27 @@ refused utf16 '\377\376v\000 \0000\000' "utf16.obj: the text is UTF-16LE (it sta
 printf '\357\273\277v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4\n' >"$T/bom.obj"
 run "$VNC" "$T/bom.obj" "$T/bom-out.obj"
 check "UTF-8 byte order mark: the first vertex read" [ "$rc $(grep -c '^v ' "$T/bom-out.obj") $(head -1 "$T/bom-out.obj")" = "0 3 v 0 0 0" ]
-# What Draco skips is named in one warning (it was dropped without a word):
-# groups, smoothing groups (not "s off"), lines, colours on only some v lines.
+# What vn does not read is named in one warning (it was dropped without a
+# word): lines, colours on only some v lines.
 printf '%s\n' "o x" "g grp" "s 1" "v 0 0 0 1 0 0" "v 1 0 0 1 0 0" "v 0 1 0" "f 1 2 3" "l 1 2" "s off" "g g2" "# c" >"$T/left.obj"
 run "$VNC" "$T/left.obj" "$T/left-out.obj"
 check "left out: exits 0" [ $rc -eq 0 ]
-check "left out: one warning names them" [ "$err" = "vnconvert: warning: $T/left.obj: left out (vn reads v, vt, vn, f, o, usemtl and mtllib): 2 'g' lines (groups), 1 's' line (smoothing groups), 1 'l' line (lines), numbers after x y z on 2 'v' lines (w, or colours not on every v line or not in [0, 1])" ]
+check "left out: one warning names them" [ "$err" = "vnconvert: warning: $T/left.obj: left out (vn reads v, vt, vn, f, o, g, s, usemtl and mtllib): 1 'l' line (lines), numbers after x y z on 2 'v' lines (w, or colours not on every v line or not in [0, 1])" ]
+# Groups (g) and smoothing groups (s), which Draco skips, are read by vn's
+# scan: OBJ to OBJ writes each where it changes, as written (a bare g, the
+# default group; two names; "s off"), and a format without them names them
+# as not written. A g or s line after the last face sets nothing.
+printf '%s\n' "g default" "v 0 0 0" "v 1 0 0" "v 0 1 0" "v 1 1 0" "v 2 1 0" "s 1" "g body  arm" "usemtl m" \
+  "f 1 2 3" "s 1" "f 2 4 3" "s off" "f 2 5 4" "g" "s 2" "f 3 4 5" "g late" "s 3" >"$T/groups.obj"
+run "$VNC" "$T/groups.obj" "$T/groups-out.obj"
+check "groups: OBJ to OBJ, no warning" [ "$rc|$err" = "0|" ]
+check "groups: written where they change" [ "$(grep -vE '^(v|vn) ' "$T/groups-out.obj" | tr '\n' '|')" = \
+  "g body  arm|usemtl m|s 1|f 1//1 2//1 3//1|f 2//1 4//1 3//1|s off|f 2//1 5//1 4//1|g|s 2|f 3//1 4//1 5//1|" ]
+check "groups: each face's, as an independent reader sees them" \
+  [ "$(objcheck faces "$T/groups-out.obj" | cut -d'|' -f1-4 | tr '\n' ,)" = "-|body arm|1|m,-|body arm|1|m,-|body arm|off|m,-||2|m," ]
+run "$VNC" "$T/groups.obj" "$T/groups.ply"
+check "groups: to PLY, named as not written" \
+  [ "$rc|$err" = "0|vnconvert: warning: $T/groups.ply cannot hold materials, groups, smoothing groups: not written" ]
 # Colours on every v line (MeshLab's and Open3D's "v x y z r g b") are read,
 # and kept: OBJ to OBJ, to PLY, a point cloud to GLB as COLOR_0. Two v lines
 # at one place with other colours stay two vertices.

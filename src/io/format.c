@@ -49,8 +49,8 @@ static const vn_io_format formats[] = {
       {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"}},
      "comments", NULL, NULL, NULL},
     {"obj", "OBJ", "OBJ", ".obj",
-     "Wavefront OBJ (read through Draco: v/vt/vn, polygons, usemtl, o; the .mtl file's materials into glTF; written "
-     "with per-corner vn)",
+     "Wavefront OBJ (read through Draco: v/vt/vn, polygons, usemtl, o; g and s by vn; the .mtl file's materials into "
+     "glTF; written with per-corner vn)",
      vn_io_obj_read, vn_io_obj_write,
      vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_polygons | vn_io_holds_loose_vertices |
          vn_io_holds_face_names | vn_io_holds_materials | vn_io_holds_no_faces | vn_io_holds_nothing,
@@ -62,9 +62,11 @@ static const vn_io_format formats[] = {
        "materials (`usemtl` names, the `mtllib` line; to glTF, each as the .mtl file defines it: Kd, d, Ns, Pr, Pm, "
        "Ke, and map_Kd, map_Bump and map_Ke as the PNG or JPEG images themselves)",
        "materials (named)"},
-      {vn_io_holds_face_names, "object names (`o`, to the first blank)", "object names (named)"}},
-     "groups (`g`), smoothing groups (`s`), lines, points, curves, vertices no face uses, the rest of the .mtl file "
-     "(Ka, Ks, Tr, illum, other maps)",
+      {vn_io_holds_face_names, "object names (`o`, to the first blank)", "object names (named)"},
+      {vn_io_holds_face_names, "groups (`g`)", "groups (named)"},
+      {vn_io_holds_face_names, "smoothing groups (`s`)",
+       "smoothing groups (named where a face has one: `s off` and `s 0` set none)"}},
+     "lines, points, curves, vertices no face uses, the rest of the .mtl file (Ka, Ks, Tr, illum, other maps)",
      NULL, NULL, NULL},
     {"ply", "PLY", "PLY", ".ply",
      "Stanford polygon file (reads ASCII and binary, either byte order; writes binary little-endian)",

@@ -66,8 +66,8 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 	for (size_t i = 0; i < mesh->attribute_count; i++)
 		free(mesh->attributes[i].data), free(mesh->attributes[i].source_name);
 	free(mesh->attributes);
-	vn_io_face_names* sets[2] = {&mesh->materials, &mesh->objects};
-	for (size_t k = 0; k < 2; k++) {
+	vn_io_face_names* sets[4] = {&mesh->materials, &mesh->objects, &mesh->groups, &mesh->smoothing};
+	for (size_t k = 0; k < 4; k++) {
 		for (size_t i = 0; i < sets[k]->count; i++)
 			free(sets[k]->names[i]);
 		free(sets[k]->names);
@@ -207,6 +207,20 @@ static int has_alpha(const vn_io_mesh* mesh)
 	return 0;
 }
 
+/* True when some face is in a smoothing group: "s off" and "s 0" (every
+ * face of Blender's flat-shaded objects) put it in none, so leaving them
+ * out loses nothing. */
+static int smoothing_groups(const vn_io_mesh* mesh)
+{
+	const vn_io_face_names* s = &mesh->smoothing;
+	for (size_t f = 0; s->of_face && f < mesh->face_count; f++) {
+		const uint32_t id = s->of_face[f];
+		if (id < s->count && strcmp(s->names[id], "off") && strcmp(s->names[id], "0"))
+			return 1;
+	}
+	return 0;
+}
+
 size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, char* text, size_t size)
 {
 	size_t lost = 0, used = 0;
@@ -223,6 +237,8 @@ size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, cha
 	    mesh->face_colors && !(holds & vn_io_holds_face_colors) ? "face colours" : NULL,
 	    mesh->materials.of_face && materials_lost ? "materials" : NULL,
 	    mesh->objects.of_face && names_lost ? "object names" : NULL,
+	    mesh->groups.of_face && names_lost ? "groups" : NULL,
+	    names_lost && smoothing_groups(mesh) ? "smoothing groups" : NULL,
 	};
 	const size_t fixed = sizeof names / sizeof names[0];
 	for (size_t i = 0; i < mesh->attribute_count + fixed; i++) {

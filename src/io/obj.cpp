@@ -4,7 +4,8 @@
  * Reader: Draco's ObjDecoder (1.5.5), which keeps v/vt/vn, faces of 3 to 8
  * corners as triangle fans, the `usemtl` and `o` of each face (GENERIC
  * "material" and "sub_obj" attributes, their names in the attribute
- * metadata), and skips every other line. It checks neither index ranges nor
+ * metadata), and skips every other line. The `g` and `s` of each face
+ * (groups, smoothing groups), which Draco skips, come from the scan. It checks neither index ranges nor
  * that its two passes over a face line agree ("f 1 2 3 # note" counts 3
  * triangles, then fills 1), and reads memory out of bounds when they are
  * wrong; so a scan that reads each line as Draco does comes first, and only
@@ -36,7 +37,8 @@
  *
  * Writer: v (with "r g b" when the mesh has colours), vt and vn lines, each
  * value once (a vertex split for its normal or texture coordinate shares its
- * v line), then faces as v/vt/vn with `o` and `usemtl` where they change. A
+ * v line), then faces as v/vt/vn with `o`, `g`, `s` and `usemtl` where they
+ * change. A
  * point cloud: a v line a vertex, and as many vt and vn lines.
  */
 #include "obj.h"
@@ -171,6 +173,23 @@ struct scanner {
 	static const size_t left_out_max = 8;
 	std::vector<std::pair<std::string, uint64_t>> left_out;
 	uint64_t left_out_kinds = 0, extra_vertex_numbers = 0;
+	/* The arguments of `g` or `s` lines as written ("" for a bare `g`: the
+	 * default group), and each face's (the checking pass): Draco skips
+	 * those lines. */
+	struct face_sets {
+		std::vector<std::string> names;
+		std::unordered_map<std::string, uint32_t> index;
+		uint32_t current = VN_IO_NO_NAME; /* before the first line */
+		std::vector<uint32_t> of_face;
+		void clear() { *this = face_sets(); }
+		void start(const std::string& argument)
+		{
+			current = index.emplace(argument, uint32_t(names.size())).first->second;
+			if (current == names.size())
+				names.push_back(argument);
+		}
+	};
+	face_sets groups, smoothing;
 
 	size_t line = 1;
 	const char* line_end = nullptr;
@@ -416,6 +435,8 @@ struct scanner {
 			return fail(vn_io_error_parse, "a face has %d entries, but they read as %d corners", entries, corners);
 		face_corners.push_back(uint32_t(entries));
 		face_textured.push_back(textured);
+		groups.of_face.push_back(groups.current);
+		smoothing.of_face.push_back(smoothing.current);
 		return true;
 	}
 
@@ -522,6 +543,11 @@ struct scanner {
 				first_object = int64_t(triangles);
 			return true;
 		}
+		if ((*p == 'g' || *p == 's') && (left == 1 || space(p[1]))) {
+			if (!counting)
+				(*p == 'g' ? groups : smoothing).start(left == 1 ? std::string() : rest(p + 1));
+			return true;
+		}
 		if (*p == 'l' && (left == 1 || space(p[1])))
 			polylines++;
 		if (!counting)
@@ -529,16 +555,11 @@ struct scanner {
 		return true;
 	}
 
-	/* A line of a kind Draco skips: counted by its keyword, except "s off"
-	 * and "s 0" (no smoothing group: nothing to lose). */
+	/* A line of a kind Draco skips and the scan does not read: counted by
+	 * its keyword. */
 	void note_left_out(const char* p)
 	{
 		const std::string keyword(p, size_t(token_length(p)));
-		if (keyword == "s") {
-			const std::string group = rest(p + 1);
-			if (group == "off" || group == "0")
-				return;
-		}
 		for (auto& k : left_out)
 			if (k.first == keyword) {
 				k.second++;
@@ -553,7 +574,7 @@ struct scanner {
 	std::string left_out_warning() const
 	{
 		static const std::pair<const char*, const char*> meanings[] = {
-		    {"g", "groups"}, {"s", "smoothing groups"}, {"l", "lines"}, {"p", "points"}, {"mg", "merging groups"},
+		    {"l", "lines"}, {"p", "points"}, {"mg", "merging groups"},
 		    {"curv", "curves"}, {"surf", "surfaces"}};
 		std::string text;
 		for (const auto& k : left_out) {
@@ -571,7 +592,7 @@ struct scanner {
 			text += (text.empty() ? "" : ", ") + std::string("numbers after x y z on ") +
 			        std::to_string(extra) + " 'v' line" + (extra == 1 ? "" : "s") +
 			        " (w, or colours not on every v line or not in [0, 1])";
-		return text.empty() ? text : "left out (vn reads v, vt, vn, f, o, usemtl and mtllib): " + text;
+		return text.empty() ? text : "left out (vn reads v, vt, vn, f, o, g, s, usemtl and mtllib): " + text;
 	}
 
 	bool pass(bool count)
@@ -589,6 +610,8 @@ struct scanner {
 		colours.clear();
 		left_out.clear();
 		left_out_kinds = extra_vertex_numbers = 0;
+		groups.clear();
+		smoothing.clear();
 		line = 1;
 		for (char* p = begin;;) {
 			while (p < end && space(*p))
@@ -669,6 +692,21 @@ bool face_names(const draco::Mesh& m, const char* label, const std::vector<uint3
 		std::free(out->of_face);
 		*out = vn_io_face_names{};
 	}
+	return true;
+}
+
+/* A set of the scan's (groups, smoothing groups) into *out; none where no
+ * face has a name. False when out of memory. */
+bool face_sets_out(const scanner::face_sets& in, vn_io_face_names* out)
+{
+	if (std::all_of(in.of_face.begin(), in.of_face.end(), [](uint32_t i) { return i == VN_IO_NO_NAME; }))
+		return true;
+	out->names = static_cast<char**>(std::calloc(in.names.size(), sizeof(char*)));
+	if (!out->names || !(out->of_face = copy_out(in.of_face)))
+		return false;
+	for (const std::string& n : in.names)
+		if (!(out->names[out->count++] = copy_string(n)))
+			return false;
 	return true;
 }
 
@@ -907,6 +945,7 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	    (s.coloured() && !(mesh->colors = copy_out(values.colours))) || (a.tex && !untextured_faces(s, mesh)) ||
 	    !face_names(m, "material", first_triangle, s.first_material, &mesh->materials) ||
 	    !face_names(m, "sub_obj", first_triangle, s.first_object, &mesh->objects) ||
+	    !face_sets_out(s.groups, &mesh->groups) || !face_sets_out(s.smoothing, &mesh->smoothing) ||
 	    (!s.library.empty() && !(mesh->material_library = copy_string(s.library))))
 		return out_of_memory(s.name, error);
 	return vn_io_success;
@@ -1141,8 +1180,8 @@ std::string library_names(const char* path, const vn_io_mesh* mesh)
 	return text;
 }
 
-/* "o NAME" or "usemtl NAME" before face f when its name differs from the
- * face before. */
+/* "o NAME", "g NAME", "s NAME" or "usemtl NAME" before face f when its
+ * name differs from the face before ("g" alone for the empty name). */
 void put_name(vn_io_text_out* w, const char* keyword, const vn_io_face_names& names, size_t f)
 {
 	if (!names.of_face)
@@ -1151,7 +1190,10 @@ void put_name(vn_io_text_out* w, const char* keyword, const vn_io_face_names& na
 	if (id == VN_IO_NO_NAME || id >= names.count || (f > 0 && names.of_face[f - 1] == id))
 		return;
 	vn_io_put(w, keyword);
-	vn_io_put(w, names.names[id]);
+	if (names.names[id][0]) {
+		vn_io_put(w, " ");
+		vn_io_put(w, names.names[id]);
+	}
 	vn_io_put(w, "\n");
 }
 
@@ -1217,8 +1259,10 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 		vn_io_put(&w, "\n");
 	}
 	for (size_t f = 0; f < mesh->face_count && !w.failed; f++) {
-		put_name(&w, "o ", mesh->objects, f);
-		put_name(&w, "usemtl ", mesh->materials, f);
+		put_name(&w, "o", mesh->objects, f);
+		put_name(&w, "g", mesh->groups, f);
+		put_name(&w, "usemtl", mesh->materials, f);
+		put_name(&w, "s", mesh->smoothing, f);
 		vn_io_put(&w, "f");
 		for (uint32_t c = mesh->face_offsets[f]; c < mesh->face_offsets[f + 1]; c++) {
 			const uint32_t i = mesh->indices[c];

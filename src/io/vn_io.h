@@ -80,15 +80,16 @@ typedef struct vn_io_attribute {
 	char* source_name;
 } vn_io_attribute;
 
-/* Names given to sets of faces: OBJ's materials (`usemtl`) and objects
- * (`o`). */
+/* Names given to sets of faces: OBJ's materials (`usemtl`), objects (`o`),
+ * groups (`g`) and smoothing groups (`s`). */
 typedef struct vn_io_face_names {
 	size_t count;
 	char** names;      /* count NUL-terminated names */
 	uint32_t* of_face; /* NULL, or face_count entries: an index into names, or VN_IO_NO_NAME */
 } vn_io_face_names;
 
-/* A face that belongs to no named set (faces before an OBJ's first `usemtl`). */
+/* A face that belongs to no named set (faces before an OBJ's first `usemtl`,
+ * `o`, `g` or `s`). */
 #define VN_IO_NO_NAME UINT32_MAX
 
 /* The images of a material (vn_io_material.textures): its base colour's
@@ -142,13 +143,16 @@ typedef struct vn_io_mesh {
 	size_t attribute_count;
 	vn_io_attribute* attributes; /* NULL or attribute_count entries, each owning its data */
 
-	/* The material and the object of each face, and the files defining the
-	 * materials (an OBJ's `mtllib` arguments as written: "model.mtl", or
-	 * NULL), as an OBJ names them; only the OBJ writer keeps them
-	 * (vn_io_holds_face_names). Faces are never reordered, so of_face stays
-	 * valid through vn. */
+	/* The material, object, group and smoothing group of each face, and the
+	 * files defining the materials (an OBJ's `mtllib` arguments as written:
+	 * "model.mtl", or NULL), as an OBJ names them (a group or smoothing
+	 * group by its line's arguments as written: "1", "off"; "" for a bare
+	 * `g`); only the OBJ writer keeps them (vn_io_holds_face_names). Faces
+	 * are never reordered, so of_face stays valid through vn. */
 	vn_io_face_names materials;
 	vn_io_face_names objects;
+	vn_io_face_names groups;
+	vn_io_face_names smoothing;
 	/* NULL, or per face: 1 where the file gave none of its corners a texture
 	 * coordinate though others have them (an OBJ "f 1//1 2//2 3//3" beside
 	 * textured faces; the texcoords of its vertices are the first vt, as
@@ -285,7 +289,7 @@ enum {
 	vn_io_holds_face_colors = 8,   /* `face_colors` */
 	vn_io_holds_polygons = 16,     /* faces of more than 3 corners (else fan-triangulated) */
 	vn_io_holds_loose_vertices = 32, /* vertices no face uses (else only the vertices faces use are written) */
-	vn_io_holds_face_names = 64,     /* `objects`, `material_library` and its folder */
+	vn_io_holds_face_names = 64,     /* `objects`, `groups`, `smoothing`, `material_library` and its folder */
 	vn_io_holds_color_alpha = 128,   /* the alpha of `colors` (OBJ's `v x y z r g b` has none) */
 	vn_io_holds_no_faces = 256,      /* a mesh without faces but with vertices: a point cloud */
 	vn_io_holds_nothing = 512,       /* a mesh without vertices: an empty file vn reads back */
