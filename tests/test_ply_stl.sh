@@ -378,6 +378,25 @@ check "binary STL starting with 'solid', padded: says so" grep -q "solid_padded.
 run "$VNC" "$T/count0.stl" "$T/c0.stl"
 check "binary STL with count 0: its triangles read" cmp -s "$T/c0.stl" "$T/bin.stl"
 check "binary STL with count 0: says so" grep -q "count0.stl: binary STL announces 0 triangles, but 224 triangles follow its header: read" "$T/stderr"
+# Colours in a binary STL, which vn does not keep, are named: VisCAM's and
+# SolidView's (bit 15 of a triangle's attribute bytes) with a count,
+# Materialise Magics' (COLOR= in the header, as trimesh's 20mm-xyz-cube.stl
+# has it); the two spaces an old Blender exporter left there are no colour.
+stl_with() { # HEADER ATTRIBUTE-HEX OUT: two triangles
+  /usr/bin/python3 -c 'import struct, sys
+h, a = sys.argv[1].encode().ljust(80), bytes.fromhex(sys.argv[2])
+t = [(0, 0, 0, 1, 0, 0, 0, 1, 0), (1, 0, 0, 1, 1, 0, 0, 1, 0)]
+open(sys.argv[3], "wb").write(h + struct.pack("<I", 2) + b"".join(struct.pack("<12f", 0, 0, 1, *c) + a for c in t))' "$@"
+}
+stl_with "VisCAM" 1f80 "$T/viscam.stl"
+run "$VNC" "$T/viscam.stl" "$T/viscam.off"
+check "STL colours (VisCAM): named, with a count" [ "$rc|$err" = "0|vnconvert: warning: $T/viscam.stl: 2 of 2 triangles have a colour in their attribute bytes (bit 15 set: VisCAM, SolidView): not kept" ]
+stl_with "COLOR=abcd" 1f00 "$T/magics.stl"
+run "$VNC" "$T/magics.stl" "$T/magics.off"
+check "STL colours (Magics): named" [ "$rc|$err" = "0|vnconvert: warning: $T/magics.stl: its colours (Materialise Magics: the header's COLOR= or MATERIAL=, and each triangle's in its attribute bytes) are not kept" ]
+stl_with "Binary STL output from Blender" 2020 "$T/padding.stl"
+run "$VNC" "$T/padding.stl" "$T/padding.off"
+check "STL attribute bytes of blanks: no colour, no warning" [ "$rc|$err|$(sed -n 2p "$T/padding.off")" = "0||4 2 0" ]
 run "$VNC" "$PLY/blender_binary.ply" "$T/lost.stl"
 check "PLY to STL warns that the vertex normals are not written" grep -q "cannot hold vertex normals, vertex colours, texture coordinates: not written" "$T/stderr"
 
@@ -433,6 +452,12 @@ rejected_text shortface.ply "${HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1\n"
 check "ASCII cut short in a face: says where" grep -q "shortface.ply:14: the file ends in face 0 of 1 (property 'vertex_indices')" "$T/stderr"
 rejected_text word.ply "${HEADER}0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n"
 check "not a number: line and property" grep -q "word.ply:11: vertex 1, property 'y': 'zero' is not a number" "$T/stderr"
+# Data that does not follow its header (trimesh's fuze_ascii.ply: each face
+# line has values its header declares no property for; MeshLab, Open3D and
+# meshio refuse it too): the message names the first line that held more
+# than its entry took, where the failure comes later.
+rejected_text extra.ply "${HEADER}0 0 0\n1 0 0\n0 1 0 7 7\n3 0 1 2\n"
+check "values left on a line: named with the failure" grep -q "extra.ply:12: face 0, list 'vertex_indices' has 7 values, more than the rest of the file holds; vertex 2 ends on line 12 with 2 values left on that line: the data does not follow the header" "$T/stderr"
 rejected_text nan.ply "${HEADER}0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"
 check "NaN coordinate: names the vertex" grep -q "nan.ply: vertex 1 is at (1, nan, 0)" "$T/stderr"
 rejected_text noply.ply 'PLY\nformat ascii 1.0\n'

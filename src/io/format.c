@@ -93,8 +93,9 @@ static const vn_io_format formats[] = {
     {"stl", "STL", "STL", ".stl",
      "stereolithography (reads binary and ASCII, corners welded by position; writes binary; no vertex normals)",
      vn_io_stl_read, vn_io_stl_write, vn_io_holds_nothing, vn_io_path_mesh, 0, NULL, {{0, NULL, NULL}},
-     "facet normals (one per triangle, recomputed on writing), the header, attribute bytes (a colour in some "
-     "exporters); corners with equal positions become one vertex",
+     "facet normals (one per triangle, recomputed on writing), the header, attribute bytes (colours named: "
+     "Materialise Magics' COLOR= header, VisCAM's and SolidView's bit 15); corners with equal positions become one "
+     "vertex",
      NULL, NULL, NULL},
     {"gltf", "glTF", "glTF", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)",
      vn_io_gltf_read, vn_io_gltf_write,

@@ -194,6 +194,12 @@ typedef struct ply_reader {
 
 	char* comments; /* vn_io_ply_extras' */
 	char* warnings;
+	/* ASCII data: the first entry that left values on its line (NULL
+	 * element: none), named where reading then fails. */
+	struct {
+		const ply_element* element;
+		size_t entry, line, values;
+	} left;
 } ply_reader;
 
 typedef struct token {
@@ -663,13 +669,32 @@ static vn_io_result read_list(ply_reader* r, vn_io_mesh* m, const place* at)
 	return vn_io_success;
 }
 
+/* After an ASCII entry: the values left on its line. Writers put each entry
+ * on a line of its own, so where one leaves values there, and reading then
+ * fails, the data does not follow the header: the failure names that line. */
+static void note_values_left(ply_reader* r, const place* at)
+{
+	size_t n = 0;
+	for (const unsigned char* q = r->p; q < r->end && *q != r->newline && *q != '\n';) {
+		if (is_space(*q)) {
+			q++;
+			continue;
+		}
+		n++;
+		while (q < r->end && *q != r->newline && *q != '\n' && !is_space(*q))
+			q++;
+	}
+	if (n)
+		r->left.element = at->element, r->left.entry = at->entry, r->left.line = r->line, r->left.values = n;
+}
+
 static vn_io_result read_element(ply_reader* r, vn_io_mesh* m, ply_element* e)
 {
 	place at = {e, 0, NULL};
 	unsigned char scratch[8];
 	if (e->property_count == 0)
 		return vn_io_success;
-	for (at.entry = 0; at.entry < e->count; at.entry++)
+	for (at.entry = 0; at.entry < e->count; at.entry++) {
 		for (size_t k = 0; k < e->property_count; k++) {
 			ply_property* p = &e->properties[k];
 			at.property = p;
@@ -677,9 +702,21 @@ static vn_io_result read_element(ply_reader* r, vn_io_mesh* m, ply_element* e)
 			    p->count_type >= 0
 			        ? read_list(r, m, &at)
 			        : read_value(r, p->type, &at, p->column ? p->column + at.entry * types[p->type].size : scratch);
-			if (result != vn_io_success)
-				return result;
+			if (result == vn_io_success)
+				continue;
+			if (r->left.element && result == vn_io_error_parse) {
+				const size_t n = strlen(r->error->message);
+				snprintf(r->error->message + n, sizeof r->error->message - n,
+				         "; %s %zu ends on line %zu with %zu value%s left on that line: the data does not follow the "
+				         "header",
+				         r->left.element->name, r->left.entry, r->left.line, r->left.values,
+				         r->left.values == 1 ? "" : "s");
+			}
+			return result;
 		}
+		if (r->format == PLY_ASCII && !r->left.element)
+			note_values_left(r, &at);
+	}
 	return vn_io_success;
 }
 

@@ -12,8 +12,11 @@
  * it (writers that never fill it in) reads those. Corners with equal positions (exactly, -0 = +0) are
  * welded into one vertex, so the mesh is connected and vn's normals are
  * smooth across triangles. The facet normals (one per triangle, not per
- * vertex), the header and the attribute bytes (a colour in some exporters)
- * are not kept.
+ * vertex), the header and the attribute bytes are not kept; where they hold
+ * colours, a warning says so: a header with Materialise Magics' COLOR= or
+ * MATERIAL= (a default colour, and each facet's in its attribute bytes), or
+ * else attribute bytes with bit 15 set (VisCAM's and SolidView's facet
+ * colour; other writers leave padding there, as old Blender's "  ").
  *
  * Not Draco's StlDecoder (1.5.5): it refuses binary files whose header
  * starts with "solid ", does not check the triangle count against the file's
@@ -43,6 +46,8 @@ typedef struct stl_reader {
 	size_t line;
 	double* corners; /* 3 coordinates per corner, 3 corners per triangle */
 	size_t triangles, capacity;
+	int binary;        /* read as binary */
+	size_t coloured; /* triangles whose attribute bytes have bit 15 set */
 } stl_reader;
 
 #if defined(__GNUC__)
@@ -221,9 +226,39 @@ static vn_io_result read_binary(stl_reader* r, const unsigned char* data, size_t
 		const unsigned char* record = data + STL_HEADER + 4 + STL_TRIANGLE * t;
 		for (int k = 0; k < 9; k++)
 			r->corners[9 * t + (size_t)k] = get_float(record + 12 + 4 * k); /* after the facet normal */
+		r->coloured += (record[49] & 0x80) != 0;
 	}
 	r->triangles = triangles;
+	r->binary = 1;
 	return vn_io_success;
+}
+
+/* Whether the header has `key` (Magics' "COLOR=", "MATERIAL="). */
+static int header_has(const unsigned char* data, const char* key)
+{
+	const size_t n = strlen(key);
+	for (size_t i = 0; i + n <= STL_HEADER; i++)
+		if (!memcmp(data + i, key, n))
+			return 1;
+	return 0;
+}
+
+/* The warning on a binary STL's colours, which vn does not keep. 0 when
+ * out of memory. */
+static int warn_colours(const stl_reader* r, const unsigned char* data, vn_io_mesh* mesh)
+{
+	char text[200];
+	if (header_has(data, "COLOR=") || header_has(data, "MATERIAL="))
+		snprintf(text, sizeof text,
+		         "its colours (Materialise Magics: the header's COLOR= or MATERIAL=, and each triangle's in its "
+		         "attribute bytes) are not kept");
+	else if (r->coloured)
+		snprintf(text, sizeof text,
+		         "%zu of %zu triangles have a colour in their attribute bytes (bit 15 set: VisCAM, SolidView): not kept",
+		         r->coloured, r->triangles);
+	else
+		return 1;
+	return vn_io_append_line(&mesh->warnings, text);
 }
 
 /* ------------------------------------------------------------------ entry points */
@@ -357,6 +392,8 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 	} else {
 		result = read_padded(&r, count, size - (size_t)binary_size, mesh);
 	}
+	if (result == vn_io_success && r.binary && !warn_colours(&r, (const unsigned char*)data, mesh))
+		result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	if (result == vn_io_success)
 		result = weld(&r, mesh);
 	free(r.corners);
