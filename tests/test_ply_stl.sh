@@ -444,6 +444,18 @@ rejected_text ctrlname.ply 'ply\nformat ascii 1.0\nelement vertex 1\nproperty fl
 check "a property name with a control character (fuzz_ply): file, line, why" grep -q "ctrlname.ply:7: property name '.q' has a control character" "$T/stderr"
 rejected_text ctrlelement.ply 'ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement m\001 1\nend_header\n0 0 0\n'
 check "an element name with a control character (fuzz_ply): file, line, why" grep -q "ctrlelement.ply:7: element name 'm.' has a control character" "$T/stderr"
+# Blender 2.4x's exporter wrote its credit line without "comment" (assimp's
+# Wuson.ply): a line of no keyword before the first element is a comment,
+# kept as one (PLY to PLY writes "comment Created by ..."), with a warning.
+# After an element line such a line is refused: it would hide a misspelt
+# property.
+printf 'ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org, source file: x.blend\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$T/credit.ply"
+run "$VNC" "$T/credit.ply" "$T/credit-out.ply"
+check "Blender 2.4x credit line: read, with a warning" [ "$rc|$err" = "0|vnconvert: warning: $T/credit.ply: header line 3 ('Created by Blender3D 247...') has no keyword: read as a comment (Blender 2.4x wrote its credit line so)" ]
+check "Blender 2.4x credit line: kept as a comment" grep -aqx "comment Created by Blender3D 247 - www.blender.org, source file: x.blend" "$T/credit-out.ply"
+check "Blender 2.4x credit line: the triangle read" [ "$($PLYTOOL count "$T/credit-out.ply")" = "$($PLYTOOL count "$T/credit.ply")" ]
+rejected_text misspelt.ply 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproprety float z\nend_header\n'
+check "a line of no keyword after an element: refused" grep -q "misspelt.ply:6: unexpected 'proprety' in the header" "$T/stderr"
 rejected_text index.ply "${HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"
 check "index out of range: file, line, face" grep -q "index.ply:13: face 0 has index 3, but the file has 3 vertices" "$T/stderr"
 rejected_text short.ply "${HEADER}0 0 0\n1 0 0\n"

@@ -365,10 +365,10 @@ static vn_io_result add_element(ply_reader* r, token* w, size_t count)
 	return vn_io_success;
 }
 
-/* Appends the header line at `start` (a comment or obj_info) to
- * r->comments, as the file has it, but vn's own "comment written by vn",
- * which its writer writes anyway; 0 when out of memory. */
-static int keep_comment(ply_reader* r, const unsigned char* start)
+/* Appends the header line at `start` (a comment or obj_info), after
+ * `prefix`, to r->comments, as the file has it, but vn's own "comment
+ * written by vn", which its writer writes anyway; 0 when out of memory. */
+static int keep_comment(ply_reader* r, const char* prefix, const unsigned char* start)
 {
 	const unsigned char* stop = start;
 	while (stop < r->end && *stop != r->newline)
@@ -380,10 +380,13 @@ static int keep_comment(ply_reader* r, const unsigned char* start)
 	static const char own[] = "comment written by vn";
 	if (n == sizeof own - 1 && !memcmp(start, own, n))
 		return 1;
-	const size_t used = r->comments ? strlen(r->comments) : 0;
-	char* grown = realloc(r->comments, used + n + 2);
+	const size_t p = strlen(prefix);
+	size_t used = r->comments ? strlen(r->comments) : 0;
+	char* grown = realloc(r->comments, used + p + n + 2);
 	if (!grown)
 		return 0;
+	memcpy(grown + used, prefix, p);
+	used += p;
 	/* A line break inside the line (a lone '\r' in a '\n' file) would end
 	 * it early in the file written, a NUL the text: a blank instead. */
 	for (size_t i = 0; i < n; i++)
@@ -408,7 +411,25 @@ static vn_io_result read_header(ply_reader* r)
 	for (const unsigned char* start = r->p; header_line(r, w, &count); start = r->p) {
 		vn_io_result result = vn_io_success;
 		if (count && (token_is(w[0], "comment") || token_is(w[0], "obj_info"))) {
-			if (!keep_comment(r, start))
+			if (!keep_comment(r, "", start))
+				return out_of_memory(r);
+			continue;
+		}
+		/* Blender 2.4x's exporter wrote its credit line ("Created by
+		 * Blender3D 247 - www.blender.org, source file: ...") without
+		 * "comment": a line of no keyword before the first element is read
+		 * as a comment, with a warning (after one, it would hide a
+		 * misspelt property). */
+		if (count && r->element_count == 0 && !token_is(w[0], "format") && !token_is(w[0], "element") &&
+		    !token_is(w[0], "property") && !token_is(w[0], "end_header")) {
+			const unsigned char* stop = start;
+			while (stop < r->end && *stop != r->newline && *stop != '\r')
+				stop++;
+			char text[160];
+			snprintf(text, sizeof text,
+			         "header line %zu ('%s') has no keyword: read as a comment (Blender 2.4x wrote its credit line so)",
+			         r->line, quote((token){start, (size_t)(stop - start)}).text);
+			if (!keep_comment(r, "comment ", start) || !warn(r, text))
 				return out_of_memory(r);
 			continue;
 		}
