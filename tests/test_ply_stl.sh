@@ -363,6 +363,15 @@ check "STL header does not start with solid" [ "$(head -c 5 "$T/bin.stl")" != so
 run "$VNC" "$STL/blender_ascii.stl" "$T/b1.stl" -q
 run "$VNC" "$STL/blender_binary.stl" "$T/b2.stl" -q
 check "Blender STL ASCII and binary: same triangles" [ "$(stl_triangles "$T/b1.stl")" = 968 ] && check "Blender STL: 968 both" [ "$(stl_triangles "$T/b2.stl")" = 968 ]
+# ASCII that ends after a whole facet without 'endsolid' (writers that leave
+# it out; Blender 3.4, Open3D and meshio read such a file): read, with a
+# warning. Cut inside a facet, or with no facet at all, it is refused.
+printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n' >"$T/unended.stl"
+run "$VNC" "$T/unended.stl" "$T/unended.off"
+check "ASCII STL without endsolid: read, with a warning" [ "$rc|$err|$(sed -n 2p "$T/unended.off")" = "0|vnconvert: warning: $T/unended.stl: the file ends after 1 triangle without 'endsolid': read (a writer left it out, or the file was cut after a whole triangle)|3 1 0" ]
+printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n' >"$T/cut.stl"
+check_rejected "$VNC" "$T/cut.stl" "$T/none.off" "$T/keep.off"
+check "ASCII STL cut inside a facet: refused, saying where" grep -q "cut.stl:6: the file ends where 'vertex' was expected (triangle 0)" "$T/stderr"
 # A binary STL whose header starts with "solid" (as some exporters write) is binary by its size.
 { printf 'solid but binary'; head -c 64 /dev/zero; tail -c +81 "$STL/test_sphere.stl"; } >"$T/solid_binary.stl"
 run "$VNC" "$T/solid_binary.stl" "$T/sb.stl" -q

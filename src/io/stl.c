@@ -5,7 +5,8 @@
  * Reader: binary (an 80-byte header, a 32-bit triangle count, 50 bytes a
  * triangle: normal, three corners as float32, 2 attribute bytes) and ASCII
  * ("solid ... facet normal ... outer loop, vertex x3, endloop, endfacet,
- * endsolid", keywords in any case, several solids in one file). A binary
+ * endsolid", keywords in any case, several solids in one file; one that
+ * ends after a whole facet without its endsolid is read, with a warning). A binary
  * header may start with "solid" too: a file whose size is 84 + 50 * its
  * count is binary, and so is one ASCII cannot read whose triangles fit with
  * padding after them (read_padded); a count of 0 with whole triangles after
@@ -47,6 +48,7 @@ typedef struct stl_reader {
 	double* corners; /* 3 coordinates per corner, 3 corners per triangle */
 	size_t triangles, capacity;
 	int binary;        /* read as binary */
+	int unended;       /* ASCII that ends after a whole facet, without 'endsolid' */
 	size_t coloured; /* triangles whose attribute bytes have bit 15 set */
 } stl_reader;
 
@@ -207,7 +209,14 @@ static vn_io_result read_ascii(stl_reader* r)
 				            vn_io_quote(next.p, next.n).text);
 			skip_line(r);
 		} else if (!t.n) {
-			return fail(r, vn_io_error_parse, "the file ends after %zu triangles, before 'endsolid'", r->triangles);
+			/* A writer that leaves 'endsolid' out, or a file cut after a
+			 * whole triangle: its triangles are read (with a warning). With
+			 * none, it may be a binary file whose header starts with
+			 * "solid". */
+			if (!r->triangles)
+				return fail(r, vn_io_error_parse, "the file ends after 0 triangles, before 'endsolid'");
+			r->unended = 1;
+			return vn_io_success;
 		} else {
 			return fail(r, vn_io_error_parse, "expected 'facet' or 'endsolid', found '%s'", vn_io_quote(t.p, t.n).text);
 		}
@@ -361,6 +370,13 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 		result = read_ascii(&r);
 		vn_io_c_locale_leave(&locale);
+		char text[160];
+		snprintf(text, sizeof text,
+		         "the file ends after %zu triangle%s without 'endsolid': read (a writer left it out, or the file "
+		         "was cut after a whole triangle)",
+		         r.triangles, r.triangles == 1 ? "" : "s");
+		if (result == vn_io_success && r.unended && !vn_io_append_line(&mesh->warnings, text))
+			result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 		/* Not ASCII after all: a binary STL whose header starts with
 		 * "solid" and whose triangles are followed by padding. */
 		if (result != vn_io_success && result != vn_io_error_memory && count > 0 && binary_size <= size) {
