@@ -4,24 +4,24 @@
  * Reader: Draco's ObjDecoder (1.5.5), which keeps v/vt/vn, faces of 3 to 8
  * corners as triangle fans, the `usemtl` and `o` of each face (GENERIC
  * "material" and "sub_obj" attributes, their names in the attribute
- * metadata), and skips every other line. The `g` and `s` of each face
- * (groups, smoothing groups), which Draco skips, come from the scan. It checks neither index ranges nor
- * that its two passes over a face line agree ("f 1 2 3 # note" counts 3
- * triangles, then fills 1), and reads memory out of bounds when they are
- * wrong; so a scan that reads each line as Draco does comes first, and only
- * a file it passes goes to Draco. The scan also gives file:line errors,
- * refuses NaN and infinite numbers, and hands Draco a copy where a comment
- * after a face is blanked, a tab after `v` or `o` is a space and a lone CR
- * ends a line (Draco reads those lines differently or not at all), a face
- * of more than 8 corners is split into faces Draco takes, a vt of one
+ * metadata), and skips every other line (the `g` and `s` of each face,
+ * groups and smoothing groups, come from the scan). It checks neither index
+ * ranges nor that its two passes over a face line agree ("f 1 2 3 # note"
+ * counts 3 triangles, then fills 1), and reads memory out of bounds when
+ * they are wrong; so a scan that reads each line as Draco does comes first,
+ * and only a file it passes goes to Draco. The scan also gives file:line
+ * errors, refuses NaN and infinite numbers, and hands Draco a copy where a
+ * comment after a face is blanked, a tab after `v` or `o` is a space and a
+ * lone CR ends a line (Draco reads those lines differently or not at all), a
+ * face of more than 8 corners is split into faces Draco takes, a vt of one
  * number gets its v (0, as the specification says), and `mtllib` is a
- * comment: reading from memory, Draco would look for the .mtl in the
- * current folder, and it only adds names, in another order, from it; the
- * `mtllib` argument is kept instead, with the file's folder (the writer
- * names the libraries from its output's folder). Polygons are put back
- * together from the corner counts the scan saw (Draco's preserve_polygons
- * would do it from an "added_edges" attribute, which splits points further
- * and cannot tell the split pieces of a long face apart).
+ * comment: reading from memory, Draco would look for the .mtl in the current
+ * folder, and it only adds names, in another order, from it; the `mtllib`
+ * argument is kept instead, with the file's folder (the writer names the
+ * libraries from its output's folder). Polygons are put back together from
+ * the corner counts the scan saw (Draco's preserve_polygons would do it from
+ * an "added_edges" attribute, which splits points further and cannot tell
+ * the split pieces of a long face apart).
  *
  * Draco is asked to keep every v, vt and vn line's value (no deduplication),
  * and the scan's doubles replace its floats for v and vn; a vertex is one
@@ -37,9 +37,9 @@
  *
  * Writer: v (with "r g b" when the mesh has colours), vt and vn lines, each
  * value once (a vertex split for its normal or texture coordinate shares its
- * v line), then faces as v/vt/vn with `o`, `g`, `s` and `usemtl` where they
- * change. A
- * point cloud: a v line a vertex, and as many vt and vn lines.
+ * v line), then faces as v/vt/vn with `o`, `g`, `usemtl` and `s` where
+ * they change. A point cloud: a v line a vertex, and as many vt and vn
+ * lines.
  */
 #include "obj.h"
 
