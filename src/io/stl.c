@@ -5,19 +5,20 @@
  * Reader: binary (an 80-byte header, a 32-bit triangle count, 50 bytes a
  * triangle: normal, three corners as float32, 2 attribute bytes) and ASCII
  * ("solid ... facet normal ... outer loop, vertex x3, endloop, endfacet,
- * endsolid", keywords in any case, several solids in one file; one that
- * ends after a whole facet without its endsolid is read, with a warning). A binary
- * header may start with "solid" too: a file whose size is 84 + 50 * its
- * count is binary, and so is one ASCII cannot read whose triangles fit with
- * padding after them (read_padded); a count of 0 with whole triangles after
- * it (writers that never fill it in) reads those. Corners with equal positions (exactly, -0 = +0) are
- * welded into one vertex, so the mesh is connected and vn's normals are
- * smooth across triangles. The facet normals (one per triangle, not per
- * vertex), the header and the attribute bytes are not kept; where they hold
- * colours, a warning says so: a header with Materialise Magics' COLOR= or
- * MATERIAL= (a default colour, and each facet's in its attribute bytes), or
- * else attribute bytes with bit 15 set (VisCAM's and SolidView's facet
- * colour; other writers leave padding there, as old Blender's "  ").
+ * endsolid", keywords in any case, several solids in one file; one that ends
+ * after a whole facet without its endsolid is read, with a warning). A
+ * binary header may start with "solid" too: a file whose size is 84 + 50 *
+ * its count is binary, and so is one ASCII cannot read whose triangles fit
+ * with padding after them (read_padded); a count of 0 with whole triangles
+ * after it (writers that never fill it in) reads those. Corners with equal
+ * positions (exactly, -0 = +0) are welded into one vertex, so the mesh is
+ * connected and vn's normals are smooth across triangles. The facet normals
+ * (one per triangle, not per vertex), the header and the attribute bytes are
+ * not kept; where they hold colours, a warning says so: a header with
+ * Materialise Magics' COLOR= or MATERIAL= (a default colour, and each
+ * facet's in its attribute bytes), or else attribute bytes with bit 15 set
+ * (VisCAM's and SolidView's facet colour; other writers leave padding there,
+ * as old Blender's "  ").
  *
  * Not Draco's StlDecoder (1.5.5): it refuses binary files whose header
  * starts with "solid ", does not check the triangle count against the file's
@@ -370,13 +371,15 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 		result = read_ascii(&r);
 		vn_io_c_locale_leave(&locale);
-		char text[160];
-		snprintf(text, sizeof text,
-		         "the file ends after %zu triangle%s without 'endsolid': read (a writer left it out, or the file "
-		         "was cut after a whole triangle)",
-		         r.triangles, r.triangles == 1 ? "" : "s");
-		if (result == vn_io_success && r.unended && !vn_io_append_line(&mesh->warnings, text))
-			result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+		if (result == vn_io_success && r.unended) {
+			char text[160];
+			snprintf(text, sizeof text,
+			         "the file ends after %zu triangle%s without 'endsolid': read (a writer left it out, or the file "
+			         "was cut after a whole triangle)",
+			         r.triangles, r.triangles == 1 ? "" : "s");
+			if (!vn_io_append_line(&mesh->warnings, text))
+				result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+		}
 		/* Not ASCII after all: a binary STL whose header starts with
 		 * "solid" and whose triangles are followed by padding. */
 		if (result != vn_io_success && result != vn_io_error_memory && count > 0 && binary_size <= size) {
