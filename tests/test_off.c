@@ -1051,6 +1051,41 @@ static void test_write_exact_text(void** state)
 	free(text);
 }
 
+/* The text output's integers (0 and 2^64 - 1 at the ends) and its buffer:
+ * pieces of every length from 1 to 97 bytes, 40,000 in all, cross its
+ * 16 KB many times and at every offset, and come out in order. */
+static void test_text_out_integers_and_buffer(void** state)
+{
+	(void)state;
+	char path[256];
+	path_in_folder(path, sizeof path, "text_out.txt");
+	FILE* out = fopen(path, "wb");
+	assert_non_null(out);
+	vn_io_text_out w = {out, 0, 0, 0, {0}};
+	vn_io_put_uint(&w, "", 0);
+	vn_io_put_uint(&w, " ", UINT64_MAX);
+	vn_io_put_uint(&w, "//", 4294967295u);
+	vn_io_put_uint(&w, "/", 10);
+	vn_io_put(&w, "\n");
+	static char expected[50000];
+	size_t n = (size_t)snprintf(expected, sizeof expected, "0 18446744073709551615//4294967295/10\n");
+	for (int length = 1; n + (size_t)length < 40000; length = length % 97 + 1) {
+		char piece[98];
+		for (int k = 0; k < length; k++)
+			piece[k] = (char)('a' + (n + (size_t)k) % 26);
+		piece[length] = '\0';
+		vn_io_put(&w, piece);
+		memcpy(expected + n, piece, (size_t)length + 1);
+		n += (size_t)length;
+	}
+	assert_true(vn_io_flush(&w));
+	assert_int_equal(fclose(out), 0);
+	char* text = slurp(path);
+	assert_int_equal(strlen(text), n);
+	assert_string_equal(text, expected);
+	free(text);
+}
+
 /* vn_io_format_g against literal printf texts: ties to even on the exact
  * value, carries to a new power of 10, both styles, and values past the
  * integer path (printf's text there). */
@@ -1758,6 +1793,7 @@ int main(void)
 	    cmocka_unit_test(test_error_colour_styles_mixed),
 	    cmocka_unit_test(test_error_trailing_content),
 	    cmocka_unit_test(test_write_exact_text),
+	    cmocka_unit_test(test_text_out_integers_and_buffer),
 	    cmocka_unit_test(test_format_g_literals),
 	    cmocka_unit_test(test_format_g_matches_printf),
 	    cmocka_unit_test(test_parse_real_matches_strtod),

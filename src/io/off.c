@@ -833,9 +833,7 @@ static void put_colour(vn_io_text_out* w, const float* rgba, int bytes)
 {
 	for (size_t k = 0; k < 4; k++) {
 		if (bytes) {
-			char text[16];
-			snprintf(text, sizeof text, " %d", colour_byte(rgba[k]));
-			vn_io_put(w, text);
+			vn_io_put_uint(w, " ", (uint64_t)colour_byte(rgba[k]));
 		} else {
 			vn_io_put_float(w, rgba[k]);
 		}
@@ -848,7 +846,7 @@ vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	vn_io_c_locale locale;
 	if (!vn_io_c_locale_enter(&locale))
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", path);
-	vn_io_text_out w = {out, 0, 0};
+	vn_io_text_out w = {out, 0, 0, 0, {0}};
 
 	char text[64];
 	/* The edge count is not used by anyone; 0 is what most writers put. */
@@ -875,18 +873,15 @@ vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	}
 	for (size_t f = 0; f < mesh->face_count && !w.failed; f++) {
 		uint32_t begin = mesh->face_offsets[f], end = mesh->face_offsets[f + 1];
-		snprintf(text, sizeof text, "%" PRIu32, end - begin);
-		vn_io_put(&w, text);
-		for (uint32_t k = begin; k < end; k++) {
-			snprintf(text, sizeof text, " %" PRIu32, mesh->indices[k]);
-			vn_io_put(&w, text);
-		}
+		vn_io_put_uint(&w, "", end - begin);
+		for (uint32_t k = begin; k < end; k++)
+			vn_io_put_uint(&w, " ", mesh->indices[k]);
 		if (mesh->face_colors)
 			put_colour(&w, mesh->face_colors + 4 * f, mesh->face_colors_are_bytes);
 		vn_io_put(&w, "\n");
 	}
 	vn_io_c_locale_leave(&locale);
-	if (w.failed)
+	if (!vn_io_flush(&w))
 		return vn_io_fail(error, vn_io_error_write, "%s: cannot write: %s", path, strerror(w.error_number));
 	return vn_io_success;
 }

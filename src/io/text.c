@@ -26,12 +26,52 @@ void vn_io_c_locale_leave(vn_io_c_locale* l)
 	freelocale((locale_t)l->c);
 }
 
-void vn_io_put(vn_io_text_out* w, const char* text)
+/* Writes the buffer's bytes, unless an earlier write failed. */
+static void drain(vn_io_text_out* w)
 {
-	if (!w->failed && fputs(text, w->out) == EOF) {
+	if (!w->failed && w->used && fwrite(w->buffer, 1, w->used, w->out) != w->used) {
 		w->failed = 1;
 		w->error_number = errno;
 	}
+	w->used = 0;
+}
+
+void vn_io_put(vn_io_text_out* w, const char* text)
+{
+	size_t n = strlen(text);
+	while (n > sizeof w->buffer - w->used) {
+		const size_t room = sizeof w->buffer - w->used;
+		memcpy(w->buffer + w->used, text, room);
+		w->used += room, text += room, n -= room;
+		drain(w);
+	}
+	memcpy(w->buffer + w->used, text, n);
+	w->used += n;
+}
+
+/* Byte by byte into the buffer: a call to memcpy a number cost as much as
+ * its digits. */
+void vn_io_put_uint(vn_io_text_out* w, const char* before, uint64_t v)
+{
+	for (const char* c = before; *c; c++) {
+		if (w->used == sizeof w->buffer)
+			drain(w);
+		w->buffer[w->used++] = *c;
+	}
+	size_t n = 1; /* digits */
+	for (uint64_t rest = v; rest >= 10; rest /= 10)
+		n++;
+	if (n > sizeof w->buffer - w->used)
+		drain(w);
+	for (size_t k = n; k-- > 0; v /= 10)
+		w->buffer[w->used + k] = (char)('0' + v % 10);
+	w->used += n;
+}
+
+int vn_io_flush(vn_io_text_out* w)
+{
+	drain(w);
+	return !w->failed;
 }
 
 void vn_io_put_float9(vn_io_text_out* w, double v)

@@ -5,8 +5,9 @@
 #   tests/bench/text_write.sh OLD/vnconvert NEW/vnconvert [ROUNDS] [WORKDIR]
 # Inputs, made in WORKDIR (default: a temporary folder): the regular torus
 # of 200,000 triangles (400 x 250 quads, R = 1, r = 0.4, coordinates with 17
-# digits), as GLB too (floats), and 2M normal-distributed float points with
-# unit double normals (binary PLY, numpy seed 1).
+# digits), as GLB too (floats) and as OBJ from the GLB (float text), and
+# 2M normal-distributed float points with unit double normals (binary PLY,
+# numpy seed 1).
 set -eu
 OLD=$(realpath "$1") NEW=$(realpath "$2") ROUNDS=${3:-3}
 W=${4:-$(mktemp -d)}
@@ -26,6 +27,7 @@ with open("torus200k.off", "w") as f:
             f.write("3 %d %d %d\n3 %d %d %d\n" % (a, b, c, a, c, d))
 EOF
 [ -f t200.glb ] || "$NEW" torus200k.off t200.glb -q
+[ -f t200.obj ] || "$NEW" t200.glb t200.obj -q
 [ -f cloud2m.ply ] || /usr/bin/python3 - <<'EOF'
 import numpy as np
 n = 2000000
@@ -41,7 +43,7 @@ header += "".join("property %s %s\n" % (t, k) for t, k in
                   (("float", "x"), ("float", "y"), ("float", "z"), ("double", "nx"), ("double", "ny"), ("double", "nz")))
 open("cloud2m.ply", "wb").write((header + "end_header\n").encode() + a.tobytes())
 EOF
-for job in "torus200k.off off" "t200.glb obj" "t200.glb off" "cloud2m.ply off"; do
+for job in "torus200k.off off" "t200.glb obj" "t200.obj obj" "t200.glb off" "cloud2m.ply off"; do
   set -- $job
   for b in OLD NEW; do
     bin=${!b} best=
