@@ -229,13 +229,27 @@ refused() { printf "$2" >"$T/$1.obj"; check_rejected "$VNC" "$T/$1.obj" "$T/none
 tri='v 0 0 0\nv 1 0 0\nv 0 1 0\n'
 refused range "${tri}f 1 2 9\n" "range.obj:4: face corner 3 refers to vertex 9, but the file has 3 vertices (v)"
 refused back "${tri}f -1 -2 -4\n" "back.obj:4: face corner 3 refers to vertex -4 (counting back), but only 3 vertices (v) come before it"
-refused notex "${tri}f 1/1 2/1 3/1\n" "notex.obj:4: face corner 1 refers to texture coordinate 1, but the file has 0"
+refused pastex "${tri}vt 0 0\nf 1/1 2/1 3/2\n" "pastex.obj:5: face corner 3 refers to texture coordinate 2, but the file has 1 texture coordinates (vt)"
 refused zero "${tri}f 0 1 2\n" "zero.obj:4: face corner 1, '0', is not v, v/vt, v/vt/vn or v//vn"
 refused huge "${tri}f 1 2 4294967295\n" "huge.obj:4: face corner 3, '4294967295', is not"
 refused short 'v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "short.obj:1: vertex 1 has 2 numbers; it needs 3"
 refused word 'v 0 0 x\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "word.obj:1: vertex 1: 'x' is not a number"
 refused big "${tri}vn 0 0 1e40\nf 1//1 2//1 3//1\n" "big.obj:4: normal 1 has the number '1e40', which is not finite"
-refused glued "${tri}f 1 2 3/1/2-4\n" "glued.obj:4: face corner 3 refers to texture coordinate 1"
+refused glued "${tri}f 1 2 3/1/2-4\n" "glued.obj:4: face corner 3, '3/1/2-4', is not v, v/vt, v/vt/vn or v//vn"
+# Indices of vt or vn lines in a file that has none of them (an exporter
+# wrote the indices but not the lines, as trimesh's test models cubevt.obj
+# and face_in_group_name_mid_file.obj have them): read without them, with a
+# warning (they were refused; Blender 3.4 reads the second, and the first
+# without its faces). A decagon among them, which Draco gets split.
+printf '%s\n' "v 1 0 0" "v 0.809 0.588 0" "v 0.309 0.951 0" "v -0.309 0.951 0" "v -0.809 0.588 0" "v -1 0 0" \
+  "v -0.809 -0.588 0" "v -0.309 -0.951 0" "v 0.309 -0.951 0" "v 0.809 -0.588 0" "v 0 0 1" \
+  "f 1/1/1 2/2/2 3/3/3 4/4/4 5/5/5 6/6/6 7/7/7 8/8/8 9/9/9 10/10/10" "f 1//1 2//2 11//3" "f -1/-1 -2/-2 -3/-3" >"$T/dangling.obj"
+run "$VNC" "$T/dangling.obj" "$T/dangling_out.obj"
+check "vt and vn lines referred to but absent: read, each named once" [ "$rc|$err" = "0|vnconvert: warning: $T/dangling.obj: 13 face corners refer to texture coordinates (vt), but the file has none: read without them (the first on line 12)
+vnconvert: warning: $T/dangling.obj: 13 face corners refer to normals (vn), but the file has none: read without them (the first on line 12)" ]
+check "vt and vn lines absent: the decagon and two triangles, without vt" \
+  [ "$(grep '^f' "$T/dangling_out.obj" | sed 's|//[0-9]*||g' | tr '\n' '|')" = "f 1 2 3 4 5 6 7 8 9 10|f 1 2 11|f 11 10 9|" ]
+check "vt and vn lines absent: no vt lines written" not grep -q '^vt' "$T/dangling_out.obj"
 # Draco stops reading a number at the first character not part of it: these
 # read as 3, 0, 1.5 and 3.1 (and a triangle 1 2 3) where they are refused.
 refused comma 'v 0 0 0\nv 1 0 0\nv 0 1 3,5\nf 1 2 3\n' "comma.obj:3: vertex 3: '3,5' is not a number"

@@ -14,7 +14,8 @@
  * comment after a face is blanked, a tab after `v` or `o` is a space and a
  * lone CR ends a line (Draco reads those lines differently or not at all), a
  * face of more than 8 corners is split into faces Draco takes, a vt of one
- * number gets its v (0, as the specification says), and `mtllib` is a
+ * number gets its v (0, as the specification says), a corner's vt or vn
+ * index is dropped where the file has no such lines, and `mtllib` is a
  * comment: reading from memory, Draco would look for the .mtl in the current
  * folder, and it only adds names, in another order, from it; the `mtllib`
  * argument is kept instead, with the file's folder (the writer names the
@@ -130,6 +131,17 @@ const int max_corners = 8;
  * parser_utils it calls), line by line: a first pass counts v, vt and vn
  * lines and triangles, a second checks every number and index against
  * those counts. */
+/* A corner as an f line writes it: v, v/vt, v/vt/vn or v//vn. */
+std::string corner_text(const std::array<int32_t, 3>& c)
+{
+	std::string t = std::to_string(c[0]);
+	if (c[1] || c[2])
+		t += "/" + (c[1] ? std::to_string(c[1]) : std::string());
+	if (c[2])
+		t += "/" + std::to_string(c[2]);
+	return t;
+}
+
 struct scanner {
 	const char* name;
 	vn_io_error* error;
@@ -159,6 +171,11 @@ struct scanner {
 	/* Where a vt line of one number ends it: " 0" goes there (the
 	 * specification's default v; Draco reads two numbers). */
 	std::vector<size_t> short_texcoords;
+	/* Corners that refer to vt or vn lines (kind 1, 2) of a file that has
+	 * none (an exporter wrote the indices but not the lines): read without
+	 * them, with a warning; the first one's line. */
+	uint64_t dangling[3] = {0, 0, 0};
+	size_t first_dangling[3] = {0, 0, 0};
 	/* The numbers of the v and vn lines (exact[0], exact[2]; 3 a line) as
 	 * doubles, in the checking pass: Draco reads floats, which would move
 	 * a georeferenced 4123456.11 to 4123456. */
@@ -418,6 +435,13 @@ struct scanner {
 				            "face corner %d, '%.*s', is not v, v/vt, v/vt/vn or v//vn with indices from 1 (or -1) to 2147483647",
 				            corners + 1, token_length(start), start);
 			}
+			bool dropped = false;
+			for (int k = 1; k < 3; k++)
+				if (index[k] != 0 && total[k] == 0) {
+					index[k] = 0, dropped = true;
+					if (!dangling[k]++)
+						first_dangling[k] = line;
+				}
 			for (int k = 0; k < 3; k++)
 				if (!check_index(index[k], k, corners + 1))
 					return false;
@@ -426,6 +450,12 @@ struct scanner {
 				return fail(vn_io_error_parse,
 				            "face corner %d, '%.*s', is not v, v/vt, v/vt/vn or v//vn with indices from 1 (or -1) to 2147483647",
 				            corners + 1, token_length(start), start);
+			if (dropped) { /* the corner without them, in place: never longer */
+				const std::string t = corner_text(index);
+				char* at = q + (start - q);
+				std::memcpy(at, t.data(), t.size());
+				std::memset(at + t.size(), ' ', size_t(c - start) - t.size());
+			}
 			if (long_face_)
 				long_faces.back().corners.push_back(index);
 			for (char* slash = q + (c - q); slash > q && slash[-1] == '/'; *--slash = ' ')
@@ -461,14 +491,7 @@ struct scanner {
 			out.insert(out.end(), begin + copied, begin + l.begin);
 			copied = l.end;
 			const size_t k = l.corners.size();
-			auto corner = [](const std::array<int32_t, 3>& c) {
-				std::string t = " " + std::to_string(c[0]);
-				if (c[1] || c[2])
-					t += "/" + (c[1] ? std::to_string(c[1]) : std::string());
-				if (c[2])
-					t += "/" + std::to_string(c[2]);
-				return t;
-			};
+			auto corner = [](const std::array<int32_t, 3>& c) { return " " + corner_text(c); };
 			for (size_t first = 1;;) {
 				const size_t last = std::min(first + size_t(max_corners) - 1, k);
 				std::string piece = (first > 1 ? "\nf" : "f") + corner(l.corners[0]);
@@ -605,6 +628,7 @@ struct scanner {
 		face_textured.clear();
 		long_faces.clear();
 		short_texcoords.clear();
+		std::fill(std::begin(dangling), std::end(dangling), 0);
 		exact[0].clear();
 		exact[2].clear();
 		colours.clear();
@@ -1073,6 +1097,13 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 		warnings = std::to_string(s.short_faces) + " face" + (s.short_faces == 1 ? "" : "s") +
 		           " (f) of fewer than 3 corners skipped (the first on line " + std::to_string(s.first_short_face) +
 		           "): such a face has no surface";
+	for (int k = 1; k < 3; k++)
+		if (s.dangling[k])
+			warnings += (warnings.empty() ? "" : "\n") + std::to_string(s.dangling[k]) + " face corner" +
+			            (s.dangling[k] == 1 ? " refers" : "s refer") + " to " +
+			            (k == 1 ? "texture coordinates (vt)" : "normals (vn)") +
+			            ", but the file has none: read without them (the first on line " +
+			            std::to_string(s.first_dangling[k]) + ")";
 	const std::string left_out = s.left_out_warning();
 	if (!left_out.empty())
 		warnings += (warnings.empty() ? "" : "\n") + left_out;
