@@ -675,6 +675,22 @@ char* copy_string(const std::string& s)
 	return out;
 }
 
+/* Names and each face's (VN_IO_NO_NAME: none) into *out; nothing where
+ * no face has a name (a name no face has, such as an `o` after the last
+ * face, would be written by no writer). False when out of memory. */
+bool names_out(const std::vector<std::string>& names, const std::vector<uint32_t>& of_face, vn_io_face_names* out)
+{
+	if (std::all_of(of_face.begin(), of_face.end(), [](uint32_t i) { return i == VN_IO_NO_NAME; }))
+		return true;
+	out->names = static_cast<char**>(std::calloc(names.size(), sizeof(char*)));
+	if (!out->names || !(out->of_face = copy_out(of_face)))
+		return false;
+	for (const std::string& n : names)
+		if (!(out->names[out->count++] = copy_string(n)))
+			return false;
+	return true;
+}
+
 /* The names of ObjDecoder's `label` attribute ("material", "sub_obj") and
  * the one of each face (of its first triangle); faces from before the
  * first triangle that had one (`first`) have none, where Draco gives them
@@ -691,47 +707,18 @@ bool face_names(const draco::Mesh& m, const char* label, const std::vector<uint3
 		if (entry.second.GetValue(&id) && id >= 0 && size_t(id) < names.size())
 			names[size_t(id)] = entry.first;
 	}
-	out->names = static_cast<char**>(std::calloc(names.size(), sizeof(char*)));
-	out->of_face = static_cast<uint32_t*>(std::malloc(sizeof(uint32_t) * first_triangle.size() + 1));
-	if (!out->names || !out->of_face)
-		return false;
-	for (const std::string& n : names)
-		if (!(out->names[out->count++] = copy_string(n)))
-			return false;
+	/* An empty name, as C text (a name of NUL bytes: names are copied to
+	 * their first NUL), names nothing. */
+	std::vector<uint32_t> of_face(first_triangle.size());
 	for (size_t f = 0; f < first_triangle.size(); f++) {
 		int id = 0;
 		const draco::FaceIndex t(first_triangle[f]);
-		out->of_face[f] = int64_t(first_triangle[f]) < first || !a->ConvertValue<int>(a->mapped_index(m.face(t)[0]), &id) ||
-		                          id < 0 || size_t(id) >= names.size() || names[size_t(id)].c_str()[0] == '\0'
-		                      ? VN_IO_NO_NAME
-		                      : uint32_t(id);
+		of_face[f] = int64_t(first_triangle[f]) < first || !a->ConvertValue<int>(a->mapped_index(m.face(t)[0]), &id) ||
+		                     id < 0 || size_t(id) >= names.size() || names[size_t(id)].c_str()[0] == '\0'
+		                 ? VN_IO_NO_NAME
+		                 : uint32_t(id);
 	}
-	/* An empty name, as C text (a name of NUL bytes: names are copied to
-	 * their first NUL), names nothing. Names that no face has (an `o` after the last
-	 * face): none, as the writer would write none. */
-	if (std::all_of(out->of_face, out->of_face + first_triangle.size(), [](uint32_t i) { return i == VN_IO_NO_NAME; })) {
-		for (size_t i = 0; i < out->count; i++)
-			std::free(out->names[i]);
-		std::free(out->names);
-		std::free(out->of_face);
-		*out = vn_io_face_names{};
-	}
-	return true;
-}
-
-/* A set of the scan's (groups, smoothing groups) into *out; none where no
- * face has a name. False when out of memory. */
-bool face_sets_out(const scanner::face_sets& in, vn_io_face_names* out)
-{
-	if (std::all_of(in.of_face.begin(), in.of_face.end(), [](uint32_t i) { return i == VN_IO_NO_NAME; }))
-		return true;
-	out->names = static_cast<char**>(std::calloc(in.names.size(), sizeof(char*)));
-	if (!out->names || !(out->of_face = copy_out(in.of_face)))
-		return false;
-	for (const std::string& n : in.names)
-		if (!(out->names[out->count++] = copy_string(n)))
-			return false;
-	return true;
+	return names_out(names, of_face, out);
 }
 
 /* A corner's lines: v, vt (NO_TEX: none), vn. */
@@ -1000,7 +987,8 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	    (s.coloured() && !(mesh->colors = copy_out(values.colours))) || (a.tex && !untextured_faces(s, mesh)) ||
 	    !face_names(m, "material", first_triangle, s.first_material, &mesh->materials) ||
 	    !face_names(m, "sub_obj", first_triangle, s.first_object, &mesh->objects) ||
-	    !face_sets_out(s.groups, &mesh->groups) || !face_sets_out(s.smoothing, &mesh->smoothing) ||
+	    !names_out(s.groups.names, s.groups.of_face, &mesh->groups) ||
+	    !names_out(s.smoothing.names, s.smoothing.of_face, &mesh->smoothing) ||
 	    (!s.library.empty() && !(mesh->material_library = copy_string(s.library))))
 		return out_of_memory(s.name, error);
 	return vn_io_success;
