@@ -552,7 +552,7 @@ static vn_io_result with_warnings(vn_io_mesh* mesh, int (*read)(vn_io_mesh*, con
 		ok = 0;
 	while (ok && length && text[length - 1] == '\n')
 		text[--length] = '\0';
-	ok = ok && (!length || vn_io_append_line(&mesh->warnings, text));
+	ok = ok && (!length || vn_io_append_line(&mesh->warnings, "%s", text));
 	free(text);
 	return ok ? vn_io_success : vn_io_fail(error, vn_io_error_memory, "out of memory reading the materials");
 }

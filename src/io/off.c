@@ -790,21 +790,17 @@ vn_io_result vn_io_off_read_memory(const char* data, size_t size, const char* na
 		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	vn_io_result result = read_off(&r, mesh);
 	vn_io_c_locale_leave(&locale);
-	if (result == vn_io_success && r.colormap_faces) {
-		char text[200];
-		if (r.colormap_faces == 1)
-			snprintf(text, sizeof text,
-			         "face %zu gives its colour as an index into Geomview's colormap, which vn does not have: it "
-			         "is read as an uncoloured face",
-			         r.first_colormap_face);
-		else
-			snprintf(text, sizeof text,
-			         "%zu faces (the first: face %zu) give their colour as an index into Geomview's colormap, which vn "
-			         "does not have: they are read as uncoloured faces",
-			         r.colormap_faces, r.first_colormap_face);
-		if (!vn_io_append_line(&r.warnings, text))
-			result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
-	}
+	if (result == vn_io_success && r.colormap_faces &&
+	    !(r.colormap_faces == 1
+	          ? vn_io_append_line(&r.warnings,
+	                              "face %zu gives its colour as an index into Geomview's colormap, which vn does not "
+	                              "have: it is read as an uncoloured face",
+	                              r.first_colormap_face)
+	          : vn_io_append_line(&r.warnings,
+	                              "%zu faces (the first: face %zu) give their colour as an index into Geomview's "
+	                              "colormap, which vn does not have: they are read as uncoloured faces",
+	                              r.colormap_faces, r.first_colormap_face)))
+		result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	if (result != vn_io_success)
 		vn_io_mesh_free(mesh);
 	if (result == vn_io_success)

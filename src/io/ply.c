@@ -235,12 +235,6 @@ static vn_io_quoted quote(token t)
 	return vn_io_quote(t.p, t.n);
 }
 
-/* Appends one line to the mesh's warnings; 0 when out of memory. */
-static int warn(ply_reader* r, const char* text)
-{
-	return vn_io_append_line(&r->warnings, text);
-}
-
 /* ------------------------------------------------------------------ header */
 
 /* Blanks within a line; '\r' too, before the '\n' of "\r\n". */
@@ -425,11 +419,11 @@ static vn_io_result read_header(ply_reader* r)
 			const unsigned char* stop = start;
 			while (stop < r->end && *stop != r->newline && *stop != '\r')
 				stop++;
-			char text[160];
-			snprintf(text, sizeof text,
-			         "header line %zu ('%s') has no keyword: read as a comment (Blender 2.4x wrote its credit line so)",
-			         r->line, quote((token){start, (size_t)(stop - start)}).text);
-			if (!keep_comment(r, "comment ", start) || !warn(r, text))
+			if (!keep_comment(r, "comment ", start) ||
+			    !vn_io_append_line(&r->warnings,
+			                       "header line %zu ('%s') has no keyword: read as a comment (Blender 2.4x wrote its "
+			                       "credit line so)",
+			                       r->line, quote((token){start, (size_t)(stop - start)}).text))
 				return out_of_memory(r);
 			continue;
 		}
@@ -1024,9 +1018,9 @@ static vn_io_result warn_left_out(ply_reader* r, const vn_io_mesh* m, const unsi
 	}
 	if (!l.items && !l.more)
 		return vn_io_success;
-	char line[600];
-	snprintf(line, sizeof line, "left out (vn keeps the rest): %s%s", l.text, l.more ? ", ..." : "");
-	return warn(r, line) ? vn_io_success : out_of_memory(r);
+	return vn_io_append_line(&r->warnings, "left out (vn keeps the rest): %s%s", l.text, l.more ? ", ..." : "")
+	           ? vn_io_success
+	           : out_of_memory(r);
 }
 
 size_t vn_io_ply_extras_describe(const vn_io_ply_extras* extras, char* text, size_t size)
@@ -1334,9 +1328,7 @@ static vn_io_result read_ply(ply_reader* r, vn_io_mesh* m)
 	if (r->format == PLY_ASCII)
 		next_token(r); /* up to the next token, if any */
 	if (r->p < r->end) {
-		char text[96];
-		snprintf(text, sizeof text, "%zu bytes after the last element, not read", (size_t)(r->end - r->p));
-		if (!warn(r, text))
+		if (!vn_io_append_line(&r->warnings, "%zu bytes after the last element, not read", (size_t)(r->end - r->p)))
 			return out_of_memory(r);
 	}
 	if (r->strips && (result = strip_faces(r, m)) != vn_io_success)

@@ -257,18 +257,16 @@ static int header_has(const unsigned char* data, const char* key)
  * out of memory. */
 static int warn_colours(const stl_reader* r, const unsigned char* data, vn_io_mesh* mesh)
 {
-	char text[200];
 	if (header_has(data, "COLOR=") || header_has(data, "MATERIAL="))
-		snprintf(text, sizeof text,
-		         "its colours (Materialise Magics: the header's COLOR= or MATERIAL=, and each triangle's in its "
-		         "attribute bytes) are not kept");
-	else if (r->coloured)
-		snprintf(text, sizeof text,
-		         "%zu of %zu triangles have a colour in their attribute bytes (bit 15 set: VisCAM, SolidView): not kept",
-		         r->coloured, r->triangles);
-	else
-		return 1;
-	return vn_io_append_line(&mesh->warnings, text);
+		return vn_io_append_line(&mesh->warnings,
+		                         "its colours (Materialise Magics: the header's COLOR= or MATERIAL=, and each "
+		                         "triangle's in its attribute bytes) are not kept");
+	if (r->coloured)
+		return vn_io_append_line(
+		    &mesh->warnings,
+		    "%zu of %zu triangles have a colour in their attribute bytes (bit 15 set: VisCAM, SolidView): not kept",
+		    r->coloured, r->triangles);
+	return 1;
 }
 
 /* ------------------------------------------------------------------ entry points */
@@ -326,9 +324,8 @@ static vn_io_result weld(stl_reader* r, vn_io_mesh* m)
 static vn_io_result read_padded(stl_reader* r, uint64_t count, size_t padding, vn_io_mesh* mesh)
 {
 	vn_io_result result = read_binary(r, r->p, (size_t)count);
-	char text[96];
-	snprintf(text, sizeof text, "%zu bytes after the last triangle, not read", padding);
-	if (result == vn_io_success && !vn_io_append_line(&mesh->warnings, text))
+	if (result == vn_io_success &&
+	    !vn_io_append_line(&mesh->warnings, "%zu bytes after the last triangle, not read", padding))
 		result = vn_io_fail(r->error, vn_io_error_memory, "%s: out of memory", r->name);
 	return result;
 }
@@ -371,15 +368,12 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 		result = read_ascii(&r);
 		vn_io_c_locale_leave(&locale);
-		if (result == vn_io_success && r.unended) {
-			char text[160];
-			snprintf(text, sizeof text,
-			         "the file ends after %zu triangle%s without 'endsolid': read (a writer left it out, or the file "
-			         "was cut after a whole triangle)",
-			         r.triangles, r.triangles == 1 ? "" : "s");
-			if (!vn_io_append_line(&mesh->warnings, text))
-				result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
-		}
+		if (result == vn_io_success && r.unended &&
+		    !vn_io_append_line(&mesh->warnings,
+		                       "the file ends after %zu triangle%s without 'endsolid': read (a writer left it out, "
+		                       "or the file was cut after a whole triangle)",
+		                       r.triangles, r.triangles == 1 ? "" : "s"))
+			result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 		/* Not ASCII after all: a binary STL whose header starts with
 		 * "solid" and whose triangles are followed by padding. */
 		if (result != vn_io_success && result != vn_io_error_memory && count > 0 && binary_size <= size) {
@@ -396,12 +390,12 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 	} else if (count == 0 && after > 0 && after % STL_TRIANGLE == 0) {
 		/* A writer that never filled in the count (streaming ones do so):
 		 * the triangles that follow are read. */
-		result = read_binary(&r, r.p, after / STL_TRIANGLE);
-		char text[128];
 		const size_t n = after / STL_TRIANGLE;
-		snprintf(text, sizeof text, "binary STL announces 0 triangles, but %zu triangle%s follow%s its header: read", n,
-		         n == 1 ? "" : "s", n == 1 ? "s" : "");
-		if (result == vn_io_success && !vn_io_append_line(&mesh->warnings, text))
+		result = read_binary(&r, r.p, n);
+		if (result == vn_io_success &&
+		    !vn_io_append_line(&mesh->warnings,
+		                       "binary STL announces 0 triangles, but %zu triangle%s follow%s its header: read", n,
+		                       n == 1 ? "" : "s", n == 1 ? "s" : ""))
 			result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	} else if (binary_size > size) {
 		result = vn_io_fail(error, vn_io_error_parse,

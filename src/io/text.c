@@ -327,15 +327,23 @@ int vn_io_parse_real(const unsigned char* p, size_t n, double* out)
 	return stop == text + n;
 }
 
-int vn_io_append_line(char** lines, const char* text)
+int vn_io_append_line(char** lines, const char* fmt, ...)
 {
-	const size_t used = *lines ? strlen(*lines) : 0, n = strlen(text);
-	char* grown = realloc(*lines, used + n + 2);
-	if (!grown)
-		return 0;
-	*lines = grown;
-	snprintf(grown + used, n + 2, "%s%s", used ? "\n" : "", text);
-	return 1;
+	va_list args, again;
+	va_start(args, fmt);
+	va_copy(again, args);
+	const int n = vsnprintf(NULL, 0, fmt, args);
+	va_end(args);
+	size_t used = *lines ? strlen(*lines) : 0;
+	char* grown = n < 0 ? NULL : realloc(*lines, used + (size_t)n + 2);
+	if (grown) {
+		*lines = grown;
+		if (used)
+			grown[used++] = '\n';
+		vsnprintf(grown + used, (size_t)n + 1, fmt, again);
+	}
+	va_end(again);
+	return grown != NULL;
 }
 
 size_t vn_io_utf8_bom(const unsigned char* p, size_t n)

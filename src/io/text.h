@@ -90,9 +90,14 @@ typedef struct vn_io_quoted {
 } vn_io_quoted;
 vn_io_quoted vn_io_quote(const unsigned char* p, size_t n);
 
-/* Appends text as one more line of *lines ("\n"-separated, NULL when
- * empty: a reader's warnings); 0 when out of memory (*lines unchanged). */
-int vn_io_append_line(char** lines, const char* text);
+/* Appends printf's text of fmt as one more line of *lines ("\n"-separated,
+ * NULL when empty: a reader's warnings); 0 when out of memory (*lines
+ * unchanged). */
+int vn_io_append_line(char** lines, const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
 
 /* The length of a UTF-8 byte order mark at the n bytes at p (3), or 0: the
  * text formats read past one (Windows editors write it). */
