@@ -1167,7 +1167,13 @@ static void test_parse_real_matches_strtod(void** state)
 	static const char* const cases[] = {"0", "-0", "+1", "1.", ".5", "-.5", "0.1", "0.000000000000000000001",
 	                                    "123456789012345", "1234567890123456", "0.1234567890123456",
 	                                    "4123456.11", "637012.24", "9007199254740993", "1e5", "1E-5", "1.5e300",
-	                                    "0x10", "inf", "-nan", "00000000000000000001.5", "1.0000000000000000000000"};
+	                                    "0x10", "inf", "-nan", "00000000000000000001.5", "1.0000000000000000000000",
+	                                    /* 16 to 19 digits: 2^60 + 128 and + 384, halfway between
+	                                     * doubles (ties to even, down then up); 2^53 - 1 and 2^64 - 1;
+	                                     * floats as vn writes them; 19 digits, 22 after the point */
+	                                    "1152921504606847104", "1152921504606847360", "9007199254740991",
+	                                    "18446744073709551615", "0.10000000149011612", "-0.30000001192092896",
+	                                    "0.0009999999999999999", "9999999999999999999", "0.0000000000000000000001"};
 	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
 		double ours = 1.0;
 		char* end;
@@ -1189,6 +1195,26 @@ static void test_parse_real_matches_strtod(void** state)
 		snprintf(text, sizeof text, "%0*.*f", (int)(i % 10) + (v < 0), (int)(i / 10 % 18), v);
 		if (strlen(text) > VN_IO_TOKEN_MAX)
 			continue;
+		double ours;
+		const double theirs = strtod(text, NULL);
+		assert_true(vn_io_parse_real((const unsigned char*)text, strlen(text), &ours));
+		if (memcmp(&ours, &theirs, sizeof ours) != 0)
+			fail_msg("'%s': %a, strtod %a", text, ours, theirs);
+	}
+	/* 16 to 19 significant digits (the 128-bit division), the point
+	 * anywhere from none to 22 digits from the end. */
+	for (unsigned i = 0; i < 300000; ++i) {
+		seed ^= seed << 13, seed ^= seed >> 7, seed ^= seed << 17;
+		const int digits = 16 + (int)(i % 4), fraction = (int)(i / 4 % 23);
+		uint64_t m = seed % 9000000000000000000ull + 1000000000000000000ull; /* 19 digits */
+		for (int k = digits; k < 19; k++)
+			m /= 10;
+		char whole[24], text[64];
+		const int n = snprintf(whole, sizeof whole, "%llu", (unsigned long long)m);
+		if (fraction >= n) /* 0.000ddd */
+			snprintf(text, sizeof text, "%s0.%.*s%s", i & 1 ? "-" : "", fraction - n, "0000000", whole);
+		else /* ddd.ddd, or ddd. */
+			snprintf(text, sizeof text, "%s%.*s.%s", i & 1 ? "-" : "", n - fraction, whole, whole + n - fraction);
 		double ours;
 		const double theirs = strtod(text, NULL);
 		assert_true(vn_io_parse_real((const unsigned char*)text, strlen(text), &ours));

@@ -279,12 +279,36 @@ size_t vn_io_format_exact(char* out, double v)
 	}
 }
 
-/* Clinger's exact fast path, for the numbers mesh files are made of:
- * [-+]digits[.digits] with at most 15 significant digits and 22 after the
- * point is their integer (below 2^53, exact as a double) divided by a power
- * of ten (exact up to 1e22), and one division rounds correctly: strtod's
- * double, without its cost (a third of reading an OBJ). 0 for any other
- * spelling, which strtod reads. */
+#ifdef __SIZEOF_INT128__
+/* m / 10^f rounded to nearest, ties to even, for 0 < m < 10^19 and f <=
+ * 22: m shifted to the top of 128 bits and divided in integers leaves a
+ * quotient of 54 bits or more (10^22 < 2^74), rounded to 53 with the
+ * remainder as the sticky bit. */
+static double divide_exact(uint64_t m, int f)
+{
+	const vn_u128 ten = f <= 17 ? POWER_OF_10[f] : (vn_u128)POWER_OF_10[17] * POWER_OF_10[f - 17];
+	const int s = 64 + __builtin_clzll(m);
+	const vn_u128 w = (vn_u128)m << s, q = w / ten, r = w % ten;
+	const uint64_t high = (uint64_t)(q >> 64);
+	const int bits = high ? 128 - __builtin_clzll(high) : 64 - __builtin_clzll((uint64_t)q);
+	int drop = bits - 53;
+	uint64_t mantissa = (uint64_t)(q >> drop);
+	const vn_u128 low = q & (((vn_u128)1 << drop) - 1), half = (vn_u128)1 << (drop - 1);
+	if (low > half || (low == half && (r != 0 || (mantissa & 1))))
+		mantissa++;
+	if (mantissa >> 53) /* rounded up to 2^53: even, exact halved */
+		mantissa >>= 1, drop++;
+	return ldexp((double)mantissa, drop - s);
+}
+#endif
+
+/* The numbers mesh files are made of, [-+]digits[.digits] with at most 22
+ * digits after the point, without strtod's cost (a third of reading an
+ * OBJ; its arbitrary precision, half of reading an OFF of 17 digits): up to
+ * 15 significant digits by Clinger's exact fast path (their integer, below
+ * 2^53, exact as a double, divided by a power of ten, exact up to 1e22: one
+ * division rounds correctly), up to 19 by divide_exact; strtod's double
+ * either way. 0 for any other spelling, which strtod reads. */
 static int parse_decimal(const unsigned char* p, size_t n, double* out)
 {
 	static const double tens[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
@@ -302,13 +326,19 @@ static int parse_decimal(const unsigned char* p, size_t n, double* out)
 			return 0;
 		any = 1;
 		fraction += point;
-		if ((m || d) && ++significant > 15)
+		if ((m || d) && ++significant > 19)
 			return 0;
 		m = 10 * m + d;
 	}
 	if (!any || fraction > 22)
 		return 0;
+#ifdef __SIZEOF_INT128__
+	const double v = significant <= 15 ? (double)m / tens[fraction] : divide_exact(m, fraction);
+#else
+	if (significant > 15)
+		return 0;
 	const double v = (double)m / tens[fraction];
+#endif
 	*out = n && p[0] == '-' ? -v : v;
 	return 1;
 }
