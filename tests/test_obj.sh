@@ -206,6 +206,14 @@ run "$VNC" "$T/utm.obj" "$T/utm_out.obj"
 check "UTM coordinates: OBJ to OBJ keeps every digit" [ "$(grep '^v ' "$T/utm_out.obj" | tr '\n' '|')" = "v 637012.24 4123456.11 12.34|v 637013.24 4123456.11 12.34|v 637012.24 4123457.11 12.34|v 637012.26 4123457.11 12.34|" ]
 run "$VNC" "$T/utm.obj" "$T/utm.ply" -q
 check "UTM coordinates: to PLY as doubles, 4 vertices" [ "$(/usr/bin/python3 "$HERE/plytool.py" column "$T/utm.ply" y 0) $(/usr/bin/python3 "$HERE/plytool.py" count "$T/utm.ply")" = "4123456.11 4 2 2" ]
+# A float is written in the fewest digits that Draco's reader and a
+# correctly rounding one (Blender's, MeshLab's, strtof) both read back as
+# it: 237666192 was "2.376662e+08", which Draco's arithmetic reads as it
+# and every other reader as 237666208, the float above.
+printf 'OFF\n3 1 0\n237666192 0 0\n0 1 0\n0 0 1\n3 0 1 2\n' >"$T/far.off"
+run "$VNC" "$T/far.off" "$T/far.obj" -q
+check "a float far from 1 to OBJ: its text reads back as it" \
+  [ "$(head -1 "$T/far.obj")|$(python3 -c 'import struct, sys; print(struct.unpack("f", struct.pack("f", float(sys.argv[1])))[0])' "$(head -1 "$T/far.obj" | cut -d' ' -f2)")" = "v 2.3766619e+08 0 0|237666192.0" ]
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 1 0 0\nf 1 2 3\nf 5 4 3\n' >"$T/twice.obj"
 run "$VNC" "$T/twice.obj" "$T/twice.off" -q
 check "equal v lines: one vertex" [ "$(sed -n 2p "$T/twice.off")" = "4 2 0" ]

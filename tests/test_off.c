@@ -1264,6 +1264,57 @@ static void test_format_exact(void** state)
 	}
 }
 
+/* A float's text at a digit count where strtof reads it back, else 0:
+ * ties to even (33554450 is halfway between 33554448, whose significand
+ * is even, and 33554452), a float Draco's arithmetic reads from a shorter
+ * text than strtof does (237666192), 2^-20 below its power of 2, the
+ * subnormals and zero; then every float kind at 1 to 9 digits against
+ * printf and strtof. */
+static void test_format_float(void** state)
+{
+	(void)state;
+	static const struct {
+		float v;
+		int digits;
+		const char* text; /* NULL: not read back */
+	} cases[] = {
+	    {33554448.0f, 7, "3.355445e+07"}, {33554452.0f, 7, NULL}, {33554452.0f, 8, "33554452"},
+	    {0.2f, 6, "0.2"}, {0.1f, 1, "0.1"}, {237666192.0f, 7, NULL}, {237666192.0f, 8, "2.3766619e+08"},
+	    {0x1p-20f, 6, NULL}, {0x1p-20f, 7, "9.536743e-07"}, {0x1p-149f, 1, "1e-45"}, {-0.0f, 6, "-0"},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+		char text[VN_IO_NUMBER_SIZE];
+		const size_t n = vn_io_format_float(text, cases[i].v, cases[i].digits);
+		if (!cases[i].text && n)
+			fail_msg("%a at %d digits: '%s', which strtof reads as %a", (double)cases[i].v, cases[i].digits, text,
+			         (double)strtof(text, NULL));
+		if (cases[i].text)
+			assert_string_equal(n ? text : "(none)", cases[i].text);
+	}
+	uint64_t seed = 1181783497276652981ull;
+	for (unsigned i = 0; i < 60000; ++i) {
+		uint32_t bits = (uint32_t)(seed >> 32);
+		seed ^= seed << 13, seed ^= seed >> 7, seed ^= seed << 17;
+		float v;
+		if (i % 2) {
+			memcpy(&v, &bits, sizeof v);
+		} else {
+			v = (float)test_value(&seed, i / 2);
+		}
+		if (!isfinite(v))
+			continue;
+		for (int digits = 1; digits <= 9; ++digits) {
+			char ours[VN_IO_NUMBER_SIZE], theirs[64];
+			const size_t n = vn_io_format_float(ours, v, digits);
+			snprintf(theirs, sizeof theirs, "%.*g", digits, (double)v);
+			const int back = strtof(theirs, NULL) == v;
+			if (back != (n != 0) || (n && strcmp(ours, theirs) != 0))
+				fail_msg("%a at %d digits: '%s' (%zu), printf '%s', which strtof reads %s", (double)v, digits,
+				         n ? ours : "", n, theirs, back ? "back" : "as another float");
+		}
+	}
+}
+
 static void test_write_colours_in_source_style(void** state)
 {
 	(void)state;
@@ -1824,6 +1875,7 @@ int main(void)
 	    cmocka_unit_test(test_format_g_matches_printf),
 	    cmocka_unit_test(test_parse_real_matches_strtod),
 	    cmocka_unit_test(test_format_exact),
+	    cmocka_unit_test(test_format_float),
 	    cmocka_unit_test(test_write_colours_in_source_style),
 	    cmocka_unit_test(test_round_trip_is_exact),
 	    cmocka_unit_test(test_round_trip_keeps_byte_colours),

@@ -1102,16 +1102,23 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 
 /* ------------------------------------------------------------------ writer */
 
-/* " v": the shortest of 6 to 12 significant digits that Draco's parser
- * reads back as v (draco_magnitude: its arithmetic can land one float away
- * from strtod's, which vn_io_put_float checks with), else 9. */
+/* " v": the shortest of 6 to 12 significant digits that both Draco's
+ * parser and a correctly rounding reader (Blender's, MeshLab's) read back
+ * as v, else 9. Draco's arithmetic (draco_magnitude) can land one float
+ * away from strtof's: in exponent style (2.376662e+08, 0.07% of random
+ * floats), a text only Draco read as v gave every other reader the float
+ * next to it. */
 void put_obj_float(vn_io_text_out* w, float v)
 {
 	char text[VN_IO_NUMBER_SIZE + 1] = " ";
 	for (int digits = 6; digits <= 12; digits++) {
-		vn_io_format_g(text + 1, double(v), digits);
+		/* From 9 digits on, every correctly rounding reader gets v. */
+		const size_t n =
+		    digits <= 9 ? vn_io_format_float(text + 1, v, digits) : vn_io_format_g(text + 1, double(v), digits);
+		if (n == 0)
+			continue;
 		const char* q = text + 1 + (text[1] == '-');
-		const char* end = text + std::strlen(text);
+		const char* end = text + 1 + n;
 		double back;
 		bool any;
 		if (draco_magnitude(q, end, &back, &any) && any && q == end &&

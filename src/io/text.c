@@ -4,6 +4,7 @@
 #include "text.h"
 
 #include <errno.h>
+#include <float.h>
 #include <locale.h>
 #include <math.h>
 #include <stdint.h>
@@ -84,11 +85,11 @@ void vn_io_put_float9(vn_io_text_out* w, double v)
 void vn_io_put_float(vn_io_text_out* w, float v)
 {
 	char text[VN_IO_NUMBER_SIZE + 1] = " ";
-	for (int digits = 6;; digits++) {
-		vn_io_format_g(text + 1, (double)v, digits);
-		if (digits == 9 || (float)strtod(text, NULL) == v)
-			break;
-	}
+	int digits = 6;
+	while (digits < 9 && !vn_io_format_float(text + 1, v, digits))
+		digits++;
+	if (digits == 9) /* 9 digits read back as any float */
+		vn_io_format_g(text + 1, (double)v, 9);
 	vn_io_put(w, text);
 }
 
@@ -208,6 +209,25 @@ static int reads_back(const digits* d, int p)
 	return diff < five;
 }
 
+/* Whether q 10^(x - p + 1) reads back as the float a (a normal float's
+ * value; strtof rounds to nearest): as reads_back, against half a float's
+ * ulp, 2^29 of the double's (a float's significand is the double's top 24
+ * bits), a quarter below a power of 2. No tie is possible where
+ * round_digits holds (s >= 0): a float's ulp there is finer than the
+ * decimal grid 10^-s or a float is on the grid, and a point halfway between
+ * floats has one binary place more than their ulp, so more decimal places
+ * than the grid. (Ties exist above 2^24: 33554450 is halfway between
+ * 33554448 and 33554452; strtof decides those.) */
+static int reads_back_float(const digits* d, int p)
+{
+	const vn_u128 at = (vn_u128)d->q << (d->sh + 1), twice = d->M << 1; /* q < 2^30 for p <= 9 */
+	const vn_u128 diff = at > twice ? at - twice : twice - at;
+	const vn_u128 half = (vn_u128)POWER_OF_5[p - 1 - d->x] << 29;
+	if (at < twice && d->m == (uint64_t)1 << 52)
+		return 2 * diff < half;
+	return diff < half;
+}
+
 /* printf's "%.*g" text of the digits: exponent style where x < -4 or x >=
  * p, trailing zeros of the fraction (and a bare point) dropped. */
 static size_t format_digits(char* out, int negative, const digits* d, int p)
@@ -277,6 +297,19 @@ size_t vn_io_format_exact(char* out, double v)
 		if (p == 17 || strtod(out, NULL) == v)
 			return n;
 	}
+}
+
+size_t vn_io_format_float(char* out, float v, int p)
+{
+	const double a = (double)v;
+#ifdef __SIZEOF_INT128__
+	digits d;
+	if (isfinite(a) && fabs(a) >= FLT_MIN && p >= 1 && p <= 9 &&
+	    round_digits(fabs(a), p, decimal_exponent(fabs(a)), &d))
+		return reads_back_float(&d, p) ? format_digits(out, signbit(a) != 0, &d, p) : 0;
+#endif
+	const size_t n = vn_io_format_g(out, a, p);
+	return strtof(out, NULL) == v ? n : 0;
 }
 
 #ifdef __SIZEOF_INT128__

@@ -72,6 +72,12 @@ size_t vn_io_format_g(char* out, double v, int digits);
  * is decided exactly in integers where vn_io_format_g rounds in them, by
  * strtod elsewhere. */
 size_t vn_io_format_exact(char* out, double v);
+/* The text of vn_io_format_g(out, v, digits) where a correctly rounding
+ * reader (strtof: to nearest, ties to even) reads it back as v, and its
+ * length; else 0 (out then holds no promise). Decided exactly in integers
+ * where vn_io_format_g rounds in them and v is a normal float, by strtof
+ * elsewhere. */
+size_t vn_io_format_float(char* out, float v, int digits);
 
 /* The longest number token the readers take; longer ones are an error
  * rather than cut short. */
