@@ -191,38 +191,27 @@ static int decimal_exponent(double a)
 	return (int)floor((e + 52) * 0.30102999566398120);
 }
 
-/* Whether q 10^(x - p + 1) reads back as a (strtod rounds to nearest): it
- * is nearer to a than half the gap to a's neighbour on its side. In units
- * of 2^-(sh + 1) 10^-s (s = p - 1 - x): |q - a 10^s| against half an ulp,
- * 5^s (a 10^s = M / 2^sh, ulp(a) 10^s = 5^s / 2^sh); against a quarter
- * below a power of 2, whose lower neighbour is half an ulp away. No tie is
- * possible here: a midpoint between two doubles whose lowest bit is 2^-1 or
- * finer (sh >= 1) is an odd multiple of a power of 2 of at least 54 bits
- * and needs more than 17 digits. */
-static int reads_back(const digits* d, int p)
+/* Whether q 10^(x - p + 1) reads back as a, as a double (shift 0: strtod)
+ * or, where a is a normal float's value, as a float (shift 29: strtof; a
+ * float's ulp is 2^29 of the double's, its significand the double's top 24
+ * bits); both round to nearest: q is nearer to a than half the gap to a's
+ * neighbour on its side. In units of 2^-(sh + 1) 10^-s (s = p - 1 - x):
+ * |q - a 10^s| against half an ulp, 5^s 2^shift (a 10^s = M / 2^sh, a
+ * double's ulp(a) 10^s = 5^s / 2^sh); against a quarter below a power of 2,
+ * whose lower neighbour is half an ulp away. No tie is possible here. For
+ * doubles: a midpoint between two doubles whose lowest bit is 2^-1 or finer
+ * (sh >= 1) is an odd multiple of a power of 2 of at least 54 bits and
+ * needs more than 17 digits. For floats, where round_digits holds (s >= 0):
+ * a float's ulp there is finer than the decimal grid 10^-s or a float is on
+ * the grid, and a point halfway between floats has one binary place more
+ * than their ulp, so more decimal places than the grid. (Float ties exist
+ * above 2^24: 33554450 is halfway between 33554448 and 33554452; strtof
+ * decides those.) */
+static int reads_back(const digits* d, int p, int shift)
 {
 	const vn_u128 at = (vn_u128)d->q << (d->sh + 1), twice = d->M << 1; /* q < 2^57, sh + 1 <= 70 */
 	const vn_u128 diff = at > twice ? at - twice : twice - at;
-	const uint64_t five = POWER_OF_5[p - 1 - d->x];
-	if (at < twice && d->m == (uint64_t)1 << 52)
-		return 2 * diff < five;
-	return diff < five;
-}
-
-/* Whether q 10^(x - p + 1) reads back as the float a (a normal float's
- * value; strtof rounds to nearest): as reads_back, against half a float's
- * ulp, 2^29 of the double's (a float's significand is the double's top 24
- * bits), a quarter below a power of 2. No tie is possible where
- * round_digits holds (s >= 0): a float's ulp there is finer than the
- * decimal grid 10^-s or a float is on the grid, and a point halfway between
- * floats has one binary place more than their ulp, so more decimal places
- * than the grid. (Ties exist above 2^24: 33554450 is halfway between
- * 33554448 and 33554452; strtof decides those.) */
-static int reads_back_float(const digits* d, int p)
-{
-	const vn_u128 at = (vn_u128)d->q << (d->sh + 1), twice = d->M << 1; /* q < 2^30 for p <= 9 */
-	const vn_u128 diff = at > twice ? at - twice : twice - at;
-	const vn_u128 half = (vn_u128)POWER_OF_5[p - 1 - d->x] << 29;
+	const vn_u128 half = (vn_u128)POWER_OF_5[p - 1 - d->x] << shift;
 	if (at < twice && d->m == (uint64_t)1 << 52)
 		return 2 * diff < half;
 	return diff < half;
@@ -288,7 +277,7 @@ size_t vn_io_format_exact(char* out, double v)
 #ifdef __SIZEOF_INT128__
 		digits d;
 		if (v != 0.0 && isfinite(v) && round_digits(fabs(v), p, x, &d)) {
-			if (p == 17 || reads_back(&d, p))
+			if (p == 17 || reads_back(&d, p, 0))
 				return format_digits(out, signbit(v) != 0, &d, p);
 			continue;
 		}
@@ -306,7 +295,7 @@ size_t vn_io_format_float(char* out, float v, int p)
 	digits d;
 	if (isfinite(a) && fabs(a) >= FLT_MIN && p >= 1 && p <= 9 &&
 	    round_digits(fabs(a), p, decimal_exponent(fabs(a)), &d))
-		return reads_back_float(&d, p) ? format_digits(out, signbit(a) != 0, &d, p) : 0;
+		return reads_back(&d, p, 29) ? format_digits(out, signbit(a) != 0, &d, p) : 0;
 #endif
 	const size_t n = vn_io_format_g(out, a, p);
 	return strtof(out, NULL) == v ? n : 0;
