@@ -133,8 +133,19 @@ $CHECK shapes "$T/shapes.gltf"
 run "$VNC" "$T/shapes.gltf" "$T/shapes.glb" --stats
 check "shapes exits 0" [ $rc -eq 0 ]
 check "shapes: 4 triangle primitives, POINTS skipped" grep -q "^primitives: *4 processed, 1 skipped (1 point, 0 lines" "$T/stdout"
-check "shapes: shared NORMAL split, missing NORMAL added" grep -q "^appended accessors: *3$" "$T/stdout"
+check "shapes: missing NORMAL added, the shared one kept" grep -q "^appended accessors: *2$" "$T/stdout"
 check "shapes: unused vertices counted" grep -q "^zero normals: *[1-9]" "$T/stdout"
+# Its first two primitives draw the halves of one vertex array with one
+# NORMAL accessor (as Cesium's batched tiles do, a primitive a material):
+# computed together, the accessor stays theirs and holds the whole sphere's
+# normals, the equator's included (computed apart, each half gave the
+# equator its own normals: a crease where the file had none).
+check "shapes: halves on one vertex array share their NORMAL" [ "$(q "$T/shapes.glb" "[p['attributes']['NORMAL'] for p in d['meshes'][0]['primitives'][:2]]")" = "[1, 1]" ]
+check "shapes: halves on one vertex array: the whole sphere's normals" $CHECK samenormals "$T/seam.glb" "$T/shapes.glb" 1e-5
+run "$VNC" "$T/seam.gltf" "$T/seam-c25.glb" -q --crease-angle 25
+run "$VNC" "$T/shapes.gltf" "$T/shapes-c25.glb" --crease-angle 25 --stats
+check "shapes --crease-angle 25: vertices split" grep -q "^split vertices: *[1-9]" "$T/stdout"
+check "shapes --crease-angle 25: halves on one vertex array: the whole sphere's split normals" $CHECK samenormals "$T/seam-c25.glb" "$T/shapes-c25.glb" 1e-5
 check "shapes: structure" $CHECK diff "$T/shapes.gltf" "$T/shapes.glb"
 run "$VNC" "$T/shapes.gltf" "$T/shapes-mesh.glb" --weld-scope mesh --stats
 check "--weld-scope mesh: structure" $CHECK diff "$T/shapes.gltf" "$T/shapes-mesh.glb"
@@ -300,6 +311,33 @@ sys.exit(not (len(pa) == len(pb) and fa == fb and
               all(abs(x - y) <= 1e-6 * max(1, abs(x)) for p, q in zip(pa, pb) for x, y in zip(p, q))))
 EOF
 done
+# To OFF, primitives on one vertex array (the same accessor for every
+# attribute) share its vertices, written once: shapes' two halves (117
+# vertices), its strip and points (117), its whole sphere with UVs (117).
+run "$VNC" "$T/shapes.gltf" "$T/shapes.off" -q
+check "shapes to OFF: each vertex array once" [ "$(sed -n 2p "$T/shapes.off" | cut -d' ' -f1)" = 351 ]
+check "shapes to OFF: both halves on the first 117 vertices" [ "$(awk 'NR > 353 && NR <= 353 + 192 { for (i = 2; i <= 4; ++i) if ($i > m) m = $i } END { print m }' "$T/shapes.off")" = 116 ]
+# Texture coordinates under different KHR_texture_transforms are different
+# vertices: the halves with UVs, one under a transform, keep theirs apart.
+python3 - "$T/shapes.gltf" "$T/halves-uv.gltf" "$T/halves-uvt.gltf" <<'EOF'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+halves = doc["meshes"][0]["primitives"][:2]
+for k, p in enumerate(halves):
+    p["attributes"]["TEXCOORD_0"] = 2
+    p["material"] = k
+doc["meshes"][0]["primitives"] = halves
+doc["images"] = [{"uri": "x.png"}]
+doc["textures"] = [{"source": 0}]
+doc["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}} for _ in range(2)]
+json.dump(doc, open(sys.argv[2], "w"))
+doc["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {"KHR_texture_transform": {"scale": [2, 2]}}
+json.dump(doc, open(sys.argv[3], "w"))
+EOF
+run "$VNC" "$T/halves-uv.gltf" "$T/halves-uv.off" -q
+check "halves with UVs to OFF: one vertex array" [ "$(sed -n 2p "$T/halves-uv.off" | cut -d' ' -f1)" = 117 ]
+run "$VNC" "$T/halves-uvt.gltf" "$T/halves-uvt.off" -q
+check "halves with UVs, one under a texture transform, to OFF: two" [ "$(sed -n 2p "$T/halves-uvt.off" | cut -d' ' -f1)" = 234 ]
 run "$VNC" "$SAMPLES/sphere-quads.off" "$T/sq.glb" -q && run "$VNC" "$T/sq.glb" "$T/sq.off" --stats
 check "quads are fan-triangulated" grep -q "^faces: *528 (triangles)" "$T/stdout"
 

@@ -30,6 +30,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -62,14 +63,33 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 							if (target.is_object())
 								target.erase("TANGENT");
 				}
-		/* Each group written as soon as computed: what it held is then freed. */
+		/* Each group written as soon as computed: what it held is then freed.
+		 * Primitives that draw one vertex array with one NORMAL accessor
+		 * (Cesium's batched tiles, one primitive per material) are computed
+		 * together over it, in the first one's turn: a vertex two of them
+		 * use is one vertex, with the one normal the accessor holds. */
+		const bool weld_mesh = options->weld_mesh && !options->no_weld;
+		std::map<long long, std::vector<size_t>> by_normal;
+		if (!weld_mesh)
+			for (size_t i = 0; i < prims.size(); ++i)
+				if (prims[i].normal >= 0)
+					by_normal[prims[i].normal].push_back(i);
+		std::vector<bool> done(prims.size(), false);
 		normals_writer writer(d, *options, st);
-		for (size_t i = 0; i < prims.size();) {
+		for (size_t i = 0; i < prims.size(); ++i) {
+			if (done[i])
+				continue;
 			std::vector<primitive*> group;
-			const size_t m = prims[i].mesh;
-			do
-				group.push_back(&prims[i++]);
-			while (options->weld_mesh && !options->no_weld && i < prims.size() && prims[i].mesh == m);
+			if (weld_mesh) {
+				for (size_t k = i; k < prims.size() && prims[k].mesh == prims[i].mesh; ++k)
+					group.push_back(&prims[k]), done[k] = true;
+			} else {
+				group.push_back(&prims[i]);
+				if (prims[i].normal >= 0)
+					for (size_t k : by_normal[prims[i].normal])
+						if (k > i && !done[k] && same_vertex_array(prims[i], prims[k]))
+							group.push_back(&prims[k]), done[k] = true;
+			}
 			compute_group(group, *options, st);
 			for (primitive* p : group)
 				writer.write(*p);

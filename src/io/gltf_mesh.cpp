@@ -107,6 +107,8 @@ struct placement {
 	matrix world{};
 	double normal[9] = {}; /* inverse transpose of world's upper 3x3, columns */
 	bool mirrored = false; /* negative determinant: the winding turns over */
+	size_t first = 0;      /* its first vertex in the mesh */
+	bool owner = true;     /* false: its vertices are an earlier placement's */
 };
 
 /* Every node of the default scene (scene, else scenes[0], else every root
@@ -256,6 +258,15 @@ static void note_unapplied_transforms(document& d, const std::vector<primitive>&
 		                     "where the scene draws " + how + " (--apply-transforms writes the scene as drawn)");
 }
 
+/* n for an attribute named TEXCOORD_n (n of 1 to 5 digits), else -1. */
+static long long texcoord_set(const std::string& name)
+{
+	if (name.rfind("TEXCOORD_", 0) != 0 || name.size() < 10 || name.size() > 14 ||
+	    name.find_first_not_of("0123456789", 9) != std::string::npos)
+		return -1;
+	return std::stoll(name.substr(9));
+}
+
 /* The KHR_texture_transform that p's material gives texture coordinate set
  * n, as the 2x3 matrix T R S of its offset, rotation and scale (row-major:
  * u' = m[0] u + m[1] v + m[2], v' = m[3] u + m[4] v + m[5]), or false. The
@@ -334,6 +345,52 @@ static double flip_v(double v, long long component, bool normalized)
 	return v;
 }
 
+/* Whether placements a and b give the same vertices: one vertex array (the
+ * same accessor for every attribute) drawn by two primitives, as Cesium's
+ * batched tiles draw one with a primitive per material, placed alike and
+ * under the same texture transforms. */
+static bool same_vertices(const document& d, const std::vector<primitive>& prims, const placement& a, const placement& b)
+{
+	const primitive &p = prims[a.k], &q = prims[b.k];
+	if (p.draco || q.draco || p.position != q.position || a.placed != b.placed || (a.placed && a.world != b.world))
+		return false;
+	const json& attributes = d.j["meshes"][p.mesh]["primitives"][p.index]["attributes"];
+	if (attributes != d.j["meshes"][q.mesh]["primitives"][q.index]["attributes"])
+		return false;
+	for (auto& kv : attributes.items()) {
+		const long long set = texcoord_set(kv.key());
+		double ma[6] = {}, mb[6] = {};
+		if (set >= 0 && (uv_transform(d, p, set, ma) != uv_transform(d, q, set, mb) || !std::equal(ma, ma + 6, mb)))
+			return false;
+	}
+	return true;
+}
+
+/* Each placement's first vertex in the mesh: after the vertices before it,
+ * or an earlier placement's where both give the same vertices; returns the
+ * vertex count. */
+static size_t lay_out(const document& d, const std::vector<primitive>& prims, std::vector<placement>& at)
+{
+	std::map<long long, std::vector<size_t>> owners; /* by POSITION accessor */
+	size_t vertices = 0;
+	for (size_t i = 0; i < at.size(); ++i) {
+		placement& pl = at[i];
+		std::vector<size_t>& same_position = owners[prims[pl.k].position];
+		for (size_t j : same_position)
+			if (same_vertices(d, prims, at[j], pl)) {
+				pl.first = at[j].first;
+				pl.owner = false;
+				break;
+			}
+		if (!pl.owner)
+			continue;
+		pl.first = vertices;
+		vertices += prims[pl.k].vertices();
+		same_position.push_back(i);
+	}
+	return vertices;
+}
+
 /* Every triangle primitive merged into one mesh, and every POINTS one (not
  * Draco-compressed) as vertices without faces: positions, triangles,
  * NORMAL into normals (when any primitive has it), the first colour set
@@ -359,12 +416,11 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 		d.warnings.push_back("primitives left out (vn reads triangles and points): " + left_out);
 	if (!scene)
 		note_unapplied_transforms(d, prims);
-	const std::vector<placement> at = placements(d, prims, scene);
-	size_t vertices = 0, triangles = 0;
-	for (const placement& pl : at) {
-		vertices += prims[pl.k].vertices();
+	std::vector<placement> at = placements(d, prims, scene);
+	const size_t vertices = lay_out(d, prims, at);
+	size_t triangles = 0;
+	for (const placement& pl : at)
 		triangles += prims[pl.k].triangles.size() / 3;
-	}
 	if (vertices > UINT32_MAX || 3 * triangles > UINT32_MAX)
 		fail(vn_io_error_unsupported, "the meshes have more than 2^32 vertices or indices");
 	mesh->vertex_count = vertices;
@@ -374,10 +430,11 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 	mesh->face_offsets = (uint32_t*)malloc(sizeof(uint32_t) * (triangles + 1));
 	if (!mesh->positions || !mesh->indices || !mesh->face_offsets)
 		fail(vn_io_error_memory, "out of memory");
-	size_t v = 0, t = 0;
+	size_t t = 0;
 	for (const placement& pl : at) {
 		const primitive& p = prims[pl.k];
-		for (size_t i = 0; i < p.vertices(); ++i) {
+		const size_t v = pl.first;
+		for (size_t i = 0; pl.owner && i < p.vertices(); ++i) {
 			double* x = mesh->positions + 3 * (v + i);
 			p.positions.load(i, x);
 			if (pl.placed) {
@@ -389,7 +446,6 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 		for (size_t c = 0; c < p.triangles.size(); ++c)
 			/* A mirrored triangle is wound the other way round to face out. */
 			mesh->indices[t++] = (uint32_t)(v + p.triangles[pl.mirrored && c % 3 ? c + 3 - 2 * (c % 3) : c]);
-		v += p.vertices();
 	}
 	for (size_t f = 0; f <= triangles; ++f)
 		mesh->face_offsets[f] = (uint32_t)(3 * f);
@@ -399,11 +455,10 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 		mesh->normals = (double*)calloc(3 * (vertices ? vertices : 1), sizeof(double));
 		if (!mesh->normals)
 			fail(vn_io_error_memory, "out of memory");
-		v = 0;
 		for (const placement& pl : at) {
 			const primitive& p = prims[pl.k];
-			for (size_t i = 0; i < p.input_normals.size(); ++i) {
-				double* n = mesh->normals + 3 * (v + i);
+			for (size_t i = 0; pl.owner && i < p.input_normals.size(); ++i) {
+				double* n = mesh->normals + 3 * (pl.first + i);
 				p.input_normals.load(i, n);
 				if (pl.placed) {
 					const double y[3] = {n[0], n[1], n[2]};
@@ -414,7 +469,6 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 						n[r] /= l;
 				}
 			}
-			v += p.vertices();
 		}
 	}
 
@@ -458,11 +512,9 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 		 * (uv_transform): the transformed coordinates, as floats. */
 		std::vector<std::array<double, 6>> transform(prims.size());
 		std::vector<bool> transformed(prims.size(), false);
-		if (semantic == vn_io_semantic_texcoord && name.size() > 9 && name.size() < 15 &&
-		    name.find_first_not_of("0123456789", 9) == std::string::npos && type.components == 2)
+		if (texcoord_set(name) >= 0 && type.components == 2)
 			for (size_t k = 0; k < prims.size(); ++k)
-				if (has[k] && types[k].components == 2 &&
-				    uv_transform(d, prims[k], std::stoll(name.substr(9)), transform[k].data())) {
+				if (has[k] && types[k].components == 2 && uv_transform(d, prims[k], texcoord_set(name), transform[k].data())) {
 					transformed[k] = true;
 					type.component = 5126;
 					type.normalized = false;
@@ -483,11 +535,12 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 		if (!floats && !a)
 			fail(vn_io_error_memory, "out of memory");
 		const size_t k = color ? 4 : texcoord ? 2 : type.components, csize = component_size(type.component);
-		v = 0;
 		for (const placement& pl : at) {
-			const size_t j = pl.k;
+			const size_t j = pl.k, v = pl.first;
 			const primitive& p = prims[j];
 			const accessor& here = types[j];
+			if (!pl.owner)
+				continue;
 			if (has[j])
 				for (size_t i = 0; i < p.vertices(); ++i)
 					for (size_t c = 0; c < k; ++c) {
@@ -514,7 +567,6 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 			else if (color)
 				for (size_t i = 0; i < p.vertices(); ++i)
 					std::fill_n(&floats[(v + i) * 4], 4, 1.0f); /* white where a primitive has no colours */
-			v += p.vertices();
 		}
 		if (color && !mesh->colors_are_bytes) /* float or unsigned short colours made from bytes */
 			mesh->colors_are_bytes = vn_io_colors_are_bytes(mesh->colors, vertices);

@@ -2,7 +2,8 @@
  * The normals plan (gltf_primitive.h): the triangle primitives read from
  * the document (TRIANGLES, strips and fans as triangle lists, indices,
  * morph targets, Draco data through gltf_draco.cpp), grouped (one
- * primitive, or a whole mesh with --weld-mesh), and their normals and
+ * primitive, primitives on one vertex array, or a whole mesh with
+ * --weld-scope mesh), and their normals and
  * morph targets' NORMAL displacements computed by the plan of
  * split_normals.h (welded, hard edges kept, split at a crease angle).
  */
@@ -252,13 +253,17 @@ static std::vector<float> plan_normals(const vn_split::plan& g, const vn_positio
 	return out;
 }
 
-/* Normals of a group of primitives computed together (one primitive, or a
- * whole mesh): welded, computed (per corner where edges are hard), copied
- * back to every split vertex; then every morph target's NORMAL
- * displacement, by the same computation on the morphed positions. */
+/* Normals of a group of primitives computed together (one primitive, a
+ * whole mesh, or primitives on one vertex array): welded, computed (per
+ * corner where edges are hard), copied back to every split vertex; then
+ * every morph target's NORMAL displacement, by the same computation on the
+ * morphed positions. */
 void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_gltf_stats& st)
 {
-	std::vector<size_t> first; /* first input vertex of each primitive */
+	/* The group's vertex arrays joined one after another, each once:
+	 * primitives on one array (same_vertex_array) share its range, which
+	 * starts at their first[]. */
+	std::vector<size_t> first(prims.size()), arrays; /* arrays: the primitive that brings each */
 	size_t n = 0;
 	std::vector<double> joined, joined_normals;
 	std::vector<uint32_t> joined_corners;
@@ -266,29 +271,39 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 	vn_positions input_normals = prims[0]->input_normals.view;
 	vn_split::faces f;
 	bool any_normals = false;
-	for (primitive* p : prims) {
-		first.push_back(n);
+	for (size_t k = 0; k < prims.size(); ++k) {
+		const primitive* p = prims[k];
+		auto same = std::find_if(arrays.begin(), arrays.end(), [&](size_t a) { return same_vertex_array(*prims[a], *p); });
+		f.corner_count += p->triangles.size();
+		if (same != arrays.end()) {
+			first[k] = first[*same];
+			continue;
+		}
 		if (n + p->vertices() > UINT32_MAX)
 			fail(vn_io_error_unsupported, "a mesh has more than 2^32 vertices");
+		first[k] = n;
 		n += p->vertices();
-		f.corner_count += p->triangles.size();
+		arrays.push_back(k);
 		any_normals = any_normals || !p->input_normals.empty();
 	}
 	if (prims.size() == 1) {
 		f.corners = prims[0]->triangles.data();
 	} else {
-		for (size_t k = 0; k < prims.size(); ++k) {
-			const primitive* p = prims[k];
+		for (size_t k = 0; k < prims.size(); ++k)
+			for (uint32_t v : prims[k]->triangles)
+				joined_corners.push_back((uint32_t)(first[k] + v));
+		f.corners = joined_corners.data();
+	}
+	if (arrays.size() > 1) {
+		for (size_t a : arrays) {
+			const primitive* p = prims[a];
 			p->positions.append_to(joined);
 			if (any_normals && p->input_normals.empty())
 				joined_normals.resize(joined.size(), 0.0);
 			else if (any_normals)
 				p->input_normals.append_to(joined_normals);
-			for (uint32_t v : p->triangles)
-				joined_corners.push_back((uint32_t)(first[k] + v));
 		}
 		pos = {joined.data(), n, 0, vn_scalar_float64};
-		f.corners = joined_corners.data();
 		input_normals = {joined_normals.data(), joined_normals.size() / 3, 0, vn_scalar_float64};
 	}
 	vn_split::settings s;
@@ -308,12 +323,17 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 	std::vector<float> base = plan_normals(g, pos, &zeros, o.crease ? &c : nullptr);
 	std::vector<float>().swap(c);
 	st.zero_normals += zeros;
-	/* First split vertex of each primitive, counted from n: the split
-	 * vertices follow the corners, so each primitive's come together. */
-	std::vector<size_t> extra_first;
-	for (size_t p = 0; p < prims.size(); ++p)
-		extra_first.push_back((size_t)(std::lower_bound(g.extra_source.begin(), g.extra_source.end(), first[p]) -
-		                               g.extra_source.begin()));
+	/* Each primitive's split vertices, counted from n: those of its vertex
+	 * array, which come together (the split vertices follow their input
+	 * vertices). */
+	std::vector<size_t> extra_first, extra_end;
+	for (size_t p = 0; p < prims.size(); ++p) {
+		auto at = [&](size_t v) {
+			return (size_t)(std::lower_bound(g.extra_source.begin(), g.extra_source.end(), v) - g.extra_source.begin());
+		};
+		extra_first.push_back(at(first[p]));
+		extra_end.push_back(at(first[p] + prims[p]->vertices()));
+	}
 
 	/* Each primitive's output vertices: its input ones, then its split ones
 	 * (a group of one primitive is laid out so already). */
@@ -328,11 +348,10 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 	size_t corner_first = 0;
 	for (size_t p = 0; p < prims.size(); ++p) {
 		primitive& pr = *prims[p];
-		const size_t end = g.extra_source.empty() ? 0 : p + 1 < prims.size() ? extra_first[p + 1] : g.extra_source.size();
-		if (end > (g.extra_source.empty() ? 0 : extra_first[p])) {
-			pr.split_source.reserve(end - extra_first[p]);
+		if (extra_end[p] > extra_first[p]) {
+			pr.split_source.reserve(extra_end[p] - extra_first[p]);
 			pr.split_triangles.reserve(pr.triangles.size());
-			for (size_t e = extra_first[p]; e < end; ++e)
+			for (size_t e = extra_first[p]; e < extra_end[p]; ++e)
 				pr.split_source.push_back((uint32_t)(g.extra_source[e] - first[p]));
 			for (size_t k = 0; k < pr.triangles.size(); ++k) {
 				const uint32_t v = g.corner_output[corner_first + k];
@@ -341,18 +360,19 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 			}
 		}
 		corner_first += pr.triangles.size();
-		st.vertices += pr.vertices();
 		st.triangles += pr.triangles.size() / 3;
 		++st.primitives;
 		st.tangent_primitives += pr.tangent;
 	}
+	st.vertices += n;
 
 	size_t targets = 0;
 	for (primitive* p : prims)
 		targets = std::max(targets, p->target_positions.size());
 	for (size_t t = 0; t < targets; ++t) {
 		std::vector<double> morphed;
-		for (primitive* p : prims) {
+		for (size_t a : arrays) {
+			const primitive* p = prims[a];
 			if (t < p->target_positions.size() && !p->target_positions[t].empty())
 				morphed.insert(morphed.end(), p->target_positions[t].begin(), p->target_positions[t].end());
 			else

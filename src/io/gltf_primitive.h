@@ -178,7 +178,18 @@ void normal_errors(const std::map<int, quantized_normals>& quantized, const vn_g
  * counts the others (st may be null). */
 std::vector<primitive> triangle_primitives(const document& d, vn_gltf_stats* st, bool points);
 
-/* The normals of a group of primitives (one, or a whole mesh). */
+/* Whether a and b draw one vertex array with one normal a vertex: neither
+ * Draco-compressed, the same POSITION and NORMAL accessors, and the same
+ * morph targets. */
+inline bool same_vertex_array(const primitive& a, const primitive& b)
+{
+	return !a.draco && !b.draco && a.normal >= 0 && a.position == b.position && a.normal == b.normal &&
+	       a.target_normal == b.target_normal && a.target_positions == b.target_positions;
+}
+
+/* The normals of a group of primitives (one, primitives on one vertex
+ * array, or a whole mesh): their vertex arrays joined, each once, so that a
+ * vertex primitives on one array share has one normal. */
 void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_gltf_stats& st);
 
 /* ------------------------------------------------------------------ into the document (gltf_normals_write.cpp) */
