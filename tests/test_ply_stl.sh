@@ -359,7 +359,9 @@ import sys, numpy as np
 a, b = (np.frombuffer(open(f, "rb").read()[84:], np.dtype([("n", "<f4", 3), ("p", "<f4", 9), ("a", "<u2")])) for f in sys.argv[1:])
 sys.exit(not (np.array_equal(a["p"], b["p"]) and np.allclose(np.linalg.norm(b["n"], axis=1), 1, atol=1e-6)))
 PYEOF
-check "STL header does not start with solid" [ "$(head -c 5 "$T/bin.stl")" != solid ]
+check "STL to STL: the input's header" [ "$(head -c 26 "$T/bin.stl")" = "Exported from Blender-3.0." ]
+run "$VNC" "$T/sphere.ply" "$T/from-ply.stl" -q
+check "STL header of vn's own, not starting with solid" [ "$(head -c 24 "$T/from-ply.stl")" = "binary STL written by vn" ]
 run "$VNC" "$STL/blender_ascii.stl" "$T/b1.stl" -q
 run "$VNC" "$STL/blender_binary.stl" "$T/b2.stl" -q
 check "Blender STL ASCII and binary: same triangles" [ "$(stl_triangles "$T/b1.stl")" = 968 ] && check "Blender STL: 968 both" [ "$(stl_triangles "$T/b2.stl")" = 968 ]
@@ -375,37 +377,63 @@ check "ASCII STL cut inside a facet: refused, saying where" grep -q "cut.stl:6: 
 # A binary STL whose header starts with "solid" (as some exporters write) is binary by its size.
 { printf 'solid but binary'; head -c 64 /dev/zero; tail -c +81 "$STL/test_sphere.stl"; } >"$T/solid_binary.stl"
 run "$VNC" "$T/solid_binary.stl" "$T/sb.stl" -q
-check "binary STL starting with 'solid' is read as binary" cmp -s "$T/sb.stl" "$T/bin.stl"
+check "binary STL starting with 'solid' is read as binary" cmp -s <(tail -c +81 "$T/sb.stl") <(tail -c +81 "$T/bin.stl")
+check "binary STL starting with 'solid': its header kept" [ "$(head -c 16 "$T/sb.stl")" = "solid but binary" ]
 # ... and so is one with padding after its triangles (it was read as ASCII:
 # "the file ends after 0 triangles, before 'endsolid'").
 { cat "$T/solid_binary.stl"; printf '\0\0'; } >"$T/solid_padded.stl"
 run "$VNC" "$T/solid_padded.stl" "$T/sp.stl"
-check "binary STL starting with 'solid', padded: read as binary" cmp -s "$T/sp.stl" "$T/bin.stl"
+check "binary STL starting with 'solid', padded: read as binary" cmp -s "$T/sp.stl" "$T/sb.stl"
 check "binary STL starting with 'solid', padded: says so" grep -q "solid_padded.stl: 2 bytes after the last triangle, not read" "$T/stderr"
 # A count of 0 with triangles after it (a writer that never filled it in).
 { head -c 80 "$STL/test_sphere.stl"; printf '\0\0\0\0'; tail -c +85 "$STL/test_sphere.stl"; } >"$T/count0.stl"
 run "$VNC" "$T/count0.stl" "$T/c0.stl"
 check "binary STL with count 0: its triangles read" cmp -s "$T/c0.stl" "$T/bin.stl"
 check "binary STL with count 0: says so" grep -q "count0.stl: binary STL announces 0 triangles, but 224 triangles follow its header: read" "$T/stderr"
-# Colours in a binary STL, which vn does not keep, are named: VisCAM's and
-# SolidView's (bit 15 of a triangle's attribute bytes) with a count,
-# Materialise Magics' (COLOR= in the header, as trimesh's 20mm-xyz-cube.stl
-# has it); the two spaces an old Blender exporter left there are no colour.
+# Colours in a binary STL are read as face colours: VisCAM's and SolidView's
+# (bit 15 of a triangle's attribute bytes marks a colour: red in bits 10-14,
+# green 5-9, blue 0-4), Materialise Magics' (COLOR= RGBA in the header, as
+# trimesh's 20mm-xyz-cube.stl has it: bit 15 clear, the triangle's own colour,
+# red in bits 0-4; set, the header's); 5 bits are the bytes k * 255 / 31. The
+# two spaces an old Blender exporter left there are no colour.
 stl_with() { # HEADER ATTRIBUTE-HEX OUT: two triangles
   /usr/bin/python3 -c 'import struct, sys
 h, a = sys.argv[1].encode().ljust(80), bytes.fromhex(sys.argv[2])
 t = [(0, 0, 0, 1, 0, 0, 0, 1, 0), (1, 0, 0, 1, 1, 0, 0, 1, 0)]
 open(sys.argv[3], "wb").write(h + struct.pack("<I", 2) + b"".join(struct.pack("<12f", 0, 0, 1, *c) + a for c in t))' "$@"
 }
+face_colours() { tail -n 2 "$1" | cut -d' ' -f5- | tr '\n' '|'; }
 stl_with "VisCAM" 1f80 "$T/viscam.stl"
 run "$VNC" "$T/viscam.stl" "$T/viscam.off"
-check "STL colours (VisCAM): named, with a count" [ "$rc|$err" = "0|vnconvert: warning: $T/viscam.stl: 2 of 2 triangles have a colour in their attribute bytes (bit 15 set: VisCAM, SolidView): not kept" ]
+check "STL colours (VisCAM, 0x801f): blue faces, no warning" [ "$rc|$err|$(face_colours "$T/viscam.off")" = "0||0 0 255 255|0 0 255 255|" ]
 stl_with "COLOR=abcd" 1f00 "$T/magics.stl"
 run "$VNC" "$T/magics.stl" "$T/magics.off"
-check "STL colours (Magics): named" [ "$rc|$err" = "0|vnconvert: warning: $T/magics.stl: its colours (Materialise Magics: the header's COLOR= or MATERIAL=, and each triangle's in its attribute bytes) are not kept" ]
+check "STL colours (Magics, 0x001f): red faces" [ "$rc|$err|$(face_colours "$T/magics.off")" = "0||255 0 0 255|255 0 0 255|" ]
+stl_with "COLOR=abcd" 0a81 "$T/magics-object.stl"
+run "$VNC" "$T/magics-object.stl" "$T/magics-object.off"
+check "STL colours (Magics, bit 15 set): the header's COLOR=abcd" [ "$rc|$(face_colours "$T/magics-object.off")" = "0|97 98 99 100|97 98 99 100|" ]
+run "$VNC" "$T/viscam.stl" "$T/viscam.glb"
+check "STL colours to glTF: named as not written" grep -q "viscam.glb cannot hold face colours: not written" "$T/stderr"
+# STL to STL: the header and the attribute bytes as they were.
+run "$VNC" "$T/magics.stl" "$T/magics2.stl" -q
+check "STL to STL keeps the header and attribute bytes" /usr/bin/python3 - "$T/magics.stl" "$T/magics2.stl" <<'PYEOF'
+import sys
+a, b = (open(p, "rb").read() for p in sys.argv[1:])
+sys.exit(not (len(a) == len(b) == 184 and a[:84] == b[:84] and all(a[84 + 50 * t + 12:134 + 50 * t] == b[84 + 50 * t + 12:134 + 50 * t] for t in range(2))))
+PYEOF
+# Face colours from another format: VisCAM's, as MeshLab writes them (97,
+# 98, 99 are 12 in 5 bits: 0x8000 | 12 << 10 | 12 << 5 | 12 = 0xb18c); an
+# STL's own VisCAM colours come back as they were.
+stl_attributes() { /usr/bin/python3 -c 'import struct, sys
+b = open(sys.argv[1], "rb").read()
+print(" ".join("%04x" % struct.unpack_from("<H", b, 84 + 50 * t + 48) for t in range(struct.unpack_from("<I", b, 80)[0])))' "$1"; }
+run "$VNC" "$T/magics-object.off" "$T/from-off.stl" -q
+check "OFF face colours to STL: VisCAM's 0xb18c" [ "$(stl_attributes "$T/from-off.stl")" = "b18c b18c" ]
+run "$VNC" "$T/viscam.off" "$T/viscam-back.stl" -q
+check "STL (VisCAM) to OFF to STL: the colours as they were" [ "$(stl_attributes "$T/viscam-back.stl")" = "801f 801f" ]
 stl_with "Binary STL output from Blender" 2020 "$T/padding.stl"
 run "$VNC" "$T/padding.stl" "$T/padding.off"
-check "STL attribute bytes of blanks: no colour, no warning" [ "$rc|$err|$(sed -n 2p "$T/padding.off")" = "0||4 2 0" ]
+check "STL attribute bytes of blanks: no colour, no warning" [ "$rc|$err|$(sed -n 2p "$T/padding.off")|$(face_colours "$T/padding.off")" = "0||4 2 0|||" ]
 run "$VNC" "$PLY/blender_binary.ply" "$T/lost.stl"
 check "PLY to STL warns that the vertex normals are not written" grep -q "cannot hold vertex normals, vertex colours, texture coordinates: not written" "$T/stderr"
 

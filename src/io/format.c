@@ -91,12 +91,17 @@ static const vn_io_format formats[] = {
        "other face properties and other elements (named), comments"}},
      "vertex list properties", NULL, NULL, NULL},
     {"stl", "STL", "STL", ".stl",
-     "stereolithography (reads binary and ASCII, corners welded by position; writes binary; no vertex normals)",
-     vn_io_stl_read, vn_io_stl_write, vn_io_holds_nothing, vn_io_path_mesh, 0, NULL, {{0, NULL, NULL}},
-     "facet normals (one per triangle, recomputed on writing), the header, attribute bytes (colours named: "
-     "Materialise Magics' COLOR= header, VisCAM's and SolidView's bit 15); corners with equal positions become one "
-     "vertex",
-     NULL, NULL, NULL},
+     "stereolithography (reads binary and ASCII, corners welded by position; writes binary, face colours as VisCAM's "
+     "5 bits a channel; no vertex normals)",
+     vn_io_stl_read, vn_io_stl_write, vn_io_holds_nothing | vn_io_holds_face_colors | vn_io_holds_stl_extras,
+     vn_io_path_mesh, 0, NULL,
+     {{vn_io_holds_face_colors,
+       "facet colours (Materialise Magics' with the header's COLOR=, VisCAM's and SolidView's with bit 15 set), as "
+       "face colours",
+       "facet colours (named)"},
+      {vn_io_holds_stl_extras, "the header and attribute bytes", "the header, attribute bytes"}},
+     "facet normals (one per triangle, recomputed on writing); corners with equal positions become one vertex", NULL,
+     NULL, NULL},
     {"gltf", "glTF", "glTF", ".gltf", "glTF 2.0 JSON (glTF in: the whole document is kept, only normals change)",
      vn_io_gltf_read, vn_io_gltf_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |

@@ -81,6 +81,9 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 	free(mesh->material_library);
 	free(mesh->material_folder);
 	vn_io_ply_extras_free(mesh->ply_extras);
+	if (mesh->stl_extras)
+		free(mesh->stl_extras->attributes);
+	free(mesh->stl_extras);
 	free(mesh->warnings);
 	memset(mesh, 0, sizeof *mesh);
 }

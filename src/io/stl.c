@@ -13,12 +13,13 @@
  * after it (writers that never fill it in) reads those. Corners with equal
  * positions (exactly, -0 = +0) are welded into one vertex, so the mesh is
  * connected and vn's normals are smooth across triangles. The facet normals
- * (one per triangle, not per vertex), the header and the attribute bytes are
- * not kept; where they hold colours, a warning says so: a header with
- * Materialise Magics' COLOR= or MATERIAL= (a default colour, and each
- * facet's in its attribute bytes), or else attribute bytes with bit 15 set
- * (VisCAM's and SolidView's facet colour; other writers leave padding there,
- * as old Blender's "  ").
+ * (one per triangle, not per vertex) are not kept. A binary file's header
+ * and attribute bytes are (stl_extras, which the writer writes back), and
+ * where they hold colours these are read as face colours: Materialise
+ * Magics' where the header has COLOR= or MATERIAL= (a default colour, and
+ * each facet's in its attribute bytes), or else VisCAM's and SolidView's
+ * where a triangle's attribute bytes have bit 15 set (other writers leave
+ * zeros or padding there, as old Blender's "  ").
  *
  * Not Draco's StlDecoder (1.5.5): it refuses binary files whose header
  * starts with "solid ", does not check the triangle count against the file's
@@ -27,7 +28,10 @@
  *
  * Writer: binary, polygons fan-triangulated, positions as float32, each
  * facet normal the unit normal of its triangle's positions ((0, 0, 0) for a
- * degenerate one): STL has no vertex normals, so vn's are not written.
+ * degenerate one): STL has no vertex normals, so vn's are not written. The
+ * header and attribute bytes are the input's where it was a binary STL of
+ * these triangles; else face colours are written as VisCAM's and SolidView's
+ * (as MeshLab writes them), 5 bits a channel.
  */
 #include "stl.h"
 #include "text.h"
@@ -50,7 +54,8 @@ typedef struct stl_reader {
 	size_t triangles, capacity;
 	int binary;        /* read as binary */
 	int unended;       /* ASCII that ends after a whole facet, without 'endsolid' */
-	size_t coloured; /* triangles whose attribute bytes have bit 15 set */
+	uint16_t* attributes; /* binary: each triangle's attribute bytes */
+	size_t coloured;      /* triangles whose attribute bytes have bit 15 set */
 } stl_reader;
 
 #if defined(__GNUC__)
@@ -230,12 +235,14 @@ static vn_io_result read_ascii(stl_reader* r)
 static vn_io_result read_binary(stl_reader* r, const unsigned char* data, size_t triangles)
 {
 	r->corners = malloc(triangles * 9 * sizeof(double) + 1);
-	if (!r->corners)
+	r->attributes = malloc(triangles * sizeof *r->attributes + 1);
+	if (!r->corners || !r->attributes)
 		return vn_io_fail(r->error, vn_io_error_memory, "%s: out of memory", r->name);
 	for (size_t t = 0; t < triangles; t++) {
 		const unsigned char* record = data + STL_HEADER + 4 + STL_TRIANGLE * t;
 		for (int k = 0; k < 9; k++)
 			r->corners[9 * t + (size_t)k] = get_float(record + 12 + 4 * k); /* after the facet normal */
+		r->attributes[t] = (uint16_t)(record[48] | record[49] << 8);
 		r->coloured += (record[49] & 0x80) != 0;
 	}
 	r->triangles = triangles;
@@ -243,29 +250,64 @@ static vn_io_result read_binary(stl_reader* r, const unsigned char* data, size_t
 	return vn_io_success;
 }
 
-/* Whether the header has `key` (Magics' "COLOR=", "MATERIAL="). */
-static int header_has(const unsigned char* data, const char* key)
+/* Where `key` (Magics' "COLOR=", "MATERIAL=") ends in the header, or NULL. */
+static const unsigned char* header_find(const unsigned char* header, const char* key)
 {
 	const size_t n = strlen(key);
 	for (size_t i = 0; i + n <= STL_HEADER; i++)
-		if (!memcmp(data + i, key, n))
-			return 1;
-	return 0;
+		if (!memcmp(header + i, key, n))
+			return header + i + n;
+	return NULL;
 }
 
-/* The warning on a binary STL's colours, which vn does not keep. 0 when
- * out of memory. */
-static int warn_colours(const stl_reader* r, const unsigned char* data, vn_io_mesh* mesh)
+/* A colour channel of 5 bits as the byte it stands for (31: 255). */
+static float channel(unsigned bits)
 {
-	if (header_has(data, "COLOR=") || header_has(data, "MATERIAL="))
-		return vn_io_append_line(&mesh->warnings,
-		                         "its colours (Materialise Magics: the header's COLOR= or MATERIAL=, and each "
-		                         "triangle's in its attribute bytes) are not kept");
-	if (r->coloured)
-		return vn_io_append_line(
-		    &mesh->warnings,
-		    "%zu of %zu triangles have a colour in their attribute bytes (bit 15 set: VisCAM, SolidView): not kept",
-		    r->coloured, r->triangles);
+	return (float)((bits * 255 + 15) / 31) / 255.0f;
+}
+
+/* A binary STL's header and attribute bytes kept, and the colours they hold
+ * read as face colours: Materialise Magics' where the header has COLOR= or
+ * MATERIAL= (bits 0-4 red, 5-9 green, 10-14 blue; bit 15 set: the
+ * object's colour, the 4 bytes RGBA after COLOR=, white without), else
+ * VisCAM's and SolidView's where any triangle has bit 15 set, which marks
+ * a colour (bits 10-14 red, 5-9 green, 0-4 blue; white where it is clear).
+ * 0 when out of memory. */
+static int keep_extras(stl_reader* r, const unsigned char* header, vn_io_mesh* mesh)
+{
+	vn_io_stl_extras* extras = malloc(sizeof *extras);
+	if (!extras)
+		return 0;
+	memcpy(extras->header, header, STL_HEADER);
+	extras->attributes = r->attributes;
+	extras->count = r->triangles;
+	r->attributes = NULL;
+	mesh->stl_extras = extras;
+	const unsigned char* object = header_find(header, "COLOR=");
+	const int magics = object || header_find(header, "MATERIAL=");
+	if (!magics && !r->coloured)
+		return 1;
+	mesh->face_colors = malloc(4 * sizeof(float) * r->triangles + 1);
+	if (!mesh->face_colors)
+		return 0;
+	mesh->face_colors_are_bytes = 1;
+	const float white[4] = {1, 1, 1, 1};
+	float fallback[4] = {1, 1, 1, 1};
+	if (object && object + 4 <= header + STL_HEADER)
+		for (int k = 0; k < 4; k++)
+			fallback[k] = (float)object[k] / 255.0f;
+	for (size_t t = 0; t < r->triangles; t++) {
+		const unsigned a = extras->attributes[t], own = magics ? !(a & 0x8000) : (a & 0x8000) != 0;
+		float* c = mesh->face_colors + 4 * t;
+		if (own) {
+			c[magics ? 0 : 2] = channel(a & 31);
+			c[1] = channel(a >> 5 & 31);
+			c[magics ? 2 : 0] = channel(a >> 10 & 31);
+			c[3] = 1;
+		} else {
+			memcpy(c, magics ? fallback : white, sizeof white);
+		}
+	}
 	return 1;
 }
 
@@ -378,7 +420,8 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 		 * "solid" and whose triangles are followed by padding. */
 		if (result != vn_io_success && result != vn_io_error_memory && count > 0 && binary_size <= size) {
 			free(r.corners);
-			r.corners = NULL, r.triangles = 0, r.capacity = 0;
+			free(r.attributes);
+			r.corners = NULL, r.attributes = NULL, r.triangles = 0, r.capacity = 0;
 			r.p = (const unsigned char*)data;
 			result = read_padded(&r, count, size - (size_t)binary_size, mesh);
 		}
@@ -405,11 +448,12 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 	} else {
 		result = read_padded(&r, count, size - (size_t)binary_size, mesh);
 	}
-	if (result == vn_io_success && r.binary && !warn_colours(&r, (const unsigned char*)data, mesh))
+	if (result == vn_io_success && r.binary && !keep_extras(&r, (const unsigned char*)data, mesh))
 		result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	if (result == vn_io_success)
 		result = weld(&r, mesh);
 	free(r.corners);
+	free(r.attributes);
 	if (result != vn_io_success)
 		vn_io_mesh_free(mesh);
 	return result;
@@ -434,7 +478,6 @@ static void facet(unsigned char* record, const double* a, const double* b, const
 		put_float(record + 24 + 4 * k, (float)b[k]);
 		put_float(record + 36 + 4 * k, (float)c[k]);
 	}
-	record[48] = record[49] = 0;
 }
 
 vn_io_result vn_io_stl_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings,
@@ -450,16 +493,36 @@ vn_io_result vn_io_stl_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	if (triangles > UINT32_MAX)
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: %llu triangles are more than STL's 32-bit count holds",
 		                  path, (unsigned long long)triangles);
-	/* Not "solid ...": readers would take the file for ASCII. */
+	/* The input's header and attribute bytes where these are its triangles. */
+	const vn_io_stl_extras* extras = mesh->stl_extras;
+	if (extras && (extras->count != mesh->face_count || (mesh->face_count && !vn_io_mesh_is_triangles(mesh))))
+		extras = NULL;
+	/* Else not "solid ...": readers would take the file for ASCII. */
 	unsigned char header[STL_HEADER + 4];
 	memset(header, ' ', STL_HEADER);
-	memcpy(header, "binary STL written by vn", 24);
+	if (extras)
+		memcpy(header, extras->header, STL_HEADER);
+	else
+		memcpy(header, "binary STL written by vn", 24);
 	for (int k = 0; k < 4; k++)
 		header[STL_HEADER + k] = (unsigned char)(triangles >> 8 * k);
 	int failed = fwrite(header, 1, sizeof header, out) != sizeof header;
 	unsigned char record[STL_TRIANGLE];
 	for (size_t f = 0; f < mesh->face_count && !failed; f++) {
 		const uint32_t first = mesh->face_offsets[f];
+		unsigned attribute = 0;
+		if (extras) {
+			attribute = extras->attributes[f];
+		} else if (mesh->face_colors) { /* VisCAM's: bit 15, then red, green, blue in 5 bits each */
+			attribute = 0x8000;
+			for (int k = 0; k < 3; k++) {
+				const float v = mesh->face_colors[4 * f + (size_t)k];
+				const unsigned byte = v > 0 ? v < 1 ? (unsigned)lroundf(v * 255) : 255 : 0;
+				attribute |= (byte * 31 + 127) / 255 << 5 * (2 - k);
+			}
+		}
+		record[48] = (unsigned char)attribute;
+		record[49] = (unsigned char)(attribute >> 8);
 		for (uint32_t c = first + 2; c < mesh->face_offsets[f + 1] && !failed; c++) {
 			facet(record, mesh->positions + 3 * (size_t)mesh->indices[first],
 			      mesh->positions + 3 * (size_t)mesh->indices[c - 1], mesh->positions + 3 * (size_t)mesh->indices[c]);

@@ -117,6 +117,15 @@ typedef struct vn_io_material {
  * back; opaque outside ply.c. */
 typedef struct vn_io_ply_extras vn_io_ply_extras;
 
+/* What a binary STL holds besides its triangles: the 80-byte header and
+ * each triangle's 2 attribute bytes (colours, or whatever the writer put
+ * there), for the STL writer to write back. */
+typedef struct vn_io_stl_extras {
+	unsigned char header[80];
+	uint16_t* attributes; /* one per triangle, in the file's order */
+	size_t count;
+} vn_io_stl_extras;
+
 /* A polygon mesh as files carry it. Arrays are owned by the mesh and freed by
  * vn_io_mesh_free; optional arrays are NULL when the file has none. Readers
  * put the first colour set in `colors`, the first 2-component texture
@@ -174,6 +183,11 @@ typedef struct vn_io_mesh {
 	 * vertices only appended, so its face properties and the indices in
 	 * its elements (an edge's vertex1) stay valid through vn. */
 	vn_io_ply_extras* ply_extras;
+
+	/* NULL, or what a binary STL held besides the above; only the STL
+	 * writer keeps it (vn_io_holds_stl_extras), when the mesh has as many
+	 * triangles as it has attributes (faces are never reordered). */
+	vn_io_stl_extras* stl_extras;
 
 	/* NULL, or what the reader read anyway but the file should not have
 	 * (bytes after a GLB's declared length): one line each, "\n"-separated,
@@ -294,7 +308,8 @@ enum {
 	vn_io_holds_no_faces = 256,      /* a mesh without faces but with vertices: a point cloud */
 	vn_io_holds_nothing = 512,       /* a mesh without vertices: an empty file vn reads back */
 	vn_io_holds_ply_extras = 1024,   /* `ply_extras` */
-	vn_io_holds_materials = 2048     /* each face's material (`materials`), with `material_defs` or the `mtllib` line */
+	vn_io_holds_materials = 2048,    /* each face's material (`materials`), with `material_defs` or the `mtllib` line */
+	vn_io_holds_stl_extras = 4096    /* `stl_extras` */
 };
 
 /* How vnconvert converts between two formats of one family (both ends with
