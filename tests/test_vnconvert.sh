@@ -161,6 +161,22 @@ EOF
 run "$VNC" "$T/meta/BoxMetaDraco.gltf" "$T/meta-out.glb"
 check "unknown extension: exits 0" [ $rc -eq 0 ]
 check "unknown extension: one clear warning" [ "$(cat "$T/stderr")" = "vnconvert: warning: $T/meta-out.glb uses EXT_vn_test_unknown, an extension vn does not know that may refer to accessors or bufferViews by their index, so the data vn replaced stay in the file, unused, rather than being removed and the rest renumbered; the file is otherwise complete and correct" ]
+# KHR_interactivity, KHR_node_selectability and KHR_node_hoverability hold
+# no accessor or bufferView index (interactivity's pointers reach nodes,
+# materials, meshes, cameras, skins, animations and scenes, none of which
+# pruning renumbers): what vn replaced is removed, without a warning.
+cp -r "$GLTF/BoxMetaDraco" "$T/interactive"
+python3 - "$T/interactive/BoxMetaDraco.gltf" <<'EOF'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+doc["extensionsUsed"] += ["KHR_interactivity", "KHR_node_selectability", "KHR_node_hoverability"]
+doc["extensions"] = dict(doc.get("extensions", {}), KHR_interactivity={"graphs": [{"nodes": [{"declaration": 0, "configuration": {"pointer": {"value": ["/nodes/{nodeIndex}/translation"]}}}]}]})
+doc["nodes"][0].setdefault("extensions", {}).update(KHR_node_selectability={"selectable": True}, KHR_node_hoverability={"hoverable": False})
+json.dump(doc, open(sys.argv[1], "w"))
+EOF
+run "$VNC" "$T/interactive/BoxMetaDraco.gltf" "$T/interactive-out.glb" --stats
+check "KHR_interactivity and node selectability, hoverability: no warning" [ "$rc|$(cat "$T/stderr")" = "0|" ]
+check "KHR_interactivity and node selectability, hoverability: replaced data removed" grep -q "^removed unused: *0 accessors, 1 bufferView$" "$T/stdout"
 
 # ---- welding, hard edges and creases apply to every conversion
 # Two quads meeting at x = 0, the left one flat, the right one rising at 45

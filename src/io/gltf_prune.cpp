@@ -123,15 +123,19 @@ namespace {
  * those visit_references and extension_buffers know (prefix match for
  * KHR_materials_):
  * EXT_mesh_features names feature-ID attributes by set number and
- * textures by index, CESIUM_RTC holds a centre, KHR_animation_pointer JSON
- * pointers to nodes and materials. */
+ * textures by index, CESIUM_RTC holds a centre, KHR_animation_pointer and
+ * KHR_interactivity JSON pointers of the glTF object model (nodes,
+ * materials, meshes, cameras, skins, animations, scenes: nothing pruning
+ * renumbers), KHR_node_visibility, _selectability and _hoverability a
+ * flag on a node. */
 bool prunable_with(const std::string& name)
 {
 	static const char* const known[] = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
 	                                    "KHR_lights_punctual", "KHR_texture_basisu", "EXT_texture_webp",
 	                                    "EXT_texture_avif", "EXT_mesh_gpu_instancing", "KHR_xmp_json_ld",
 	                                    "KHR_xmp", "EXT_mesh_features", "CESIUM_RTC", "KHR_animation_pointer",
-	                                    "KHR_node_visibility", "EXT_lights_image_based", "MSFT_lod",
+	                                    "KHR_node_visibility", "KHR_node_selectability", "KHR_node_hoverability",
+	                                    "KHR_interactivity", "EXT_lights_image_based", "MSFT_lod",
 	                                    "MSFT_texture_dds", "EXT_meshopt_compression", "KHR_meshopt_compression"};
 	return name.rfind("KHR_materials_", 0) == 0 ||
 	       std::find_if(std::begin(known), std::end(known), [&](const char* k) { return name == k; }) != std::end(known);
