@@ -70,6 +70,12 @@ check "cube: 4 corners a face" [ "$(grep '^f' "$T/blender_cube.obj" | awk '{prin
 check "cylinder: two 12-corner caps" [ "$(grep '^f' "$T/blender_cylinder.obj" | awk 'NF == 13' | wc -l)" = 2 ]
 check "sub_o: three objects" [ "$(grep '^o ' "$T/cube_att_sub_o.obj" | tr '\n' ,)" = "o obj0,o obj1,o obj2," ]
 check "mat_test: 7 material changes" [ "$(grep -c '^usemtl' "$T/mat_test.obj")" = 7 ]
+# Its GLB draws one vertex array from a primitive per material: converted
+# again, the primitives are computed together (no NORMAL accessor split off,
+# no vertex without a normal), the normals within 0.01 degrees of the first.
+run "$VNC" "$T/mat_test.glb" "$T/mat_test.2.glb" --stats
+check "mat_test GLB -> GLB: one vertex array, its NORMAL kept" [ "$rc|$(cat "$T/stderr")|$(echo "$(cat "$T/stdout")" | sed -n 's/^appended accessors: *//p')" = "0||0" ]
+check "mat_test GLB -> GLB: the same normals" python3 "$HERE/gltf/gltfcheck.py" samenormals "$T/mat_test.glb" "$T/mat_test.2.glb" 0.01
 # cube_att splits each corner of the cube by its face's normal and texture
 # coordinate: 8 positions, each vertex a v/vt/vn of its own.
 check "cube_att: 8 v lines" [ "$(grep -c '^v ' "$T/cube_att.obj")" = 8 ]
