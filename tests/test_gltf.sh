@@ -146,6 +146,31 @@ run "$VNC" "$T/seam.gltf" "$T/seam-c25.glb" -q --crease-angle 25
 run "$VNC" "$T/shapes.gltf" "$T/shapes-c25.glb" --crease-angle 25 --stats
 check "shapes --crease-angle 25: vertices split" grep -q "^split vertices: *[1-9]" "$T/stdout"
 check "shapes --crease-angle 25: halves on one vertex array: the whole sphere's split normals" $CHECK samenormals "$T/seam-c25.glb" "$T/shapes-c25.glb" 1e-5
+# Two meshes drawing one geometry (one vertex array, the same indices), as
+# exporters write material variants: computed once, each gets the whole
+# sphere's normals (split at a crease angle as one primitive alone is).
+python3 - "$T/seam.gltf" "$T/twice.gltf" <<'EOF'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+doc["meshes"].append(json.loads(json.dumps(doc["meshes"][0])))
+doc["nodes"].append({"mesh": 1})
+doc["scenes"][0]["nodes"].append(1)
+json.dump(doc, open(sys.argv[2], "w"))
+EOF
+run "$VNC" "$T/twice.gltf" "$T/twice.glb" --stats
+check "one geometry twice: its NORMAL shared, the sphere's normals" [ "$rc|$(grep '^appended' "$T/stdout" | tr -s ' ')|$(q "$T/twice.glb" "[m['primitives'][0]['attributes']['NORMAL'] for m in d['meshes']]")" = "0|appended accessors: 0|[1, 1]" ]
+check "one geometry twice: the sphere's normals" $CHECK samenormals "$T/seam.glb" "$T/twice.glb" 1e-5
+run "$VNC" "$T/twice.gltf" "$T/twice-c25.glb" -q --crease-angle 25
+check "one geometry twice, --crease-angle 25: both split as the sphere alone" python3 - "$HERE/gltf" "$T/seam-c25.glb" "$T/twice-c25.glb" <<'EOF'
+import sys
+sys.path.insert(0, sys.argv[1])
+import gltfcheck as g
+_, da, ba = g.load(sys.argv[2])
+_, db, bb = g.load(sys.argv[3])
+one = g.accessor_values(da, ba, da["meshes"][0]["primitives"][0]["attributes"]["NORMAL"])
+both = [g.accessor_values(db, bb, m["primitives"][0]["attributes"]["NORMAL"]) for m in db["meshes"]]
+sys.exit(not (len(one) > 117 and both[0] == both[1] == one))
+EOF
 check "shapes: structure" $CHECK diff "$T/shapes.gltf" "$T/shapes.glb"
 run "$VNC" "$T/shapes.gltf" "$T/shapes-mesh.glb" --weld-scope mesh --stats
 check "--weld-scope mesh: structure" $CHECK diff "$T/shapes.gltf" "$T/shapes-mesh.glb"

@@ -262,9 +262,12 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 {
 	/* The group's vertex arrays joined one after another, each once:
 	 * primitives on one array (same_vertex_array) share its range, which
-	 * starts at their first[]. */
-	std::vector<size_t> first(prims.size()), arrays; /* arrays: the primitive that brings each */
-	size_t n = 0;
+	 * starts at their first[]. A primitive whose triangles are those of an
+	 * earlier one on its array (meshes that draw one geometry with other
+	 * materials) is that one (same_as[]): its triangles are not joined
+	 * again, so the plan holds each geometry once. */
+	std::vector<size_t> first(prims.size()), same_as(prims.size()), arrays; /* arrays: the primitive that brings each */
+	size_t n = 0, distinct = 0;
 	std::vector<double> joined, joined_normals;
 	std::vector<uint32_t> joined_corners;
 	vn_positions pos = prims[0]->positions.view;
@@ -274,24 +277,31 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 	for (size_t k = 0; k < prims.size(); ++k) {
 		const primitive* p = prims[k];
 		auto same = std::find_if(arrays.begin(), arrays.end(), [&](size_t a) { return same_vertex_array(*prims[a], *p); });
-		f.corner_count += p->triangles.size();
+		same_as[k] = k;
 		if (same != arrays.end()) {
 			first[k] = first[*same];
-			continue;
+			for (size_t j = *same; j < k && same_as[k] == k; ++j)
+				if (same_as[j] == j && first[j] == first[k] &&
+				    std::equal(p->triangles.begin(), p->triangles.end(), prims[j]->triangles.begin(), prims[j]->triangles.end()))
+					same_as[k] = j;
+		} else {
+			if (n + p->vertices() > UINT32_MAX)
+				fail(vn_io_error_unsupported, "a mesh has more than 2^32 vertices");
+			first[k] = n;
+			n += p->vertices();
+			arrays.push_back(k);
+			any_normals = any_normals || !p->input_normals.empty();
 		}
-		if (n + p->vertices() > UINT32_MAX)
-			fail(vn_io_error_unsupported, "a mesh has more than 2^32 vertices");
-		first[k] = n;
-		n += p->vertices();
-		arrays.push_back(k);
-		any_normals = any_normals || !p->input_normals.empty();
+		if (same_as[k] == k)
+			f.corner_count += p->triangles.size(), ++distinct;
 	}
-	if (prims.size() == 1) {
+	if (distinct == 1) {
 		f.corners = prims[0]->triangles.data();
 	} else {
 		for (size_t k = 0; k < prims.size(); ++k)
 			for (uint32_t v : prims[k]->triangles)
-				joined_corners.push_back((uint32_t)(first[k] + v));
+				if (same_as[k] == k)
+					joined_corners.push_back((uint32_t)(first[k] + v));
 		f.corners = joined_corners.data();
 	}
 	if (arrays.size() > 1) {
@@ -348,7 +358,10 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 	size_t corner_first = 0;
 	for (size_t p = 0; p < prims.size(); ++p) {
 		primitive& pr = *prims[p];
-		if (extra_end[p] > extra_first[p]) {
+		if (same_as[p] != p) {
+			pr.split_source = prims[same_as[p]]->split_source;
+			pr.split_triangles = prims[same_as[p]]->split_triangles;
+		} else if (extra_end[p] > extra_first[p]) {
 			pr.split_source.reserve(extra_end[p] - extra_first[p]);
 			pr.split_triangles.reserve(pr.triangles.size());
 			for (size_t e = extra_first[p]; e < extra_end[p]; ++e)
@@ -359,7 +372,8 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 				                                     : (uint32_t)(pr.vertices() + v - g.n - extra_first[p]));
 			}
 		}
-		corner_first += pr.triangles.size();
+		if (same_as[p] == p)
+			corner_first += pr.triangles.size();
 		st.triangles += pr.triangles.size() / 3;
 		++st.primitives;
 		st.tangent_primitives += pr.tangent;
