@@ -72,6 +72,26 @@ check "--weld-epsilon works" $CHECK seams "$T/seam-eps.glb" same
 run "$VNC" "$T/seam.gltf" "$T/x.glb" --weld-epsilon -1
 check "negative --weld-epsilon exits 2" [ $rc -eq 2 ]
 
+# EXT_structural_metadata (3D Tiles 1.1 content) keeps a property table's
+# values and string offsets in bufferViews: when vn removes the data it
+# replaced (--draco on), those are renumbered and read the same bytes, and
+# there is no warning about an extension vn does not know.
+python3 - "$T/seam.gltf" "$T/metadata.gltf" <<'EOF'
+import base64, json, struct, sys
+doc = json.load(open(sys.argv[1]))
+data = b"abcde\0\0\0" + struct.pack("<3I", 0, 2, 5)
+doc["buffers"].append({"byteLength": len(data), "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()})
+doc["bufferViews"] += [{"buffer": 1, "byteOffset": 0, "byteLength": 5}, {"buffer": 1, "byteOffset": 8, "byteLength": 12}]
+doc["extensionsUsed"] = ["EXT_structural_metadata"]
+doc["extensions"] = {"EXT_structural_metadata": {
+    "schema": {"id": "s", "classes": {"c": {"properties": {"name": {"type": "STRING"}}}}},
+    "propertyTables": [{"class": "c", "count": 2, "properties": {"name": {"values": 4, "stringOffsets": 5, "stringOffsetType": "UINT32"}}}]}}
+json.dump(doc, open(sys.argv[2], "w"))
+EOF
+run "$VNC" "$T/metadata.gltf" "$T/metadata.glb" --draco on --stats
+check "EXT_structural_metadata: no warning, the replaced data removed" [ "$rc|$(cat "$T/stderr")|$(grep -c '^removed unused: *[1-9]' "$T/stdout")" = "0||1" ]
+check "EXT_structural_metadata: its table's bufferViews renumbered" [ "$(q "$T/metadata.glb" "d['extensions']['EXT_structural_metadata']['propertyTables'][0]['properties']['name']")" = "{'values': 0, 'stringOffsets': 1, 'stringOffsetType': 'UINT32'}" ]
+check "EXT_structural_metadata: its table's bytes as they were" $CHECK metadata "$T/metadata.gltf" "$T/metadata.glb"
 # Pruning: a sparse NORMAL cannot be rewritten in place, so a new accessor
 # replaces it; the old one and its 3 bufferViews (data, sparse indices and
 # values) are removed, what the input itself left unused (accessors "unused"

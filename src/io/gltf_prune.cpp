@@ -15,7 +15,8 @@ namespace {
 /* Calls on_accessor(ref) for every place in the document that holds an
  * accessor index outside the accessors array (primitive attributes,
  * indices and targets, skins, animation samplers, GPU instancing), and
- * on_view(ref) for every bufferView index outside it (images, Draco). */
+ * on_view(ref) for every bufferView index outside it (images, Draco,
+ * EXT_structural_metadata's property tables). */
 template <typename A, typename V> void visit_references(json& j, A on_accessor, V on_view)
 {
 	auto each = [&](const char* array, auto&& f) {
@@ -70,6 +71,20 @@ template <typename A, typename V> void visit_references(json& j, A on_accessor, 
 			members((*ext)["EXT_mesh_gpu_instancing"]["attributes"]);
 	});
 	each("images", [&](json& image) { key(image, "bufferView", on_view); });
+	/* A property table keeps each property's values, and its array and
+	 * string offsets, in bufferViews (3D Tiles 1.1 content). */
+	auto ext = j.find("extensions");
+	if (ext == j.end() || !ext->is_object() || !ext->contains("EXT_structural_metadata"))
+		return;
+	json& metadata = (*ext)["EXT_structural_metadata"];
+	auto tables = metadata.is_object() ? metadata.find("propertyTables") : metadata.end();
+	if (tables != metadata.end() && tables->is_array())
+		for (json& table : *tables)
+			if (table.is_object() && table.contains("properties") && table["properties"].is_object())
+				for (auto& property : table["properties"].items())
+					if (property.value().is_object())
+						for (const char* k : {"values", "arrayOffsets", "stringOffsets"})
+							key(property.value(), k, on_view);
 }
 
 /* The bufferView indices an accessor holds: its data and sparse parts. */
@@ -122,8 +137,11 @@ namespace {
 /* Extensions whose data hold no accessor, bufferView or buffer index beyond
  * those visit_references and extension_buffers know (prefix match for
  * KHR_materials_):
- * EXT_mesh_features names feature-ID attributes by set number and
- * textures by index, CESIUM_RTC holds a centre, KHR_animation_pointer and
+ * EXT_mesh_features and EXT_instance_features name feature-ID attributes
+ * by set number, textures and property tables by index,
+ * EXT_structural_metadata's textures, attributes and tables likewise
+ * (its tables' bufferViews visit_references knows), CESIUM_RTC holds a
+ * centre, KHR_animation_pointer and
  * KHR_interactivity JSON pointers of the glTF object model (nodes,
  * materials, meshes, cameras, skins, animations, scenes: nothing pruning
  * renumbers), KHR_node_visibility, _selectability and _hoverability a
@@ -133,7 +151,8 @@ bool prunable_with(const std::string& name)
 	static const char* const known[] = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
 	                                    "KHR_lights_punctual", "KHR_texture_basisu", "EXT_texture_webp",
 	                                    "EXT_texture_avif", "EXT_mesh_gpu_instancing", "KHR_xmp_json_ld",
-	                                    "KHR_xmp", "EXT_mesh_features", "CESIUM_RTC", "KHR_animation_pointer",
+	                                    "KHR_xmp", "EXT_mesh_features", "EXT_instance_features",
+	                                    "EXT_structural_metadata", "CESIUM_RTC", "KHR_animation_pointer",
 	                                    "KHR_node_visibility", "KHR_node_selectability", "KHR_node_hoverability",
 	                                    "KHR_interactivity", "EXT_lights_image_based", "MSFT_lod",
 	                                    "MSFT_texture_dds", "EXT_meshopt_compression", "KHR_meshopt_compression"};

@@ -24,8 +24,8 @@
       different UVs) as a .gltf with a data-URI buffer.
   gltfcheck.py shapes FILE
       Writes the same sphere as five primitives over one POSITION accessor:
-      the top half (NORMAL 1), the bottom half sharing NORMAL 1 (so it needs
-      an accessor of its own), the whole sphere without NORMAL, a
+      the top half (NORMAL 1), the bottom half sharing NORMAL 1 (one vertex
+      array with the top half), the whole sphere without NORMAL, a
       TRIANGLE_STRIP band, and POINTS.
   gltfcheck.py quantized FILE
       The sphere under KHR_mesh_quantization: POSITION as SHORT (not
@@ -63,6 +63,9 @@
       position's TEXCOORD_0; every corner of a front face has a normal
       within DEGREES of the exact one, every corner of a back face the
       front's at its position, negated.
+  gltfcheck.py metadata IN OUT
+      Every EXT_structural_metadata property table's bufferViews (values,
+      arrayOffsets, stringOffsets) read back the same bytes in OUT as in IN.
   gltfcheck.py samenormals IN OUT DEGREES
       Every vertex's NORMAL in OUT is within DEGREES of its NORMAL in IN,
       primitive by primitive (OUT converted from IN without splitting).
@@ -958,6 +961,24 @@ def cmd_scattered(folder):
     return 0
 
 
+def cmd_metadata(a, b):
+    def tables(path):
+        _, doc, buf = load(path)
+        out = {}
+        for t, table in enumerate(doc["extensions"]["EXT_structural_metadata"]["propertyTables"]):
+            for name, prop in table["properties"].items():
+                for k in ("values", "arrayOffsets", "stringOffsets"):
+                    if k in prop:
+                        out[(t, name, k)] = view_bytes(doc, buf, prop[k])
+        return out
+    before, after = tables(a), tables(b)
+    for k in sorted(before):
+        if after.get(k) != before[k]:
+            print("%s: property table %d, %s's %s: %r, %s's %r" % (b, k[0], k[1], k[2], after.get(k), a, before[k]))
+            return 1
+    return 0 if before and before.keys() == after.keys() else 1
+
+
 def cmd_packed(path):
     """Every byte of every buffer lies in a bufferView but for padding (fewer
     than 4 bytes between views), and every accessor and bufferView is used:
@@ -1134,6 +1155,8 @@ def main(argv):
                 "uvtriangle": cmd_uvtriangle}[argv[1]](argv[2])
     if len(argv) in (5, 6) and argv[1] == "uvcorners":
         return cmd_uvcorners(argv[2], argv[3], float(argv[4]), float(argv[-1]))
+    if len(argv) == 4 and argv[1] == "metadata":
+        return cmd_metadata(argv[2], argv[3])
     if len(argv) == 5 and argv[1] == "samenormals":
         return cmd_samenormals(argv[2], argv[3], float(argv[4]))
     if len(argv) == 4 and argv[1] in ("twosided-check", "twosided-shared-check"):
