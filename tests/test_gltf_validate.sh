@@ -68,6 +68,23 @@ for f in "${models[@]}"; do
   check "$name --draco off: no new validator issues, information included" node "$HERE/gltf/validate.mjs" \
     "$MODULES" "$f" "${dracos[0]}" "${dracos[1]}"
 done
+# A material that needs a tangent space renderers cannot generate (an
+# anisotropy texture, no normal map): its primitive keeps TANGENT, which
+# the validator would otherwise miss (MESH_PRIMITIVE_NO_TANGENT_SPACE, an
+# error), and a warning says why.
+mkdir -p "$T/aniso" && cp "$DATA/sphere/"* "$T/aniso/"
+python3 - "$T/aniso/sphere.gltf" <<'EOF'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+material = doc["materials"][0]
+del material["normalTexture"]
+material["extensions"] = {"KHR_materials_anisotropy": {"anisotropyStrength": 0.5, "anisotropyTexture": {"index": 0}}}
+doc["extensionsUsed"] = ["KHR_materials_anisotropy"]
+json.dump(doc, open(sys.argv[1], "w"))
+EOF
+run "$VNC" "$T/aniso/sphere.gltf" "$T/aniso.glb" --tangents drop --stats
+check "--tangents drop, anisotropy without a normal map: TANGENT kept, saying why" [ "$rc|$(cat "$T/stderr")|$(grep '^tangent primitives' "$T/stdout" | tr -s ' ')" = "0|vnconvert: warning: 1 primitive keeps TANGENT despite --tangents drop: its material needs a tangent space (an anisotropy texture or a clearcoat normal map) and has no normal map to generate one from, so the file would be invalid without it (MESH_PRIMITIVE_NO_TANGENT_SPACE); it no longer matches the new normals|tangent primitives: 1 (0 dropped, 1 kept: needed)" ]
+check "--tangents drop, anisotropy without a normal map: valid" node "$HERE/gltf/validate.mjs" "$MODULES" "$T/aniso/sphere.gltf" "$T/aniso.glb"
 # OFF -> glTF is valid on its own.
 "$VNC" "$HERE/../samples/sphere-quads.off" "$T/sq.glb" -q && "$VNC" "$HERE/../samples/torus.off" "$T/torus.gltf" -q
 check "OFF -> GLB/glTF valid" node "$HERE/gltf/validate.mjs" "$MODULES" "$T/seam.gltf" "$T/sq.glb" "$T/torus.gltf"

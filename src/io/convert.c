@@ -366,6 +366,13 @@ static vn_io_result convert_gltf(conversion* c, vn_io_error* error)
 		add(&c->warnings,
 		    "%zu %s TANGENT data, which no longer matches the new normals (--tangents drop removes it)\n",
 		    st.tangent_primitives, noun(st.tangent_primitives, "primitive has", "primitives have"));
+	if (st.tangents_needed)
+		add(&c->warnings,
+		    "%zu %s TANGENT despite --tangents drop: %s material needs a tangent space (an anisotropy texture or "
+		    "a clearcoat normal map) and has no normal map to generate one from, so the file would be invalid "
+		    "without it (MESH_PRIMITIVE_NO_TANGENT_SPACE); it no longer matches the new normals\n",
+		    st.tangents_needed, noun(st.tangents_needed, "primitive keeps", "primitives keep"),
+		    st.tangents_needed == 1 ? "its" : "their");
 	if (st.draco_uncompressed)
 		add(&c->warnings,
 		    "%zu %s left uncompressed: %s morph targets keep every vertex, and Draco cannot store more than 3 "
@@ -392,7 +399,11 @@ static vn_io_result convert_gltf(conversion* c, vn_io_error* error)
 	add(&c->stats, "hard edges kept:    %zu\n", st.hard_edges);
 	add(&c->stats, "split vertices:     %zu\n", st.split_vertices);
 	add(&c->stats, "zero normals:       %zu\n", st.zero_normals);
-	add(&c->stats, "tangent primitives: %zu (%s)\n", st.tangent_primitives, g.drop_tangents ? "dropped" : "kept");
+	if (g.drop_tangents)
+		add(&c->stats, "tangent primitives: %zu (%zu dropped, %zu kept: needed)\n", st.tangent_primitives,
+		    st.tangent_primitives - st.tangents_needed, st.tangents_needed);
+	else
+		add(&c->stats, "tangent primitives: %zu (kept)\n", st.tangent_primitives);
 	add(&c->stats, "appended accessors: %zu\n", st.appended_accessors);
 	add(&c->stats, "removed unused:     %zu %s, %zu %s\n", st.pruned_accessors,
 	    noun(st.pruned_accessors, "accessor", "accessors"), st.pruned_views,

@@ -37,6 +37,25 @@
 
 using namespace vn_gltf;
 
+/* Whether p's material needs a tangent space that renderers cannot generate
+ * without TANGENT: an anisotropy texture or a clearcoat normal map, and no
+ * normal map to derive one from (the Khronos validator's
+ * MESH_PRIMITIVE_NO_TANGENT_SPACE, an error). */
+static bool needs_tangents(const document& d, const primitive& p)
+{
+	const json* m = material_of(d, p);
+	if (!m || m->contains("normalTexture"))
+		return false;
+	auto ext = m->find("extensions");
+	if (ext == m->end() || !ext->is_object())
+		return false;
+	auto has = [&](const char* extension, const char* texture) {
+		auto e = ext->find(extension);
+		return e != ext->end() && e->is_object() && e->contains(texture);
+	};
+	return has("KHR_materials_anisotropy", "anisotropyTexture") || has("KHR_materials_clearcoat", "clearcoatNormalTexture");
+}
+
 extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out_glb, const vn_gltf_options* options,
                                         vn_gltf_stats* stats, vn_io_error* error)
 {
@@ -50,19 +69,23 @@ extern "C" vn_io_result vn_gltf_convert(const char* in, const char* out, int out
 		if (options->draco == vn_gltf_draco_off)
 			decompress_draco(d);
 		std::vector<primitive> prims = triangle_primitives(d, &st, false);
-		if (options->drop_tangents)
-			for (const primitive& p : prims)
-				if (p.tangent) {
-					/* Morph targets may not displace an attribute the base lacks. */
-					json& prim = mesh_primitive(d, p);
-					prim["attributes"].erase("TANGENT");
-					if (p.draco)
-						prim["extensions"][draco_name]["attributes"].erase("TANGENT");
-					if (prim.contains("targets") && prim["targets"].is_array())
-						for (json& target : prim["targets"])
-							if (target.is_object())
-								target.erase("TANGENT");
-				}
+		for (const primitive& p : prims) {
+			if (!options->drop_tangents || !p.tangent)
+				continue;
+			if (needs_tangents(d, p)) {
+				++st.tangents_needed;
+			} else {
+				/* Morph targets may not displace an attribute the base lacks. */
+				json& prim = mesh_primitive(d, p);
+				prim["attributes"].erase("TANGENT");
+				if (p.draco)
+					prim["extensions"][draco_name]["attributes"].erase("TANGENT");
+				if (prim.contains("targets") && prim["targets"].is_array())
+					for (json& target : prim["targets"])
+						if (target.is_object())
+							target.erase("TANGENT");
+			}
+		}
 		/* Each group written as soon as computed: what it held is then freed.
 		 * Primitives that draw one vertex array with one NORMAL accessor
 		 * (Cesium's batched tiles, one primitive per material) are computed

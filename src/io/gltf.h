@@ -92,6 +92,9 @@ typedef struct vn_gltf_stats {
 	size_t zero_normals;       /* vertices no face contributed to: written as the
 	                              input's unit normal, or (0, 0, 1) */
 	size_t tangent_primitives; /* processed primitives with TANGENT */
+	size_t tangents_needed;    /* --tangents drop: primitives whose TANGENT stays, as their
+	                              material needs a tangent space and has no normal map to
+	                              generate one from */
 	size_t appended_accessors; /* NORMAL accessors added (none before, sparse,
 	                              unusual type, or shared with differing result) */
 	size_t draco_primitives;   /* primitives written Draco-compressed */

@@ -277,15 +277,10 @@ static long long texcoord_set(const std::string& name)
  * is none. */
 static bool uv_transform(const document& d, const primitive& p, long long n, double m[6])
 {
-	const json& prim = d.j["meshes"][p.mesh]["primitives"][p.index];
-	auto material = prim.find("material");
-	auto materials = d.j.find("materials");
-	if (material == prim.end() || !material->is_number_integer() || materials == d.j.end() || !materials->is_array() ||
-	    material->get<long long>() < 0 || (size_t)material->get<long long>() >= materials->size())
+	const json* material = material_of(d, p);
+	if (!material)
 		return false;
-	const json& mat = (*materials)[(size_t)material->get<long long>()];
-	if (!mat.is_object())
-		return false;
+	const json& mat = *material;
 	static const char* const pbr[] = {"baseColorTexture", "metallicRoughnessTexture"};
 	static const char* const own[] = {"normalTexture", "occlusionTexture", "emissiveTexture"};
 	std::vector<const json*> infos;

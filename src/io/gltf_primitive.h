@@ -133,6 +133,19 @@ inline json& mesh_primitive(document& d, const primitive& p)
 	return d.j["meshes"][p.mesh]["primitives"][p.index];
 }
 
+/* p's material object, or null where it has none (or its index is none). */
+inline const json* material_of(const document& d, const primitive& p)
+{
+	const json& prim = d.j["meshes"][p.mesh]["primitives"][p.index];
+	auto material = prim.find("material");
+	auto materials = d.j.find("materials");
+	if (material == prim.end() || !material->is_number_integer() || materials == d.j.end() || !materials->is_array() ||
+	    material->get<long long>() < 0 || (size_t)material->get<long long>() >= materials->size())
+		return nullptr;
+	const json& m = (*materials)[(size_t)material->get<long long>()];
+	return m.is_object() ? &m : nullptr;
+}
+
 /* Draco primitives written, per normal quantization bits: their positions,
  * new normals and triangles, for the --stats quantization error. */
 struct quantized_normals {
