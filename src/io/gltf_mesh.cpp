@@ -507,9 +507,10 @@ static void mesh_from_document(document& d, vn_io_mesh* mesh, bool scene)
 		 * (uv_transform): the transformed coordinates, as floats. */
 		std::vector<std::array<double, 6>> transform(prims.size());
 		std::vector<bool> transformed(prims.size(), false);
-		if (texcoord_set(name) >= 0 && type.components == 2)
+		const long long set = texcoord_set(name);
+		if (set >= 0 && type.components == 2)
 			for (size_t k = 0; k < prims.size(); ++k)
-				if (has[k] && types[k].components == 2 && uv_transform(d, prims[k], texcoord_set(name), transform[k].data())) {
+				if (has[k] && types[k].components == 2 && uv_transform(d, prims[k], set, transform[k].data())) {
 					transformed[k] = true;
 					type.component = 5126;
 					type.normalized = false;

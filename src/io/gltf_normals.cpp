@@ -299,8 +299,8 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 		f.corners = prims[0]->triangles.data();
 	} else {
 		for (size_t k = 0; k < prims.size(); ++k)
-			for (uint32_t v : prims[k]->triangles)
-				if (same_as[k] == k)
+			if (same_as[k] == k)
+				for (uint32_t v : prims[k]->triangles)
 					joined_corners.push_back((uint32_t)(first[k] + v));
 		f.corners = joined_corners.data();
 	}
@@ -337,10 +337,10 @@ void compute_group(std::vector<primitive*>& prims, const vn_gltf_options& o, vn_
 	 * array, which come together (the split vertices follow their input
 	 * vertices). */
 	std::vector<size_t> extra_first, extra_end;
+	auto at = [&](size_t v) {
+		return (size_t)(std::lower_bound(g.extra_source.begin(), g.extra_source.end(), v) - g.extra_source.begin());
+	};
 	for (size_t p = 0; p < prims.size(); ++p) {
-		auto at = [&](size_t v) {
-			return (size_t)(std::lower_bound(g.extra_source.begin(), g.extra_source.end(), v) - g.extra_source.begin());
-		};
 		extra_first.push_back(at(first[p]));
 		extra_end.push_back(at(first[p] + prims[p]->vertices()));
 	}
