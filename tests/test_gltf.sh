@@ -50,6 +50,21 @@ run "$VNC" "$DATA/Duck/Duck.gltf" "$T/clash/Duck.gltf"
 check "a different existing image is an error" [ $rc -eq 1 ]; check "image clash: one line" one_line_err
 check "image clash: no output" [ ! -e "$T/clash/Duck.gltf" ] && check "image clash: nothing replaced" grep -q "not the duck" "$T/clash/DuckCM.png"
 check "image clash: no temporaries" [ "$(ls -A "$T/clash")" = "DuckCM.png" ]
+# An image whose file is missing (a .gltf fetched without a texture) stays
+# referred to by its URI, with a warning: the normals are still fixed, and
+# the images that are there are embedded or copied as ever.
+mkdir -p "$T/noimg" "$T/noimg-out" && cp "$DATA/Duck/Duck0.bin" "$DATA/Duck/DuckCM.png" "$T/noimg/"
+python3 -c "import json, sys; d = json.load(open(sys.argv[1])); d['images'].append({'uri': 'gone%20away.png'}); json.dump(d, open(sys.argv[2], 'w'))" \
+  "$DATA/Duck/Duck.gltf" "$T/noimg/Duck.gltf"
+for ext in glb gltf; do
+  run "$VNC" "$T/noimg/Duck.gltf" "$T/noimg-out/Duck.$ext"
+  check "missing image -> $ext: exits 0" [ $rc -eq 0 ]
+  check "missing image -> $ext: the warning" [ "$err" = "vnconvert: warning: $T/noimg/Duck.gltf: images[1] ('gone away.png') cannot be read beside the input: the output refers to it by URI, as the input does" ]
+  check "missing image -> $ext: structure" $CHECK diff "$T/noimg/Duck.gltf" "$T/noimg-out/Duck.$ext"
+  check "missing image -> $ext: its URI kept" [ "$(q "$T/noimg-out/Duck.$ext" "d['images'][1]")" = "{'uri': 'gone%20away.png'}" ]
+done
+check "missing image -> glb: the other image embedded" [ "$(q "$T/noimg-out/Duck.glb" "sorted(d['images'][0])")" = "['bufferView', 'mimeType']" ]
+check "missing image -> gltf: the other image copied" cmp -s "$DATA/Duck/DuckCM.png" "$T/noimg-out/DuckCM.png"
 
 # TANGENT: a warning by default; --tangents drop removes the attribute and its data.
 run "$VNC" "$DATA/sphere/sphere.gltf" "$T/sp.glb"

@@ -99,5 +99,10 @@ check "gltf1-number.gltf: names the version" grep -q "gltf1-number.gltf: glTF 1.
 printf '{"asset": {"version": "2.0"}, "buffers": [{"uri": "", "byteLength": 4}]}' >"$T/empty-uri.gltf"
 check_rejected "$VNC" "$T/empty-uri.gltf" "$T/none.glb" "$T/keep.glb"
 check "empty-uri.gltf: says the uri is empty" grep -q "empty-uri.gltf: buffers\[0\].uri is empty: it names no file$" "$T/stderr"
+# A number no double holds (the validator's infinite_transform.gltf): said
+# so, without the JSON library's exception id.
+printf '{"asset": {"version": "2.0"}, "nodes": [{"translation": [1e309, 0, 0]}]}' >"$T/infinite.gltf"
+check_rejected "$VNC" "$T/infinite.gltf" "$T/none.glb" "$T/keep.glb"
+check "infinite.gltf: says which number" grep -q "infinite.gltf: the glTF JSON has a number beyond the range of a double, '1e309': glTF's numbers are finite$" "$T/stderr"
 
 finish

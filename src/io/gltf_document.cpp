@@ -11,6 +11,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdarg>
+#include <cstdio>
 #include <cstring>
 #include <iterator>
 #include <map>
@@ -439,6 +440,20 @@ static void canonical_integers(json& j)
 	}
 }
 
+/* An external resource's URI (not a data URI, not another scheme's URL such
+ * as https://, which vn neither reads nor copies), decoded; "" otherwise. */
+std::string file_uri(const json& o)
+{
+	auto it = o.find("uri");
+	if (it == o.end() || !it->is_string() || is_data_uri(it->get_ref<const std::string&>()))
+		return "";
+	const std::string& uri = it->get_ref<const std::string&>();
+	const size_t colon = uri.find(':'), slash = uri.find('/');
+	if (colon != std::string::npos && (slash == std::string::npos || colon < slash))
+		return ""; /* a scheme */
+	return uri_decode(uri);
+}
+
 /* Reads the file in one piece and parses its JSON; the GLB's BIN chunk
  * becomes buffer 0 where it lies, other buffers are read from their URIs. */
 document load(const std::string& path)
@@ -510,6 +525,14 @@ document load(const std::string& path)
 		fail(vn_io_error_parse, str("the glTF JSON is malformed at byte %zu%s: %s", (size_t)x.byte,
 		                            d.glb ? " of the JSON chunk" : "",
 		                            dash == std::string::npos ? why.c_str() : why.c_str() + dash + 3));
+	} catch (const json::out_of_range& x) {
+		/* 1e309: JSON's grammar, but no double (JavaScript reads Infinity,
+		 * which the validator then reports as out of range). */
+		const std::string why = x.what();
+		const size_t quote = why.find('\'');
+		fail(vn_io_error_parse, str("the glTF JSON has a number beyond the range of a double%s%s: glTF's numbers are finite",
+		                            quote == std::string::npos ? "" : ", ",
+		                            quote == std::string::npos ? "" : why.c_str() + quote));
 	} catch (const json::exception& x) {
 		fail(vn_io_error_parse, std::string("the glTF JSON is malformed: ") + x.what());
 	}
@@ -559,6 +582,25 @@ document load(const std::string& path)
 		                         first, furthest, b, d.buffers[b].size,
 		                         past > 1 ? str(", and %zu more views end past their buffer's", past - 1).c_str() : "",
 		                         d.buffers[b].reserved));
+	}
+	/* An image whose file is not there (a .gltf fetched without its
+	 * textures) stays referred to by its URI: vn does not read images, and
+	 * refusing would leave the normals unfixed for want of a texture. */
+	auto images = d.j.find("images");
+	for (size_t i = 0; images != d.j.end() && images->is_array() && i < images->size(); ++i) {
+		const std::string name = (*images)[i].is_object() ? file_uri((*images)[i]) : "";
+		FILE* f = name.empty() ? nullptr : fopen((d.folder + name).c_str(), "rb");
+		if (f)
+			fclose(f);
+		else if (!name.empty())
+			d.missing_images.insert(i);
+	}
+	if (!d.missing_images.empty()) {
+		const size_t i = *d.missing_images.begin();
+		d.warnings.push_back(str("images[%zu] ('%s') cannot be read beside the input%s: the output refers to %s by URI, "
+		                         "as the input does", i, file_uri((*images)[i]).c_str(),
+		                         d.missing_images.size() > 1 ? str(", nor %zu more images", d.missing_images.size() - 1).c_str() : "",
+		                         d.missing_images.size() > 1 ? "them" : "it"));
 	}
 	return d;
 }

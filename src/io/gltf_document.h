@@ -83,6 +83,7 @@ struct document {
 	 * data encoded again or no longer written): prune packs them. */
 	std::set<size_t> repack;
 	std::vector<std::string> warnings; /* about the input, read anyway ("the GLB has 4 bytes after ...") */
+	std::set<size_t> missing_images; /* images whose file cannot be read: kept by URI */
 };
 
 inline constexpr const char* draco_name = "KHR_draco_mesh_compression";
@@ -186,6 +187,9 @@ std::string folder_of(const std::string& path);
 std::string uri_decode(const std::string& s);
 /* True when uri is a data URI ("data:", any case). */
 bool is_data_uri(const std::string& uri);
+/* An external resource's URI (not a data URI, not another scheme's URL such
+ * as https://, which vn neither reads nor copies), decoded; "" otherwise. */
+std::string file_uri(const json& o);
 /* Decodes a data URI as RFC 2397 defines it: "data:[type][;params][;base64],
  * data", the data base64 or percent-encoded. Sets the media type ("" when
  * the URI gives none); false when it is not a well-formed data URI. */

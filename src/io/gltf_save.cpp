@@ -172,20 +172,6 @@ static bool same_folder(const std::string& a, const std::string& b)
 	       sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
-/* An external resource's URI (not a data URI, not another scheme's URL such
- * as https://, which vn neither reads nor copies), decoded; "" otherwise. */
-static std::string file_uri(const json& o)
-{
-	auto it = o.find("uri");
-	if (it == o.end() || !it->is_string() || has_data_uri(o))
-		return "";
-	const std::string& uri = it->get_ref<const std::string&>();
-	const size_t colon = uri.find(':'), slash = uri.find('/');
-	if (colon != std::string::npos && (slash == std::string::npos || colon < slash))
-		return ""; /* a scheme */
-	return uri_decode(uri);
-}
-
 /* True when relative path `name` stays inside its folder: not absolute, no
  * ".." component. */
 static bool stays_inside(const std::string& name)
@@ -280,8 +266,8 @@ static void merge_for_glb(document& d)
 				continue; /* stays as the input has it */
 		} else {
 			const std::string name = file_uri(image);
-			if (name.empty())
-				continue; /* a URL: stays one */
+			if (name.empty() || d.missing_images.count(i))
+				continue; /* a URL, or a file not there: stays by URI */
 			if (!read_file(d.folder + name, data))
 				fail_named(vn_io_error_open, str("%s: cannot read images[%zu] ('%s') to put it into the GLB",
 				                                 (d.folder + name).c_str(), i, name.c_str()));
@@ -392,7 +378,8 @@ static void make_folders(const std::string& folder, const std::string& name)
 }
 
 /* External images keep their URIs when they stay inside the output's
- * folder (copied there when it is another folder, folders made as needed);
+ * folder (copied there when it is another folder, folders made as needed;
+ * one whose file the input lacks keeps its URI, load's warning);
  * one that would land outside it ("../tex/a.png") is copied into it under
  * its own name. A prefix goes before each copy's file name
  * ("tex/a.png" -> "tex/PREFIXa.png"). */
@@ -402,9 +389,10 @@ static void copy_images(document& d, const std::string& folder, const std::strin
 	if (images == d.j.end() || !images->is_array() || same_folder(d.folder, folder))
 		return;
 	std::map<std::string, bytes> placed; /* name in the output folder -> contents */
-	for (json& image : *images) {
+	for (size_t i = 0; i < images->size(); ++i) {
+		json& image = (*images)[i];
 		const std::string name = image.is_object() ? file_uri(image) : "";
-		if (name.empty())
+		if (name.empty() || d.missing_images.count(i))
 			continue;
 		bytes data, existing;
 		if (!read_file(d.folder + name, data))

@@ -213,13 +213,17 @@ def drop(obj, *keys):
 
 
 def image_bytes(doc, buffers, image, folder):
-    """An image's bytes, wherever they are: a bufferView, a data URI or a file."""
+    """An image's bytes, wherever they are: a bufferView, a data URI or a file;
+    a file that is not there (the input lacked it too) stands as its URI."""
     if "bufferView" in image:
         return view_bytes(doc, buffers, image["bufferView"])
     uri = image.get("uri", "")
     if uri.startswith("data:"):
         return base64.b64decode(uri.split(",", 1)[1])
-    with open(os.path.join(folder, urllib.parse.unquote(uri)), "rb") as f:
+    path = os.path.join(folder, urllib.parse.unquote(uri))
+    if not os.path.exists(path):
+        return ("missing " + uri).encode()
+    with open(path, "rb") as f:
         return f.read()
 
 
