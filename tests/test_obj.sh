@@ -297,6 +297,10 @@ run "$VNC" "$T/nogeometry.obj" "$T/nogeometry-out.obj" -q
 check "no geometry, OBJ to OBJ: the mtllib line kept" [ "$rc|$(cat "$T/nogeometry-out.obj" | tr '\n' '|')" = "0|# no vertices and no faces|mtllib scene.mtl|" ]
 run "$VNC" "$T/empty-out.obj" "$T/empty-back.off" -q
 check "an empty OBJ read back" [ "$rc|$(sed -n 2p "$T/empty-back.off")" = "0|0 0 0" ]
+# Lines OBJ does not define and none it does: another format under .obj
+# (pyvista's mni-surface-mesh.obj, an MNI surface), refused; it was written
+# as an empty mesh with a warning, as if read.
+refused mni '# made by hand\nP 0.3 0.3 0.4 10 1 3\n 0 0 0 1 0 0 0 1 0\n' "mni.obj: not a Wavefront OBJ file: no v, vt, vn or f line, and line 2 starts with 'P', which OBJ does not define (an MNI surface .obj starts so: another format)"
 refused utf16 '\377\376v\000 \0000\000' "utf16.obj: the text is UTF-16LE (it starts with a byte order mark): save it as ASCII or UTF-8"
 # A UTF-8 byte order mark (Windows editors write one) is read past: before,
 # the first v line was skipped and every index moved by one.

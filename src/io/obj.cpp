@@ -190,6 +190,7 @@ struct scanner {
 	static const size_t left_out_max = 8;
 	std::vector<std::pair<std::string, uint64_t>> left_out;
 	uint64_t left_out_kinds = 0, extra_vertex_numbers = 0;
+	size_t first_left_out = 0; /* its line */
 	/* The arguments of `g` or `s` lines as written ("" for a bare `g`: the
 	 * default group), and each face's (the checking pass): Draco skips
 	 * those lines. */
@@ -588,6 +589,8 @@ struct scanner {
 				k.second++;
 				return;
 			}
+		if (left_out.empty())
+			first_left_out = line;
 		if (left_out.size() < left_out_max)
 			left_out.push_back({keyword, 1});
 		left_out_kinds++;
@@ -1049,6 +1052,17 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 		text.swap(copy);
 	}
 	if (s.triangles == 0) {
+		/* Nothing OBJ defines but lines it does not: another format under
+		 * the .obj extension (the MNI surfaces of brain imaging, "P 0.3 0.3
+		 * 0.4 10 1 40962"), which an empty output would pass off as read. */
+		if (!s.total[0] && !s.total[1] && !s.total[2] && !s.left_out.empty()) {
+			const std::string& first = s.left_out[0].first;
+			return vn_io_fail(error, vn_io_error_parse,
+			                  "%s: not a Wavefront OBJ file: no v, vt, vn or f line, and line %zu starts with '%s', "
+			                  "which OBJ does not define%s",
+			                  name, s.first_left_out, first.c_str(),
+			                  first == "P" || first == "L" ? " (an MNI surface .obj starts so: another format)" : "");
+		}
 		if (s.polylines)
 			return vn_io_fail(error, vn_io_error_unsupported,
 			                  "%s: %" PRId64 " vertices and %" PRIu64 " lines (l), but no faces (f): vn computes the "
