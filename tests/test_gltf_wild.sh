@@ -75,6 +75,12 @@ convert images URI_GLB DATA_URI_GLB
 check "images.glb: PNG and WebP embedded, KTX2 as it was" [ "$(q "$T/out/images.glb" "[(i.get('mimeType'), 'bufferView' in i, i.get('uri', '')[:16]) for i in d['images']]")" = "[('image/png', True, ''), ('image/webp', True, ''), (None, False, 'data:image/ktx2;')]" ]
 convert ktx2-file URI_GLB
 check "ktx2-file.glb: kept by URI and copied beside it" cmp "$W/magnum-2d-mips.ktx2" "$T/out/magnum-2d-mips.ktx2"
+# An image of no bytes (magnum's invalid-uri.gltf: "data:image/png;base64,")
+# stays a data URI: a bufferView holds a byte at least (it was embedded as
+# one of 0 bytes, from a memcpy of NULL that UBSan reported).
+printf '{"asset": {"version": "2.0"}, "images": [{"uri": "data:image/png;base64,"}]}' >"$T/empty-image.gltf"
+run "$VNC" "$T/empty-image.gltf" "$T/out/empty-image.glb" -q
+check "empty image -> .glb: kept as a data URI" [ "$rc|$(q "$T/out/empty-image.glb" "[d['images'], d.get('bufferViews')]")" = "0|[[{'uri': 'data:image/png;base64,'}], None]" ]
 
 # A triangle primitive of 2 vertices (no triangle): its vertices keep their
 # normal (here none: (0, 0, 1)); found by the fuzzer under UBSan.

@@ -272,6 +272,8 @@ static void merge_for_glb(document& d)
 				fail_named(vn_io_error_open, str("%s: cannot read images[%zu] ('%s') to put it into the GLB",
 				                                 (d.folder + name).c_str(), i, name.c_str()));
 		}
+		if (data.empty())
+			continue; /* nothing to embed (a bufferView holds a byte at least): stays as it is */
 		/* What the bytes are, else what the file says they are. */
 		std::string sniffed = image_type(data);
 		if (sniffed.empty())
