@@ -801,4 +801,16 @@ for mode in keep on; do
 done
 check "decoded count --draco off: accessor counts are the stream's" counts "$T/dc-exact-off.glb" "$T/dc-in_0.json"
 
+# A mesh whose every triangle is degenerate (the Draco repository's
+# degenerate_mesh.obj: three equal corners): edgebreaker refuses it ("All
+# triangles are degenerate", which refused the file), so the sequential
+# method encodes it, and both decoders read its triangle. The same in a
+# glTF primitive with --draco on (which refused the whole file).
+printf 'OFF\n3 1 0\n0 0 0\n0 0 0\n0 0 0\n3 2 1 0\n' >"$T/degenerate.off"
+run "$VNC" "$T/degenerate.off" "$T/degenerate.drc" -q
+check "all degenerate -> drc: exits 0" [ $rc -eq 0 ]
+check "all degenerate: both decoders read it" decode "$T/degenerate.drc" "$T/degenerate-out"
+check "all degenerate: its triangle (draco_decoder)" [ "$(grep -c '^f ' "$T/degenerate-out.obj")" = 1 ]
+run "$VNC" "$T/degenerate.off" "$T/degenerate.glb" -q && run "$VNC" "$T/degenerate.glb" "$T/degenerate-d.glb" --draco on --stats
+check "all degenerate -> glb --draco on: compressed" [ "$rc|$(stat_of 'draco primitives:')" = "0|1 (0 left uncompressed)" ]
 finish

@@ -536,8 +536,9 @@ static vn_io_result run(const vn_drc_encoder& e, int level, bool keep_order, con
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: compression level %d is not 0 to 10", name, level);
 	/* Levels below 10 pick edgebreaker (kd-tree for a point cloud, where its
 	 * attributes allow), which splits non-manifold vertices and drops
-	 * degenerate triangles; the sequential method keeps every point and
-	 * triangle, so it is the fallback when the other changed a count. */
+	 * degenerate triangles (and refuses a mesh of nothing else); the
+	 * sequential method keeps every point and triangle, so it is the
+	 * fallback when the other changed a count or failed. */
 	for (const bool sequential : {level == 10 || keep_order, true}) {
 		/* As a point cloud where one: Draco's encoder picks its methods by
 		 * the constructor's type (a point cloud keeps its order only with the
@@ -557,6 +558,8 @@ static vn_io_result run(const vn_drc_encoder& e, int level, bool keep_order, con
 			                                  : int(draco::MESH_SEQUENTIAL_ENCODING));
 		draco::EncoderBuffer out;
 		const draco::Status status = encoder.EncodeToBuffer(&out);
+		if (!status.ok() && !sequential)
+			continue; /* edgebreaker refuses a mesh whose every triangle is degenerate: so to the sequential method */
 		if (!status.ok())
 			return vn_io_fail(error, vn_io_error_unsupported, "%s: Draco cannot encode this mesh (%s)", name,
 			                  status.error_msg());
