@@ -225,4 +225,17 @@ check "vnbench bad --repeat exits 2" [ $rc -eq 2 ]
 run "$VNB" "$SAMPLES/sphere-quads.off" --repeat 1
 check "vnbench polygons" grep -q "polygons" "$T/stdout"
 
+# A Git LFS pointer (a repository cloned without its large files, as
+# meshio's elephav.obj and tet.ply were here) is named as one in every
+# format, and as a glTF's buffer file: it was "malformed", or an OBJ read as
+# an empty mesh.
+printf 'version https://git-lfs.github.com/spec/v1\noid sha256:863bb0ad077f2af5c05e70338b9a2643c840208d26984141c731e95b7bcc1b6a\nsize 76928\n' >"$T/pointer"
+for ext in off obj ply stl gltf glb drc; do
+  cp "$T/pointer" "$T/lfs.$ext"
+  check_rejected "$VNC" "$T/lfs.$ext" "$T/none.off" "$T/keep.off"
+  check "LFS pointer .$ext: says so" [ "$err" = "vnconvert: error: $T/lfs.$ext: a Git LFS pointer, not the file itself (whose 76928 bytes are in LFS storage): fetch it with 'git lfs pull'" ]
+done
+mkdir -p "$T/lfs-duck" && cp "$SAMPLES/../tests/data/models/gltf/Duck/Duck.gltf" "$T/lfs-duck/" && cp "$T/pointer" "$T/lfs-duck/Duck0.bin"
+check_rejected "$VNC" "$T/lfs-duck/Duck.gltf" "$T/none.glb" "$T/keep.glb"
+check "LFS pointer as a buffer: says so" grep -qF "Duck.gltf: buffers[0]: $T/lfs-duck/Duck0.bin: a Git LFS pointer, not the file itself" "$T/stderr"
 finish

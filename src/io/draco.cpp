@@ -9,6 +9,10 @@
 #include "draco.h"
 #include "draco_internal.h"
 
+extern "C" {
+#include "text.h"
+}
+
 #include <draco/attributes/attribute_octahedron_transform.h>
 #include <draco/attributes/attribute_quantization_transform.h>
 #include <draco/compression/decode.h>
@@ -259,6 +263,9 @@ static_assert(sizeof semantic_names / sizeof semantic_names[0] == vn_drc_semanti
 static vn_io_result decode(const void* data, size_t size, const char* name, bool clouds, vn_drc_geometry* g,
                            vn_io_error* error)
 {
+	const vn_io_result lfs = vn_io_refuse_lfs_pointer(data, size, name, error);
+	if (lfs != vn_io_success)
+		return lfs;
 	const std::string refused = implausible(data, size);
 	if (!refused.empty())
 		return vn_io_fail(error, vn_io_error_parse, "%s: %s", name, refused.c_str());

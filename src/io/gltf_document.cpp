@@ -7,6 +7,10 @@
  */
 #include "gltf_document.h"
 
+extern "C" {
+#include "text.h"
+}
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -384,6 +388,8 @@ static buffer load_buffer(document& d, size_t i, const std::shared_ptr<unsigned 
 		if (vn_io_read_all(path.c_str(), &raw, &have, &e) != vn_io_success)
 			fail(vn_io_error_open, str("%s: %s", what.c_str(), e.message));
 		out.owner = std::shared_ptr<unsigned char>((unsigned char*)raw, free);
+		if (have < out.size && vn_io_refuse_lfs_pointer(raw, have, path.c_str(), &e) != vn_io_success)
+			fail(vn_io_error_parse, str("%s: %s", what.c_str(), e.message));
 	}
 	if (have < out.size)
 		fail(vn_io_error_parse, str("%s has %zu bytes, fewer than its byteLength %lld", what.c_str(), have, length));
@@ -465,6 +471,8 @@ document load(const std::string& path)
 		fail_named(vn_io_error_open, e.message);
 	const std::shared_ptr<unsigned char> file((unsigned char*)raw, free);
 
+	if (vn_io_refuse_lfs_pointer(raw, size, path.c_str(), &e) != vn_io_success)
+		fail_named(vn_io_error_parse, e.message);
 	document d;
 	d.folder = folder_of(path);
 	const unsigned char* u = file.get();

@@ -1028,6 +1028,9 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 	if (const char* wide = vn_io_wide_bom(bytes, size))
 		return vn_io_fail(error, vn_io_error_parse,
 		                  "%s: the text is %s (it starts with a byte order mark): save it as ASCII or UTF-8", name, wide);
+	const vn_io_result lfs = vn_io_refuse_lfs_pointer(data, size, name, error);
+	if (lfs != vn_io_success)
+		return lfs;
 	data += bom, size -= bom;
 	if (size == 0)
 		return vn_io_fail(error, vn_io_error_parse, "%s: the file is empty", name);

@@ -784,6 +784,9 @@ vn_io_result vn_io_off_read_memory(const char* data, size_t size, const char* na
 	if (wide)
 		return vn_io_fail(error, vn_io_error_parse, "%s: the text is %s (it starts with a byte order mark): save it as "
 		                  "ASCII or UTF-8", name, wide);
+	const vn_io_result lfs = vn_io_refuse_lfs_pointer(r.p, (size_t)(r.end - r.p), name, error);
+	if (lfs != vn_io_success)
+		return lfs;
 
 	vn_io_c_locale locale;
 	if (!vn_io_c_locale_enter(&locale))

@@ -416,6 +416,28 @@ const char* vn_io_wide_bom(const unsigned char* p, size_t n)
 	return NULL;
 }
 
+vn_io_result vn_io_refuse_lfs_pointer(const void* p, size_t n, const char* name, vn_io_error* error)
+{
+	static const char version[] = "version https://git-lfs.github.com/spec/";
+	const char* text = (const char*)p;
+	/* The specification keeps pointers under 1024 bytes. */
+	if (n >= 1024 || n < sizeof version - 1 || memcmp(text, version, sizeof version - 1) != 0)
+		return vn_io_success;
+	unsigned long long bytes = 0;
+	int known = 0;
+	for (size_t i = 0; i + 5 < n && !known; i++)
+		if (text[i] == '\n' && memcmp(text + i + 1, "size ", 5) == 0) {
+			char line[32] = {0};
+			memcpy(line, text + i + 6, n - i - 6 < sizeof line - 1 ? n - i - 6 : sizeof line - 1);
+			known = sscanf(line, "%llu", &bytes) == 1;
+		}
+	char size[48] = "";
+	if (known)
+		snprintf(size, sizeof size, " (whose %llu bytes are in LFS storage)", bytes);
+	return vn_io_fail(error, vn_io_error_parse,
+	                  "%s: a Git LFS pointer, not the file itself%s: fetch it with 'git lfs pull'", name, size);
+}
+
 vn_io_quoted vn_io_quote(const unsigned char* p, size_t n)
 {
 	vn_io_quoted q;

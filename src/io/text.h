@@ -112,6 +112,12 @@ size_t vn_io_utf8_bom(const unsigned char* p, size_t n);
  * ...), or NULL: text in it is refused, naming it (its numbers are not
  * ASCII). */
 const char* vn_io_wide_bom(const unsigned char* p, size_t n);
+/* Fails (vn_io_error_parse, naming `name`) when the n bytes at p are a Git
+ * LFS pointer ("version https://git-lfs.github.com/spec/v1", oid, size): a
+ * repository cloned without its large files, which every reader would
+ * otherwise call malformed or, as an OBJ of no known line, read as empty.
+ * vn_io_success otherwise. */
+vn_io_result vn_io_refuse_lfs_pointer(const void* p, size_t n, const char* name, vn_io_error* error);
 
 /* A reader's error at a place in the file: "name:where: what" (a line), or
  * "name: byte where: what" when `byte`; what is fmt with args. Returns r. */
