@@ -81,6 +81,17 @@ check "ktx2-file.glb: kept by URI and copied beside it" cmp "$W/magnum-2d-mips.k
 printf '{"asset": {"version": "2.0"}, "images": [{"uri": "data:image/png;base64,"}]}' >"$T/empty-image.gltf"
 run "$VNC" "$T/empty-image.gltf" "$T/out/empty-image.glb" -q
 check "empty image -> .glb: kept as a data URI" [ "$rc|$(q "$T/out/empty-image.glb" "[d['images'], d.get('bufferViews')]")" = "0|[[{'uri': 'data:image/png;base64,'}], None]" ]
+# A buffer without data beside the one vn makes for the new normals, and a
+# data URI of no bytes: both copied from NULL, which UBSan reports (so these
+# abort under CI's sanitizer build before the fix); found by fuzz_gltf with
+# its dictionary from the Khronos validator's test files.
+printf '{"asset": {"version": "2.0"}, "buffers": [{"byteLength": 4}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+  "accessors": [{"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}]}' >"$T/no-data-and-new.gltf"
+run "$VNC" "$T/no-data-and-new.gltf" "$T/out/no-data-and-new.glb" -q
+check "a buffer without data and a new one -> .glb" [ "$rc|$(q "$T/out/no-data-and-new.glb" "d['buffers']")" = "0|[{'byteLength': 36}, {'byteLength': 4}]" ]
+printf '{"asset": {"version": "2.0"}, "buffers": [{"uri": "data:,", "byteLength": 0}]}' >"$T/empty-data-uri.gltf"
+run "$VNC" "$T/empty-data-uri.gltf" "$T/out/empty-data-uri.gltf" -q
+check "a data URI of no bytes -> .gltf: still one" [ "$rc|$(q "$T/out/empty-data-uri.gltf" "d['buffers']")" = "0|[{'uri': 'data:application/octet-stream;base64,', 'byteLength': 0}]" ]
 
 # A triangle primitive of 2 vertices (no triangle): its vertices keep their
 # normal (here none: (0, 0, 1)); found by the fuzzer under UBSan.

@@ -376,7 +376,8 @@ static buffer load_buffer(document& d, size_t i, const std::shared_ptr<unsigned 
 			fail(vn_io_error_parse, what + ": its data URI is malformed (RFC 2397: data:[type][;base64],data)");
 		have = data.size();
 		out.owner = block(have);
-		memcpy(out.owner.get(), data.data(), have);
+		if (have) /* "data:," has no bytes, and data() may be null */
+			memcpy(out.owner.get(), data.data(), have);
 	} else {
 		/* "" would name the glTF's own folder. */
 		if (text.empty())

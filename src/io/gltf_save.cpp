@@ -311,9 +311,11 @@ static void merge_for_glb(document& d)
 		const buffer& from = d.buffers[b];
 		if (from.absent)
 			continue;
-		memcpy(merged.base + start[b], from.base, from.size);
+		if (from.size) /* a buffer of no bytes (one vn made for new data holds only its tail) */
+			memcpy(merged.base + start[b], from.base, from.size);
 		for (const auto& block : from.tail)
-			memcpy(merged.base + start[b] + from.tail_start() + block.first, block.second.data(), block.second.size());
+			if (!block.second.empty())
+				memcpy(merged.base + start[b] + from.tail_start() + block.first, block.second.data(), block.second.size());
 	}
 	/* ref is holder's buffer index. It is written before byteOffset, whose
 	 * insertion into holder would move ref. */
