@@ -226,6 +226,14 @@ run "$VNC" "$T/texply/two.ply" "$T/texply/two.glb"
 check "texnumber: a primitive per texture, the missing one named" [ "$rc|$err|$(q "$T/texply/two.glb" "[(p.get('material'), d['accessors'][p['indices']]['count']) for p in d['meshes'][0]['primitives']]")" = \
   "0|vnconvert: warning: $T/texply/two.ply: comment TextureFile: material gone.png: texture gone.png cannot be read (No such file or directory): written without it|[(0, 3), (1, 3), (None, 3)]" ]
 check "texnumber: the faces' textures" [ "$(q "$T/texply/two.glb" "[(m['name'], 'baseColorTexture' in m['pbrMetallicRoughness']) for m in d['materials']]")" = "[('gone.png', False), ('checker.png', True)]" ]
+# A file named twice (texnumbers 0 and 2, one image) is one material, which
+# both numbers pick: the second was a material of its own, never defined
+# (no texture: fuzz_ply's check that every material is defined caught it).
+sed 's/^comment TextureFile gone.png$/&\ncomment TextureFile checker.png/; s/^3 0 1 3 6 0 0 1 0 0 1 7$/3 0 1 3 6 0 0 1 0 0 1 2/' \
+  "$T/texply/two.ply" >"$T/texply/twice.ply"
+run "$VNC" "$T/texply/twice.ply" "$T/texply/twice.glb" -q
+check "a TextureFile named twice: one material, its faces in one primitive" [ "$rc|$(q "$T/texply/twice.glb" "[(p.get('material'), d['accessors'][p['indices']]['count']) for p in d['meshes'][0]['primitives']]")|$(q "$T/texply/twice.glb" "[(m['name'], 'baseColorTexture' in m['pbrMetallicRoughness']) for m in d['materials']]")" = \
+  "0|[(0, 3), (1, 6)]|[('gone.png', False), ('checker.png', True)]" ]
 # By hand: a seam at vertex 0 (its two corners differ), vertex 2 shared.
 # Copies share their vertex's normal, with --no-weld too: the file gave
 # them one vertex. A list that is not a pair per corner stays a face list,

@@ -1139,6 +1139,30 @@ static const char* texture_file(const char* line, const char* key, size_t k, siz
 	return end > start ? start : NULL;
 }
 
+/* A TextureFile comment's file (n bytes at start, inside the comments) and
+ * its place among those comments. */
+typedef struct texture_comment {
+	const char* start;
+	size_t n, at;
+} texture_comment;
+
+static int same_file(const texture_comment* x, const texture_comment* y)
+{
+	return x->n == y->n && memcmp(x->start, y->start, x->n) == 0;
+}
+
+/* By file, and one file's comments by place. */
+static int by_file(const void* a, const void* b)
+{
+	const texture_comment *x = a, *y = b;
+	const int c = memcmp(x->start, y->start, x->n < y->n ? x->n : y->n);
+	if (c)
+		return c;
+	if (x->n != y->n)
+		return x->n < y->n ? -1 : 1;
+	return (x->at > y->at) - (x->at < y->at);
+}
+
 vn_io_result vn_io_ply_texture_materials(vn_io_mesh* m, const char* name, const char* beside, vn_io_error* error)
 {
 	vn_io_ply_extras* x = m->ply_extras;
@@ -1150,27 +1174,48 @@ vn_io_result vn_io_ply_texture_materials(vn_io_mesh* m, const char* name, const 
 			count++, bytes += 2 * (size_t)(strchr(line, '\n') - (line + k)) + 16;
 	if (!count || m->materials.count || !m->face_count)
 		return vn_io_success;
-	/* The library "newmtl FILE / map_Kd FILE" of each, in order. */
+	/* The library "newmtl FILE / map_Kd FILE" of each file once, in order of
+	 * first mention: a file named twice (two texnumbers, one image) is one
+	 * material, which both numbers pick. */
 	char* text = malloc(bytes + 1);
+	texture_comment* comments = malloc(sizeof *comments * count);
+	texture_comment* sorted = malloc(sizeof *sorted * count);
+	size_t* first = malloc(sizeof *first * count);         /* each comment's first mention of its file */
+	uint32_t* material = malloc(sizeof *material * count); /* each comment's material */
 	m->materials.names = calloc(count, sizeof(char*));
 	m->materials.of_face = malloc(sizeof(uint32_t) * m->face_count);
-	if (!text || !m->materials.names || !m->materials.of_face) {
-		free(text);
-		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+	vn_io_result r = vn_io_success;
+	if (!text || !comments || !sorted || !first || !material || !m->materials.names || !m->materials.of_face) {
+		r = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+		goto done;
 	}
-	size_t used = 0;
+	size_t c = 0;
 	for (const char* line = x->comments; *line; line = strchr(line, '\n') + 1) {
 		size_t n;
 		const char* start = texture_file(line, key, k, &n);
-		if (!start)
+		if (start)
+			comments[c] = (texture_comment){start, n, c}, c++;
+	}
+	/* Sorted (O(count log count): a header may hold many comments), each
+	 * file's run starts with its first mention. */
+	memcpy(sorted, comments, sizeof *sorted * count);
+	qsort(sorted, count, sizeof *sorted, by_file);
+	for (size_t i = 0; i < count; i++)
+		first[sorted[i].at] = i && same_file(&sorted[i], &sorted[i - 1]) ? first[sorted[i - 1].at] : sorted[i].at;
+	size_t used = 0;
+	for (size_t i = 0; i < count; i++) {
+		if (first[i] != i) {
+			material[i] = material[first[i]];
 			continue;
-		char* file = malloc(n + 1);
-		if (!file) {
-			free(text);
-			return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 		}
-		memcpy(file, start, n);
-		file[n] = '\0';
+		char* file = malloc(comments[i].n + 1);
+		if (!file) {
+			r = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+			goto done;
+		}
+		memcpy(file, comments[i].start, comments[i].n);
+		file[comments[i].n] = '\0';
+		material[i] = (uint32_t)m->materials.count;
 		m->materials.names[m->materials.count++] = file;
 		used += (size_t)sprintf(text + used, "newmtl %s\nmap_Kd %s\n", file, file);
 	}
@@ -1180,11 +1225,16 @@ vn_io_result vn_io_ply_texture_materials(vn_io_mesh* m, const char* name, const 
 		t = NULL;
 	for (size_t f = 0; f < m->face_count; f++) {
 		const double v = t ? get_value(t->type, t->column + f * types[t->type].size) : 0.0;
-		m->materials.of_face[f] = v >= 0 && v < (double)count && v == floor(v) ? (uint32_t)v : VN_IO_NO_NAME;
+		m->materials.of_face[f] = v >= 0 && v < (double)count && v == floor(v) ? material[(size_t)v] : VN_IO_NO_NAME;
 	}
 	if (t)
 		drop_face_property(x, t);
-	const vn_io_result r = vn_io_mtl_read_text(m, text, used, name, beside, error);
+	r = vn_io_mtl_read_text(m, text, used, name, beside, error);
+done:
+	free(comments);
+	free(sorted);
+	free(first);
+	free(material);
 	free(text);
 	return r;
 }
