@@ -598,10 +598,11 @@ document load(const std::string& path)
 	auto images = d.j.find("images");
 	for (size_t i = 0; images != d.j.end() && images->is_array() && i < images->size(); ++i) {
 		const std::string name = (*images)[i].is_object() ? file_uri((*images)[i]) : "";
-		FILE* f = name.empty() ? nullptr : fopen((d.folder + name).c_str(), "rb");
-		if (f)
+		if (name.empty())
+			continue;
+		if (FILE* f = fopen((d.folder + name).c_str(), "rb"))
 			fclose(f);
-		else if (!name.empty())
+		else
 			d.missing_images.insert(i);
 	}
 	if (!d.missing_images.empty()) {

@@ -397,12 +397,13 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 	vn_io_result result;
 	const size_t bom = vn_io_utf8_bom(r.p, size);
 	const char* wide = vn_io_wide_bom(r.p, size);
-	if (!(size >= STL_HEADER + 4 && binary_size == size)) {
+	const int binary = size >= STL_HEADER + 4 && binary_size == size;
+	if (!binary) {
 		const vn_io_result lfs = vn_io_refuse_lfs_pointer(r.p, size, name, error);
 		if (lfs != vn_io_success)
 			return lfs;
 	}
-	if (size >= STL_HEADER + 4 && binary_size == size) {
+	if (binary) {
 		result = read_binary(&r, r.p, (size_t)count);
 	} else if (wide) {
 		result = vn_io_fail(error, vn_io_error_parse,
