@@ -17,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "draco.h"
@@ -212,6 +213,82 @@ static void test_lossless_float(void** state)
 	assert_memory_equal(d.attributes[0].data, positions, sizeof positions);
 	vn_drc_geometry_free(&d);
 	free(data);
+}
+
+/* Peak resident memory of this process so far, in MB. */
+static long peak_mb(void)
+{
+	struct rusage u;
+	assert_int_equal(getrusage(RUSAGE_SELF, &u), 0);
+	return u.ru_maxrss / 1024;
+}
+
+/* Ascending order, for comparing values that edgebreaker renumbered. */
+static int ascending(const void* a, const void* b)
+{
+	const double x = *(const double*)a, y = *(const double*)b;
+	return (x > y) - (x < y);
+}
+
+/* The n values of a 1-component float32 or uint32 attribute, sorted. */
+static void sorted_values(const vn_drc_attribute* a, size_t n, double* out)
+{
+	for (size_t i = 0; i < n; ++i)
+		out[i] = a->component_type == vn_drc_uint32 ? ((const uint32_t*)a->data)[i] : ((const float*)a->data)[i];
+	qsort(out, n, sizeof *out, ascending);
+}
+
+/* Values of a wide span: Draco's entropy coder takes 4 bytes per symbol up
+ * to the largest, so floats quantized to 30 bits spread over their range (a
+ * fuzzed point cloud of 1,065 points took 4 GB) and integers spanning 2^30
+ * are stored without it, losslessly, by each method. 32-bit integers of
+ * magnitude 2^30 and more, which Draco's prediction overflows on, are
+ * refused by name. */
+static void test_wide_values(void** state)
+{
+	(void)state;
+	static float wide[6] = {-1e22f, 6e21f, -2e21f, 1e22f, 2e21f, -6e21f};
+	static uint32_t ids[6] = {0, 700000000u, 1073741823u, 300000000u, 1, 900000000u};
+	vn_drc_geometry g = octahedron();
+	vn_drc_attribute a[3] = {attributes[0], {4, vn_drc_generic, vn_drc_float32, 1, 0, 30, wide, {0}},
+	                         {8, vn_drc_generic, vn_drc_uint32, 1, 0, 0, ids, {0}}};
+	g.attributes = a;
+	void* data;
+	size_t size;
+	vn_io_error e;
+	vn_drc_geometry d;
+	double expected[6], got[6];
+	/* edgebreaker, sequential, a point cloud (kd-tree) */
+	for (int method = 0; method < 3; ++method)
+		for (size_t n = 2; n <= 3; ++n) {
+			g.attribute_count = n;
+			g.triangle_count = method < 2 ? 8 : 0;
+			g.point_cloud = method == 2;
+			assert_int_equal(vn_drc_encode(&g, 7, method == 1, "wide", &data, &size, &e), vn_io_success);
+			assert_true(peak_mb() < 512);
+			assert_int_equal(vn_drc_decode_any(data, size, "wide", &d, &e), vn_io_success);
+			free(data);
+			assert_int_equal(d.point_count, 6);
+			assert_int_equal(d.attribute_count, n);
+			const vn_drc_attribute* w = by_id(&d, 4);
+			assert_int_equal(w->quantization_bits, 30);
+			sorted_values(&a[1], 6, expected);
+			sorted_values(w, 6, got);
+			for (int i = 0; i < 6; ++i) /* Draco quantizes in float: 2^-21 of the range */
+				assert_float_equal(got[i], expected[i], 1e16);
+			if (n == 3) {
+				sorted_values(&a[2], 6, expected);
+				sorted_values(by_id(&d, 8), 6, got);
+				assert_memory_equal(got, expected, sizeof got);
+			}
+			vn_drc_geometry_free(&d);
+		}
+	g.triangle_count = 8, g.point_cloud = 0;
+	ids[2] = 1073741824u;
+	assert_int_equal(vn_drc_encode(&g, 7, 0, "wide", &data, &size, &e), vn_io_error_unsupported);
+	assert_string_equal(e.message, "wide: attribute 8 (GENERIC) has 1073741824 at point 2, and Draco codes 32-bit "
+	                               "integers only of magnitude below 2^30 (1073741824)");
+	ids[2] = 1073741823u;
 }
 
 /* float64 attributes (PDAL writes coordinates so) come back as float64,
@@ -608,6 +685,37 @@ static void encode_decode(const vn_drc_geometry* g, vn_drc_geometry* out)
 	free(data);
 }
 
+/* A point cloud at level 7 (kd-tree), three generations: the bits and grids
+ * read back, the same floats. The kd-tree decoder leaves the unique ids of
+ * its quantized attributes 0, and vn matched them by id: the bits read 0,
+ * and the next generation stored the floats unquantized. */
+static void test_point_cloud_grid_kept(void** state)
+{
+	(void)state;
+	vn_drc_attribute a[2];
+	vn_drc_geometry g = grid_mesh(a);
+	g.triangle_count = 0, g.point_cloud = 1;
+	vn_drc_geometry d[3];
+	for (int i = 0; i < 3; ++i) {
+		void* data;
+		size_t size;
+		vn_io_error e;
+		assert_int_equal(vn_drc_encode(i ? &d[i - 1] : &g, 7, 0, "cloud", &data, &size, &e), vn_io_success);
+		assert_int_equal(((const unsigned char*)data)[8], 1); /* kd-tree */
+		assert_int_equal(vn_drc_decode_any(data, size, "cloud", &d[i], &e), vn_io_success);
+		free(data);
+		assert_int_equal(by_id(&d[i], 5)->quantization_bits, 14);
+		assert_int_equal(by_id(&d[i], 9)->quantization_bits, 12);
+	}
+	for (uint32_t id = 5; id <= 9; id += 4) {
+		assert_int_equal(by_id(&d[0], id)->grid.bits, id == 5 ? 14 : 12);
+		assert_memory_equal(by_id(&d[0], id)->data, by_id(&d[2], id)->data, GRID_POINTS * by_id(&d[0], id)->components * 4);
+		assert_memory_equal(&by_id(&d[0], id)->grid, &by_id(&d[2], id)->grid, sizeof(vn_drc_grid));
+	}
+	for (int i = 0; i < 3; ++i)
+		vn_drc_geometry_free(&d[i]);
+}
+
 /* Decoded float attributes come with the grid they were quantized on, and
  * encoding them again at the same bits decodes to the same values; without
  * the grid (or with other bits) Draco fits a new one and they move. */
@@ -838,6 +946,7 @@ int main(void)
 	    cmocka_unit_test(test_keep_order),
 	    cmocka_unit_test(test_isolated_points),
 	    cmocka_unit_test(test_lossless_float),
+	    cmocka_unit_test(test_wide_values),
 	    cmocka_unit_test(test_float64),
 	    cmocka_unit_test(test_integer_normals),
 	    cmocka_unit_test(test_corrupt_streams),
@@ -847,6 +956,7 @@ int main(void)
 	    cmocka_unit_test(test_hostile_counts),
 	    cmocka_unit_test(test_point_cloud),
 	    cmocka_unit_test(test_grid_kept),
+	    cmocka_unit_test(test_point_cloud_grid_kept),
 	    cmocka_unit_test(test_nonfinite),
 	    cmocka_unit_test(test_attributes_to_mesh),
 	};

@@ -52,6 +52,8 @@ struct vn_drc_encoder {
 	 * survive (an int8 normal (0, 0, 127) decodes as (4, 4, 5)); they get
 	 * difference prediction, lossless. */
 	std::vector<int> integer_normals;
+	/* Attribute values stored without entropy coding: see symbol_bound. */
+	bool plain_values = false;
 };
 
 namespace vn_drc {
@@ -98,6 +100,20 @@ size_t value_bytes(const vn_drc_attribute& a)
 	return size_t(a.components) * size_t(draco::DataTypeLength(draco_type(a.component_type)));
 }
 
+double component(const vn_drc_attribute& a, size_t i)
+{
+	switch (a.component_type) {
+	case vn_drc_int8: return static_cast<const int8_t*>(a.data)[i];
+	case vn_drc_uint8: return static_cast<const uint8_t*>(a.data)[i];
+	case vn_drc_int16: return static_cast<const int16_t*>(a.data)[i];
+	case vn_drc_uint16: return static_cast<const uint16_t*>(a.data)[i];
+	case vn_drc_int32: return static_cast<const int32_t*>(a.data)[i];
+	case vn_drc_uint32: return static_cast<const uint32_t*>(a.data)[i];
+	case vn_drc_float64: return static_cast<const double*>(a.data)[i];
+	default: return static_cast<const float*>(a.data)[i];
+	}
+}
+
 namespace {
 
 /* What each attribute (in the decoder's order) was quantized with: bits
@@ -108,9 +124,12 @@ namespace {
  * second decode with every transform skipped reads them back. A stream
  * that one cannot decode fails the full decode too: its error is returned
  * in *failure then, which saves decoding a hostile stream twice (seconds of
- * libdraco time for some 300-byte streams the fuzzer made). */
+ * libdraco time for some 300-byte streams the fuzzer made). The two
+ * decodes list the attributes in the same order; each is matched by its
+ * type, not its unique id, which the kd-tree point cloud decoder leaves 0
+ * on the portable attributes (so a kd-tree stream's bits were lost). */
 struct quantization {
-	uint32_t unique_id;
+	int semantic;
 	int bits;
 	vn_drc_grid grid; /* bits 0: octahedral (normals) */
 };
@@ -136,8 +155,12 @@ static std::vector<quantization> quantizations(const void* data, size_t size, st
 		const draco::PointAttribute& a = *geometry.attribute(i);
 		draco::AttributeQuantizationTransform q;
 		draco::AttributeOctahedronTransform o;
-		quantization f{a.unique_id(), 0, vn_drc_grid{}};
-		if (q.InitFromAttribute(a)) {
+		quantization f{a.attribute_type(), 0, vn_drc_grid{}};
+		/* A NORMAL's bits are its octahedral coding's: kd-tree point clouds
+		 * quantize normals per component instead, which no other method
+		 * writes back (edgebreaker and sequential code normals
+		 * octahedrally), so such normals are kept as decoded, unquantized. */
+		if (a.attribute_type() != draco::GeometryAttribute::NORMAL && q.InitFromAttribute(a)) {
 			f.bits = q.quantization_bits();
 			if (q.min_values().size() >= 1 && q.min_values().size() <= 4) {
 				f.grid.bits = f.bits;
@@ -340,7 +363,7 @@ static vn_io_result decode(const void* data, size_t size, const char* name, bool
 		    out.components < 1 || out.components > 4)
 			return vn_io_fail(error, vn_io_error_unsupported,
 			                  "%s: attribute %u has a type or size vn does not handle", name, out.unique_id);
-		if (found.size() == size_t(points.num_attributes()) && found[size_t(i)].unique_id == a.unique_id() &&
+		if (found.size() == size_t(points.num_attributes()) && found[size_t(i)].semantic == a.attribute_type() &&
 		    out.component_type == vn_drc_float32) {
 			const quantization& q = found[size_t(i)];
 			out.quantization_bits = q.bits;
@@ -431,6 +454,29 @@ static std::string unquantizable(const vn_drc_attribute& a, size_t points)
 	return "";
 }
 
+/* Draco entropy codes an attribute's values (its prediction's
+ * corrections, zigzag coded) with a table of 4 bytes for every symbol up
+ * to the largest, so memory follows the values' span, not their count:
+ * 1,065 points of one float attribute quantized to 30 bits took 4 GB.
+ * This bounds that symbol, plus one: a correction is at most the span of
+ * the values and 0 (below that of a quantized value, bits bits), twice
+ * that zigzag coded; other floats are stored as they are. */
+static uint64_t symbol_bound(const vn_drc_attribute& a, size_t points)
+{
+	if (a.component_type == vn_drc_float32 || a.component_type == vn_drc_float64)
+		return a.component_type == vn_drc_float32 && a.quantization_bits > 0 ? uint64_t(2) << a.quantization_bits : 0;
+	double lo = 0, hi = 0;
+	for (size_t i = 0; i < points * size_t(a.components); ++i)
+		lo = std::min(lo, component(a, i)), hi = std::max(hi, component(a, i));
+	return 2 * uint64_t(hi - lo) + 2;
+}
+
+/* Above this bound (a table of 128 MB: more than 24 quantization bits, or
+ * integers spanning more than 2^24), values are stored without entropy
+ * coding. Floats have 24 bits of precision, so finer grids are rare; a
+ * 32-bit id is not. */
+static const uint64_t max_symbols = uint64_t(1) << 25;
+
 /* Checks g and copies it into e->mesh. */
 static vn_io_result prepare(const vn_drc_geometry* g, const char* name, vn_drc_encoder* e, vn_io_error* error)
 {
@@ -484,6 +530,18 @@ static vn_io_result prepare(const vn_drc_geometry* g, const char* name, vn_drc_e
 		const std::string bad = unquantizable(a, g->point_count);
 		if (!bad.empty())
 			return vn_io_fail(error, vn_io_error_unsupported, "%s: %s", name, bad.c_str());
+		/* Draco 1.5.5 predicts 32-bit integers in int32 arithmetic, which
+		 * overflows from 2^30 on: such values came back different, or were
+		 * refused (the sequential method decoded 2147483646 as another). */
+		if (a.component_type == vn_drc_int32 || a.component_type == vn_drc_uint32)
+			for (size_t p = 0; p < g->point_count * size_t(a.components); ++p)
+				if (std::fabs(component(a, p)) >= 1073741824.0)
+					return vn_io_fail(error, vn_io_error_unsupported,
+					                  "%s: attribute %u (%s) has %.0f at point %zu, and Draco codes 32-bit integers "
+					                  "only of magnitude below 2^30 (1073741824)",
+					                  name, a.unique_id, semantic_names[a.semantic], component(a, p),
+					                  p / size_t(a.components));
+		e->plain_values = e->plain_values || symbol_bound(a, g->point_count) > max_symbols;
 		const size_t n = value_bytes(a);
 		draco::GeometryAttribute ga;
 		ga.Init(static_cast<draco::GeometryAttribute::Type>(a.semantic), nullptr, uint8_t(a.components), type,
@@ -559,6 +617,8 @@ static vn_io_result run(const vn_drc_encoder& e, int level, bool keep_order, con
 				encoder.SetAttributeQuantization(q.id, q.a.quantization_bits);
 		for (const int id : e.integer_normals)
 			encoder.SetAttributePredictionScheme(id, draco::PREDICTION_DIFFERENCE);
+		if (e.plain_values)
+			encoder.SetUseBuiltInAttributeCompression(false);
 		encoder.SetSpeedOptions(10 - level, 10 - level);
 		if (sequential)
 			encoder.SetEncodingMethod(e.cloud ? int(draco::POINT_CLOUD_SEQUENTIAL_ENCODING)

@@ -17,6 +17,10 @@ namespace vn_drc {
 /* Bytes per point of attribute a. */
 size_t value_bytes(const vn_drc_attribute& a);
 
+/* Component i (point i / components) of attribute a, as a double (which
+ * holds every value of the 32-bit types exactly). */
+double component(const vn_drc_attribute& a, size_t i);
+
 /* Draco's name of each attribute type (vn_drc_semantic). */
 extern const char* const semantic_names[vn_drc_semantic_count];
 

@@ -163,20 +163,6 @@ static double color_scale(int type)
 	}
 }
 
-static double component(const vn_drc_attribute& a, size_t i)
-{
-	switch (a.component_type) {
-	case vn_drc_int8: return static_cast<const int8_t*>(a.data)[i];
-	case vn_drc_uint8: return static_cast<const uint8_t*>(a.data)[i];
-	case vn_drc_int16: return static_cast<const int16_t*>(a.data)[i];
-	case vn_drc_uint16: return static_cast<const uint16_t*>(a.data)[i];
-	case vn_drc_int32: return static_cast<const int32_t*>(a.data)[i];
-	case vn_drc_uint32: return static_cast<const uint32_t*>(a.data)[i];
-	case vn_drc_float64: return static_cast<const double*>(a.data)[i];
-	default: return static_cast<const float*>(a.data)[i];
-	}
-}
-
 /* The largest value of a signed integer component type; 0 for the others. */
 static double signed_max(int type)
 {
