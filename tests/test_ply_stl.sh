@@ -515,6 +515,10 @@ check "not a number: line and property" grep -q "word.ply:11: vertex 1, property
 # than its entry took, where the failure comes later.
 rejected_text extra.ply "${HEADER}0 0 0\n1 0 0\n0 1 0 7 7\n3 0 1 2\n"
 check "values left on a line: named with the failure" grep -q "extra.ply:12: face 0, list 'vertex_indices' has 7 values, more than the rest of the file holds; vertex 2 ends on line 12 with 2 values left on that line: the data does not follow the header" "$T/stderr"
+# And the other way round (assimp's issue623.ply: a vertex list property
+# its lines lack): the entry whose property came from the next line.
+rejected_text shortline.ply 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty uchar flag\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0.5 0 0\n1.5 0 0\n0 1.5 0\n3 0 1 2\n'
+check "values missing from a line: named with the failure" grep -q "shortline.ply:12: vertex 0, property 'flag': '1.5' is not of type uchar (a whole number from 0 to 255); vertex 0 begins on line 11, but its property 'flag' is read from a later line: the data does not follow the header" "$T/stderr"
 rejected_text nan.ply "${HEADER}0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"
 check "NaN coordinate: names the vertex" grep -q "nan.ply: vertex 1 is at (1, nan, 0)" "$T/stderr"
 rejected_text noply.ply 'PLY\nformat ascii 1.0\n'

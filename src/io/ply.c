@@ -710,6 +710,11 @@ static vn_io_result read_element(ply_reader* r, vn_io_mesh* m, ply_element* e)
 	if (e->property_count == 0)
 		return vn_io_success;
 	for (at.entry = 0; at.entry < e->count; at.entry++) {
+		/* ASCII: the line of the entry's first value, and the first property
+		 * read from a later line (an entry shorter than its line's values
+		 * shows so where reading then fails). */
+		size_t first_line = 0;
+		const ply_property* wrapped = NULL;
 		for (size_t k = 0; k < e->property_count; k++) {
 			ply_property* p = &e->properties[k];
 			at.property = p;
@@ -717,16 +722,24 @@ static vn_io_result read_element(ply_reader* r, vn_io_mesh* m, ply_element* e)
 			    p->count_type >= 0
 			        ? read_list(r, m, &at)
 			        : read_value(r, p->type, &at, p->column ? p->column + at.entry * types[p->type].size : scratch);
+			if (k == 0)
+				first_line = r->line;
+			else if (!wrapped && r->line != first_line)
+				wrapped = p;
 			if (result == vn_io_success)
 				continue;
-			if (r->left.element && result == vn_io_error_parse) {
-				const size_t n = strlen(r->error->message);
+			const size_t n = strlen(r->error->message);
+			if (r->left.element && result == vn_io_error_parse)
 				snprintf(r->error->message + n, sizeof r->error->message - n,
 				         "; %s %zu ends on line %zu with %zu value%s left on that line: the data does not follow the "
 				         "header",
 				         r->left.element->name, r->left.entry, r->left.line, r->left.values,
 				         r->left.values == 1 ? "" : "s");
-			}
+			else if (r->format == PLY_ASCII && wrapped && result == vn_io_error_parse)
+				snprintf(r->error->message + n, sizeof r->error->message - n,
+				         "; %s %zu begins on line %zu, but its property '%s' is read from a later line: the data does "
+				         "not follow the header",
+				         e->name, at.entry, first_line, wrapped->name);
 			return result;
 		}
 		if (r->format == PLY_ASCII && !r->left.element)
