@@ -716,6 +716,70 @@ static void test_point_cloud_grid_kept(void** state)
 		vn_drc_geometry_free(&d[i]);
 }
 
+/* Lexicographic order of 6 floats. */
+static int row_order(const void* a, const void* b)
+{
+	const float *x = a, *y = b;
+	for (int k = 0; k < 6; ++k)
+		if (x[k] != y[k])
+			return x[k] < y[k] ? -1 : 1;
+	return 0;
+}
+
+/* The grid cloud's points as rows of POSITION (id 5) and NORMAL (id 9), sorted. */
+static void sorted_points(const vn_drc_geometry* g, float rows[GRID_POINTS][6])
+{
+	assert_int_equal(g->point_count, GRID_POINTS);
+	const float *p = by_id(g, 5)->data, *n = by_id(g, 9)->data;
+	for (int i = 0; i < GRID_POINTS; ++i)
+		for (int k = 0; k < 3; ++k)
+			rows[i][k] = p[3 * i + k], rows[i][3 + k] = n[3 * i + k];
+	qsort(rows, GRID_POINTS, sizeof rows[0], row_order);
+}
+
+/* A kd-tree point cloud's NORMAL (quantized per component there) reads
+ * back with its grid and bits 0: written again by kd-tree it is quantized
+ * on that grid (the stream stays kd-tree, the same values); at level 10
+ * (sequential, which codes normals octahedrally) it is stored unquantized,
+ * the same values too. Before, it was read without its grid, and any
+ * unquantized float keeps Draco from kd-tree: the cloud was rewritten
+ * sequential, 4 times the size for 100k points. */
+static void test_point_cloud_kd_normals(void** state)
+{
+	(void)state;
+	vn_drc_attribute a[2];
+	vn_drc_geometry g = grid_mesh(a);
+	g.triangle_count = 0, g.point_cloud = 1;
+	static float n[3 * GRID_POINTS];
+	for (int i = 0; i < GRID_POINTS; ++i) {
+		const float x = grid_positions[3 * i] - 4, y = grid_positions[3 * i + 1] + 10, l = sqrtf(x * x + y * y + 1);
+		n[3 * i] = x / l, n[3 * i + 1] = y / l, n[3 * i + 2] = 1 / l;
+	}
+	a[1] = (vn_drc_attribute){9, vn_drc_normal, vn_drc_float32, 3, 0, 8, n, {0}};
+	vn_drc_geometry d[3];
+	const int levels[3] = {7, 7, 10}, methods[3] = {1, 1, 0}; /* kd-tree, kd-tree, sequential */
+	for (int i = 0; i < 3; ++i) {
+		void* data;
+		size_t size;
+		vn_io_error e;
+		assert_int_equal(vn_drc_encode(i ? &d[0] : &g, levels[i], 0, "cloud", &data, &size, &e), vn_io_success);
+		assert_int_equal(((const unsigned char*)data)[8], methods[i]);
+		assert_int_equal(vn_drc_decode_any(data, size, "cloud", &d[i], &e), vn_io_success);
+		free(data);
+		const vn_drc_attribute* normal = by_id(&d[i], 9);
+		assert_int_equal(normal->quantization_bits, 0);
+		assert_int_equal(normal->grid.bits, i < 2 ? 8 : 0);
+		if (i) { /* kd-tree sorts the points: compared as sets */
+			float p0[GRID_POINTS][6], pi[GRID_POINTS][6];
+			sorted_points(&d[0], p0);
+			sorted_points(&d[i], pi);
+			assert_memory_equal(pi, p0, sizeof p0);
+		}
+	}
+	for (int i = 0; i < 3; ++i)
+		vn_drc_geometry_free(&d[i]);
+}
+
 /* Decoded float attributes come with the grid they were quantized on, and
  * encoding them again at the same bits decodes to the same values; without
  * the grid (or with other bits) Draco fits a new one and they move. */
@@ -957,6 +1021,7 @@ int main(void)
 	    cmocka_unit_test(test_point_cloud),
 	    cmocka_unit_test(test_grid_kept),
 	    cmocka_unit_test(test_point_cloud_grid_kept),
+	    cmocka_unit_test(test_point_cloud_kd_normals),
 	    cmocka_unit_test(test_nonfinite),
 	    cmocka_unit_test(test_attributes_to_mesh),
 	};

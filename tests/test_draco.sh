@@ -171,6 +171,9 @@ check "point cloud -> ply: draco_decoder's points and normals" python3 "$HERE/pl
 check "point cloud -> ply: no faces" [ "$(python3 "$HERE/plytool.py" count "$T/points-out.ply")" = "$(python3 "$HERE/plytool.py" count "$T/points-ref.ply" | cut -d' ' -f1) 0 0" ]
 check "point cloud -> off: as many points, no faces" [ "$(sed -n 2p "$T/points-out.off")" = "$(python3 "$HERE/plytool.py" count "$T/points-ref.ply" | cut -d' ' -f1) 0 0" ]
 check "point cloud -> drc: a point cloud stream" [ "$(od -An -tu1 -j7 -N1 "$T/points-out.drc" | tr -d ' ')" = 0 ]
+# points.drc is kd-tree with normals quantized per component: read back
+# with their grid, they keep it kd-tree (sequential before, unquantized).
+check "point cloud -> drc: kd-tree, as its input" [ "$(od -An -tu1 -j8 -N1 "$T/points-out.drc" | tr -d ' ')" = 1 ]
 draco_decoder -i "$T/points-out.drc" -o "$T/points-drc.ply" >/dev/null
 check "point cloud -> drc: the same points and normals" python3 "$HERE/plytool.py" same_set "$T/points-ref.ply" "$T/points-drc.ply"
 run "$VNC" "$T/points.drc" "$T/points-seq.drc" --draco-cl 10

@@ -52,6 +52,12 @@ struct vn_drc_encoder {
 	 * survive (an int8 normal (0, 0, 127) decodes as (4, 4, 5)); they get
 	 * difference prediction, lossless. */
 	std::vector<int> integer_normals;
+	/* A point cloud's float NORMALs decoded from a kd-tree stream (their
+	 * grid, bits 0), quantized on it where kd-tree writes the cloud again:
+	 * with every other attribute quantized or integer (Draco's condition
+	 * for kd-tree), not kd_blocked. */
+	std::vector<quantized> kd_normals;
+	bool kd_blocked = false;
 	/* Attribute values stored without entropy coding: see symbol_bound. */
 	bool plain_values = false;
 };
@@ -156,11 +162,7 @@ static std::vector<quantization> quantizations(const void* data, size_t size, st
 		draco::AttributeQuantizationTransform q;
 		draco::AttributeOctahedronTransform o;
 		quantization f{a.attribute_type(), 0, vn_drc_grid{}};
-		/* A NORMAL's bits are its octahedral coding's: kd-tree point clouds
-		 * quantize normals per component instead, which no other method
-		 * writes back (edgebreaker and sequential code normals
-		 * octahedrally), so such normals are kept as decoded, unquantized. */
-		if (a.attribute_type() != draco::GeometryAttribute::NORMAL && q.InitFromAttribute(a)) {
+		if (q.InitFromAttribute(a)) {
 			f.bits = q.quantization_bits();
 			if (q.min_values().size() >= 1 && q.min_values().size() <= 4) {
 				f.grid.bits = f.bits;
@@ -168,6 +170,12 @@ static std::vector<quantization> quantizations(const void* data, size_t size, st
 					f.grid.origin[c] = q.min_value(int(c));
 				f.grid.range = q.range();
 			}
+			/* A NORMAL's bits are its octahedral coding's: kd-tree point
+			 * clouds quantize normals per component instead, which only
+			 * kd-tree writes back, so such a normal keeps its grid with bits
+			 * 0 (unquantized wherever kd-tree does not write it). */
+			if (a.attribute_type() == draco::GeometryAttribute::NORMAL)
+				f.bits = 0;
 		} else if (o.InitFromAttribute(a)) {
 			f.bits = o.quantization_bits();
 		}
@@ -367,8 +375,7 @@ static vn_io_result decode(const void* data, size_t size, const char* name, bool
 		    out.component_type == vn_drc_float32) {
 			const quantization& q = found[size_t(i)];
 			out.quantization_bits = q.bits;
-			if (q.grid.bits && out.semantic != vn_drc_normal && q.grid.bits == q.bits)
-				out.grid = q.grid;
+			out.grid = q.grid;
 		}
 		const size_t n = value_bytes(out);
 		if (a.byte_stride() < int64_t(n))
@@ -384,14 +391,12 @@ static vn_io_result decode(const void* data, size_t size, const char* name, bool
 	return vn_io_success;
 }
 
-/* Whether float attribute a can be quantized on its own grid: bits as the
- * grid's, not NORMAL, and every value within half a step of the grid's box
- * (Draco's quantizer rounds to the nearest step). */
-static bool on_grid(const vn_drc_attribute& a, size_t points)
+/* Whether float attribute a has a grid (bits > 0) and every value within a
+ * quarter step of its box (Draco's quantizer rounds to the nearest step). */
+static bool values_on_grid(const vn_drc_attribute& a, size_t points)
 {
 	const vn_drc_grid& grid = a.grid;
-	if (grid.bits <= 0 || grid.bits != a.quantization_bits || a.semantic == vn_drc_normal ||
-	    a.component_type != vn_drc_float32 || !(grid.range > 0) || !std::isfinite(grid.range))
+	if (grid.bits <= 0 || a.component_type != vn_drc_float32 || !(grid.range > 0) || !std::isfinite(grid.range))
 		return false;
 	const double steps = double((uint64_t(1) << grid.bits) - 1), scale = steps / grid.range;
 	const float* v = static_cast<const float*>(a.data);
@@ -401,6 +406,13 @@ static bool on_grid(const vn_drc_attribute& a, size_t points)
 			return false;
 	}
 	return true;
+}
+
+/* Whether float attribute a can be quantized on its own grid: bits as the
+ * grid's, not NORMAL (coded octahedrally but by kd-tree), its values on it. */
+static bool on_grid(const vn_drc_attribute& a, size_t points)
+{
+	return a.grid.bits == a.quantization_bits && a.semantic != vn_drc_normal && values_on_grid(a, points);
 }
 
 /* Tells encoder to quantize Draco attribute id on a's grid. Draco 1.5.5's
@@ -572,6 +584,12 @@ static vn_io_result prepare(const vn_drc_geometry* g, const char* name, vn_drc_e
 			}
 			q.a.data = nullptr;
 			e->quantize.push_back(q);
+		} else if (e->cloud && a.semantic == vn_drc_normal && values_on_grid(a, g->point_count)) {
+			vn_drc_encoder::quantized q{id, a, true};
+			q.a.data = nullptr;
+			e->kd_normals.push_back(q);
+		} else if (type == draco::DT_FLOAT32 || type == draco::DT_FLOAT64) {
+			e->kd_blocked = true;
 		}
 	}
 	/* The metadata, with the attribute metadata of the unique ids kept
@@ -621,6 +639,9 @@ static vn_io_result run(const vn_drc_encoder& e, int level, bool keep_order, con
 				encoder.SetAttributeQuantization(q.id, q.a.quantization_bits);
 		for (const int id : e.integer_normals)
 			encoder.SetAttributePredictionScheme(id, draco::PREDICTION_DIFFERENCE);
+		if (e.cloud && !sequential && !e.kd_blocked)
+			for (const vn_drc_encoder::quantized& q : e.kd_normals)
+				set_grid(&encoder, q.id, q.a);
 		if (e.plain_values)
 			encoder.SetUseBuiltInAttributeCompression(false);
 		encoder.SetSpeedOptions(10 - level, 10 - level);

@@ -86,11 +86,16 @@ typedef struct vn_drc_attribute {
 	void* data;            /* point_count * components values, packed, point by point */
 	/* Decoding: the grid a quantized float attribute was decoded from (bits
 	 * 0 for lossless and integer attributes and for normals, which Draco
-	 * codes octahedrally). Encoding: a float attribute other than NORMAL
-	 * whose quantization_bits equal grid.bits, and whose values all lie on
-	 * the grid's box, is quantized on this grid, so that values decoded from
-	 * it decode again to the same values (no generation loss); otherwise a
-	 * new grid spans the values (Draco's default). Zero it for new data. */
+	 * codes octahedrally; a kd-tree point cloud's NORMAL, which it quantizes
+	 * per component, has its grid with quantization_bits 0). Encoding: a
+	 * float attribute other than NORMAL whose quantization_bits equal
+	 * grid.bits, and whose values all lie on the grid's box, is quantized
+	 * on this grid, so that values decoded from it decode again to the same
+	 * values (no generation loss); otherwise a new grid spans the values
+	 * (Draco's default). A point cloud's NORMAL with quantization_bits 0 and
+	 * its values on its grid is quantized on it where the cloud is written
+	 * by kd-tree (levels 1 to 9, every other attribute quantized or
+	 * integer), and stored unquantized otherwise. Zero it for new data. */
 	vn_drc_grid grid;
 } vn_drc_attribute;
 
