@@ -726,58 +726,86 @@ static int row_order(const void* a, const void* b)
 	return 0;
 }
 
-/* The grid cloud's points as rows of POSITION (id 5) and NORMAL (id 9), sorted. */
-static void sorted_points(const vn_drc_geometry* g, float rows[GRID_POINTS][6])
+/* Cloud g's points (at most 8) as rows of POSITION (id 0) and NORMAL (id 1),
+ * sorted. */
+static void sorted_points(const vn_drc_geometry* g, float rows[8][6])
 {
-	assert_int_equal(g->point_count, GRID_POINTS);
-	const float *p = by_id(g, 5)->data, *n = by_id(g, 9)->data;
-	for (int i = 0; i < GRID_POINTS; ++i)
+	assert_true(g->point_count <= 8);
+	const float *p = by_id(g, 0)->data, *n = by_id(g, 1)->data;
+	for (size_t i = 0; i < g->point_count; ++i)
 		for (int k = 0; k < 3; ++k)
 			rows[i][k] = p[3 * i + k], rows[i][3 + k] = n[3 * i + k];
-	qsort(rows, GRID_POINTS, sizeof rows[0], row_order);
+	qsort(rows, g->point_count, sizeof rows[0], row_order);
 }
 
-/* A kd-tree point cloud's NORMAL (quantized per component there) reads
- * back with its grid and bits 0: written again by kd-tree it is quantized
- * on that grid (the stream stays kd-tree, the same values); at level 10
- * (sequential, which codes normals octahedrally) it is stored unquantized,
- * the same values too. Before, it was read without its grid, and any
- * unquantized float keeps Draco from kd-tree: the cloud was rewritten
- * sequential, 4 times the size for 100k points. */
+/* A kd-tree point cloud's NORMAL (quantized per component there;
+ * draco_encoder -point_cloud's points.drc) reads back with its grid and
+ * bits 0: written again by kd-tree it is quantized on that grid (the
+ * stream stays kd-tree, the same values); at level 10 it is stored
+ * unquantized, the same values too. Before, it was read without its grid,
+ * and any unquantized float keeps Draco from kd-tree: the cloud was
+ * rewritten sequential, 4 times the size for 100k points. */
 static void test_point_cloud_kd_normals(void** state)
 {
 	(void)state;
-	vn_drc_attribute a[2];
-	vn_drc_geometry g = grid_mesh(a);
-	g.triangle_count = 0, g.point_cloud = 1;
-	static float n[3 * GRID_POINTS];
-	for (int i = 0; i < GRID_POINTS; ++i) {
-		const float x = grid_positions[3 * i] - 4, y = grid_positions[3 * i + 1] + 10, l = sqrtf(x * x + y * y + 1);
-		n[3 * i] = x / l, n[3 * i + 1] = y / l, n[3 * i + 2] = 1 / l;
-	}
-	a[1] = (vn_drc_attribute){9, vn_drc_normal, vn_drc_float32, 3, 0, 8, n, {0}};
+	char* bytes;
+	size_t n;
+	vn_io_error e;
+	assert_int_equal(vn_io_read_all("data/draco/points.drc", &bytes, &n, &e), vn_io_success);
+	assert_int_equal(bytes[8], 1); /* kd-tree */
 	vn_drc_geometry d[3];
-	const int levels[3] = {7, 7, 10}, methods[3] = {1, 1, 0}; /* kd-tree, kd-tree, sequential */
-	for (int i = 0; i < 3; ++i) {
+	assert_int_equal(vn_drc_decode_any(bytes, n, "points.drc", &d[0], &e), vn_io_success);
+	free(bytes);
+	assert_int_equal(by_id(&d[0], 1)->quantization_bits, 0);
+	assert_int_equal(by_id(&d[0], 1)->grid.bits, 8);
+	float p0[8][6], pi[8][6];
+	sorted_points(&d[0], p0);
+	const int levels[3] = {0, 7, 10}, methods[3] = {0, 1, 0}; /* -, kd-tree, sequential */
+	for (int i = 1; i < 3; ++i) {
 		void* data;
 		size_t size;
-		vn_io_error e;
-		assert_int_equal(vn_drc_encode(i ? &d[0] : &g, levels[i], 0, "cloud", &data, &size, &e), vn_io_success);
+		assert_int_equal(vn_drc_encode(&d[0], levels[i], 0, "cloud", &data, &size, &e), vn_io_success);
 		assert_int_equal(((const unsigned char*)data)[8], methods[i]);
 		assert_int_equal(vn_drc_decode_any(data, size, "cloud", &d[i], &e), vn_io_success);
 		free(data);
-		const vn_drc_attribute* normal = by_id(&d[i], 9);
-		assert_int_equal(normal->quantization_bits, 0);
-		assert_int_equal(normal->grid.bits, i < 2 ? 8 : 0);
-		if (i) { /* kd-tree sorts the points: compared as sets */
-			float p0[GRID_POINTS][6], pi[GRID_POINTS][6];
-			sorted_points(&d[0], p0);
-			sorted_points(&d[i], pi);
-			assert_memory_equal(pi, p0, sizeof p0);
-		}
+		assert_int_equal(by_id(&d[i], 1)->grid.bits, i == 1 ? 8 : 0);
+		sorted_points(&d[i], pi); /* kd-tree sorts the points */
+		assert_memory_equal(pi, p0, d[0].point_count * sizeof pi[0]);
 	}
 	for (int i = 0; i < 3; ++i)
 		vn_drc_geometry_free(&d[i]);
+}
+
+/* A point cloud with quantized float normals is written by the sequential
+ * method, which codes them octahedrally: kd-tree quantized them per
+ * component, so an octahedral (0, 0, -1) came back as (0.001, 0.001, -1)
+ * and every generation moved them (google/draco's cube_pc.drc). The cube's
+ * axis normals come back exactly, twice. */
+static void test_point_cloud_octahedral_normals(void** state)
+{
+	(void)state;
+	static float p[8 * 3], nrm[8 * 3];
+	for (int i = 0; i < 8; ++i) {
+		p[3 * i] = (float)(i & 1), p[3 * i + 1] = (float)(i >> 1 & 1), p[3 * i + 2] = (float)(i >> 2 & 1);
+		nrm[3 * i + i % 3] = i % 2 ? 1.0f : -1.0f;
+	}
+	vn_drc_attribute a[2] = {{0, vn_drc_position, vn_drc_float32, 3, 0, 11, p, {0}},
+	                         {1, vn_drc_normal, vn_drc_float32, 3, 0, 10, nrm, {0}}};
+	vn_drc_geometry g = {8, 0, NULL, 2, a, NULL, 1};
+	vn_drc_geometry d[2];
+	for (int i = 0; i < 2; ++i) {
+		void* data;
+		size_t size;
+		vn_io_error e;
+		assert_int_equal(vn_drc_encode(i ? &d[0] : &g, 7, 0, "cloud", &data, &size, &e), vn_io_success);
+		assert_int_equal(((const unsigned char*)data)[8], 0); /* sequential */
+		assert_int_equal(vn_drc_decode_any(data, size, "cloud", &d[i], &e), vn_io_success);
+		free(data);
+		assert_int_equal(by_id(&d[i], 1)->quantization_bits, 10);
+		assert_memory_equal(by_id(&d[i], 1)->data, nrm, sizeof nrm);
+	}
+	vn_drc_geometry_free(&d[0]);
+	vn_drc_geometry_free(&d[1]);
 }
 
 /* Decoded float attributes come with the grid they were quantized on, and
@@ -1022,6 +1050,7 @@ int main(void)
 	    cmocka_unit_test(test_grid_kept),
 	    cmocka_unit_test(test_point_cloud_grid_kept),
 	    cmocka_unit_test(test_point_cloud_kd_normals),
+	    cmocka_unit_test(test_point_cloud_octahedral_normals),
 	    cmocka_unit_test(test_nonfinite),
 	    cmocka_unit_test(test_attributes_to_mesh),
 	};

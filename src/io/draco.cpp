@@ -58,6 +58,12 @@ struct vn_drc_encoder {
 	 * for kd-tree), not kd_blocked. */
 	std::vector<quantized> kd_normals;
 	bool kd_blocked = false;
+	/* A point cloud with a quantized float NORMAL: written by the sequential
+	 * method, which codes it octahedrally as meshes are. kd-tree would
+	 * quantize it per component: an input's octahedral (0, 0, -1) came back
+	 * as (0.001, 0.001, -1), and 100k points with normals took 517 kB
+	 * there against 373 kB. */
+	bool octahedral_normals = false;
 	/* Attribute values stored without entropy coding: see symbol_bound. */
 	bool plain_values = false;
 };
@@ -584,6 +590,7 @@ static vn_io_result prepare(const vn_drc_geometry* g, const char* name, vn_drc_e
 			}
 			q.a.data = nullptr;
 			e->quantize.push_back(q);
+			e->octahedral_normals = e->octahedral_normals || (e->cloud && a.semantic == vn_drc_normal);
 		} else if (e->cloud && a.semantic == vn_drc_normal && values_on_grid(a, g->point_count)) {
 			vn_drc_encoder::quantized q{id, a, true};
 			q.a.data = nullptr;
@@ -622,11 +629,12 @@ static vn_io_result run(const vn_drc_encoder& e, int level, bool keep_order, con
 	if (level < 0 || level > 10)
 		return vn_io_fail(error, vn_io_error_unsupported, "%s: compression level %d is not 0 to 10", name, level);
 	/* Levels below 10 pick edgebreaker (kd-tree for a point cloud, where its
-	 * attributes allow), which splits non-manifold vertices and drops
-	 * degenerate triangles (and refuses a mesh of nothing else); the
+	 * attributes allow and it has no quantized NORMAL), which splits
+	 * non-manifold vertices and drops degenerate triangles (and refuses a
+	 * mesh of nothing else); the
 	 * sequential method keeps every point and triangle, so it is the
 	 * fallback when the other changed a count or failed. */
-	for (const bool sequential : {level == 10 || keep_order, true}) {
+	for (const bool sequential : {level == 10 || keep_order || e.octahedral_normals, true}) {
 		/* As a point cloud where one: Draco's encoder picks its methods by
 		 * the constructor's type (a point cloud keeps its order only with the
 		 * sequential method; kd-tree sorts the points). */
