@@ -685,6 +685,20 @@ static void encode_decode(const vn_drc_geometry* g, vn_drc_geometry* out)
 	free(data);
 }
 
+/* Encodes g (a point cloud too) at `level`, checks the stream's method
+ * (header byte 8: 0 sequential, 1 kd-tree or edgebreaker) and decodes it
+ * into *out. */
+static void encode_method(const vn_drc_geometry* g, int level, int method, vn_drc_geometry* out)
+{
+	void* data;
+	size_t size;
+	vn_io_error e;
+	assert_int_equal(vn_drc_encode(g, level, 0, "cloud", &data, &size, &e), vn_io_success);
+	assert_int_equal(((const unsigned char*)data)[8], method);
+	assert_int_equal(vn_drc_decode_any(data, size, "cloud", out, &e), vn_io_success);
+	free(data);
+}
+
 /* A point cloud at level 7 (kd-tree), three generations: the bits and grids
  * read back, the same floats. The kd-tree decoder leaves the unique ids of
  * its quantized attributes 0, and vn matched them by id: the bits read 0,
@@ -697,13 +711,7 @@ static void test_point_cloud_grid_kept(void** state)
 	g.triangle_count = 0, g.point_cloud = 1;
 	vn_drc_geometry d[3];
 	for (int i = 0; i < 3; ++i) {
-		void* data;
-		size_t size;
-		vn_io_error e;
-		assert_int_equal(vn_drc_encode(i ? &d[i - 1] : &g, 7, 0, "cloud", &data, &size, &e), vn_io_success);
-		assert_int_equal(((const unsigned char*)data)[8], 1); /* kd-tree */
-		assert_int_equal(vn_drc_decode_any(data, size, "cloud", &d[i], &e), vn_io_success);
-		free(data);
+		encode_method(i ? &d[i - 1] : &g, 7, 1, &d[i]); /* kd-tree */
 		assert_int_equal(by_id(&d[i], 5)->quantization_bits, 14);
 		assert_int_equal(by_id(&d[i], 9)->quantization_bits, 12);
 	}
@@ -762,12 +770,7 @@ static void test_point_cloud_kd_normals(void** state)
 	sorted_points(&d[0], p0);
 	const int levels[3] = {0, 7, 10}, methods[3] = {0, 1, 0}; /* -, kd-tree, sequential */
 	for (int i = 1; i < 3; ++i) {
-		void* data;
-		size_t size;
-		assert_int_equal(vn_drc_encode(&d[0], levels[i], 0, "cloud", &data, &size, &e), vn_io_success);
-		assert_int_equal(((const unsigned char*)data)[8], methods[i]);
-		assert_int_equal(vn_drc_decode_any(data, size, "cloud", &d[i], &e), vn_io_success);
-		free(data);
+		encode_method(&d[0], levels[i], methods[i], &d[i]);
 		assert_int_equal(by_id(&d[i], 1)->grid.bits, i == 1 ? 8 : 0);
 		sorted_points(&d[i], pi); /* kd-tree sorts the points */
 		assert_memory_equal(pi, p0, d[0].point_count * sizeof pi[0]);
@@ -794,13 +797,7 @@ static void test_point_cloud_octahedral_normals(void** state)
 	vn_drc_geometry g = {8, 0, NULL, 2, a, NULL, 1};
 	vn_drc_geometry d[2];
 	for (int i = 0; i < 2; ++i) {
-		void* data;
-		size_t size;
-		vn_io_error e;
-		assert_int_equal(vn_drc_encode(i ? &d[0] : &g, 7, 0, "cloud", &data, &size, &e), vn_io_success);
-		assert_int_equal(((const unsigned char*)data)[8], 0); /* sequential */
-		assert_int_equal(vn_drc_decode_any(data, size, "cloud", &d[i], &e), vn_io_success);
-		free(data);
+		encode_method(i ? &d[0] : &g, 7, 0, &d[i]); /* sequential */
 		assert_int_equal(by_id(&d[i], 1)->quantization_bits, 10);
 		assert_memory_equal(by_id(&d[i], 1)->data, nrm, sizeof nrm);
 	}

@@ -477,16 +477,27 @@ static std::string unquantizable(const vn_drc_attribute& a, size_t points)
  * to the largest, so memory follows the values' span, not their count:
  * 1,065 points of one float attribute quantized to 30 bits took 4 GB.
  * This bounds that symbol, plus one: a correction is at most the span of
- * the values and 0 (below that of a quantized value, bits bits), twice
- * that zigzag coded; other floats are stored as they are. */
-static uint64_t symbol_bound(const vn_drc_attribute& a, size_t points)
+ * the values and 0 (lo to hi, from integer_span; that of a quantized
+ * value, bits bits), twice that zigzag coded; other floats are stored as
+ * they are. */
+static uint64_t symbol_bound(const vn_drc_attribute& a, double lo, double hi)
 {
 	if (a.component_type == vn_drc_float32 || a.component_type == vn_drc_float64)
 		return a.component_type == vn_drc_float32 && a.quantization_bits > 0 ? uint64_t(2) << a.quantization_bits : 0;
-	double lo = 0, hi = 0;
-	for (size_t i = 0; i < points * size_t(a.components); ++i)
-		lo = std::min(lo, component(a, i)), hi = std::max(hi, component(a, i));
 	return 2 * uint64_t(hi - lo) + 2;
+}
+
+/* The smallest and largest of 0 and integer attribute a's values: one pass
+ * for symbol_bound and the 32-bit check. */
+static void integer_span(const vn_drc_attribute& a, size_t points, double* lo, double* hi)
+{
+	*lo = 0, *hi = 0;
+	if (a.component_type == vn_drc_float32 || a.component_type == vn_drc_float64)
+		return;
+	for (size_t i = 0; i < points * size_t(a.components); ++i) {
+		const double x = component(a, i);
+		*lo = std::min(*lo, x), *hi = std::max(*hi, x);
+	}
 }
 
 /* Above this bound (a table of 512 MB: more than 26 quantization bits, or
@@ -555,15 +566,17 @@ static vn_io_result prepare(const vn_drc_geometry* g, const char* name, vn_drc_e
 		/* Draco 1.5.5 predicts 32-bit integers in int32 arithmetic, which
 		 * overflows from 2^30 on: such values came back different, or were
 		 * refused (the sequential method decoded 2147483646 as another). */
-		if (a.component_type == vn_drc_int32 || a.component_type == vn_drc_uint32)
-			for (size_t p = 0; p < g->point_count * size_t(a.components); ++p)
+		double lo, hi;
+		integer_span(a, g->point_count, &lo, &hi);
+		if (-lo >= 1073741824.0 || hi >= 1073741824.0)
+			for (size_t p = 0;; ++p) /* the first such value, to name it */
 				if (std::fabs(component(a, p)) >= 1073741824.0)
 					return vn_io_fail(error, vn_io_error_unsupported,
 					                  "%s: attribute %u (%s) has %.0f at point %zu, and Draco codes 32-bit integers "
 					                  "only of magnitude below 2^30 (1073741824)",
 					                  name, a.unique_id, semantic_names[a.semantic], component(a, p),
 					                  p / size_t(a.components));
-		e->plain_values = e->plain_values || symbol_bound(a, g->point_count) > max_symbols;
+		e->plain_values = e->plain_values || symbol_bound(a, lo, hi) > max_symbols;
 		const size_t n = value_bytes(a);
 		draco::GeometryAttribute ga;
 		ga.Init(static_cast<draco::GeometryAttribute::Type>(a.semantic), nullptr, uint8_t(a.components), type,
@@ -631,9 +644,9 @@ static vn_io_result run(const vn_drc_encoder& e, int level, bool keep_order, con
 	/* Levels below 10 pick edgebreaker (kd-tree for a point cloud, where its
 	 * attributes allow and it has no quantized NORMAL), which splits
 	 * non-manifold vertices and drops degenerate triangles (and refuses a
-	 * mesh of nothing else); the
-	 * sequential method keeps every point and triangle, so it is the
-	 * fallback when the other changed a count or failed. */
+	 * mesh of nothing else); the sequential method keeps every point and
+	 * triangle, so it is the fallback when the other changed a count or
+	 * failed. */
 	for (const bool sequential : {level == 10 || keep_order || e.octahedral_normals, true}) {
 		/* As a point cloud where one: Draco's encoder picks its methods by
 		 * the constructor's type (a point cloud keeps its order only with the
