@@ -58,7 +58,7 @@ static const struct {
     {"adaptive",
      "the 2-ring jet, or a Gaussian-weighted 5-ring fit that averages noise out, by GCV score; "
      "MWSELR on spheres and where the jet agrees with it; "
-     "MWAAT where rough: the choice when unsure",
+     "where rough, MWAAT on a lattice height field, else MWA: the choice when unsure",
      "beyond Jin et al. 2005; Craven & Wahba 1979 (GCV)"},
 };
 

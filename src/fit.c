@@ -47,10 +47,11 @@
  * outcomes (the jet or the quadric, the jet or the cubic, by GCV score) and
  * the statistic of its cubic terms, and a last pass takes one outcome by
  * that statistic over the vertex's 1-ring (56 more bytes a vertex); its
- * rough fallback, MWAAT, is a second pass of the weighted kernels, and
- * MWSELR, which it takes on a sphere (sphere_lanes) and for a jet that
- * agrees with it, a third (24 more each). Where the jet cannot be fitted
- * it falls back as JET does. */
+ * rough fallback is S, or MWAAT's normal on a lattice (lattice_ring), a
+ * second pass of the weighted kernels, and MWSELR, which it takes on a
+ * sphere (sphere_lanes) and for a jet that agrees with it, a third (24
+ * more bytes a vertex each). Where the jet cannot be fitted it falls back
+ * as JET does. */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -80,9 +81,10 @@
  * edges: fractal or turbulent). The jet's residual decides, not a wide
  * fit's: on a smooth surface whose features are a few rings across (a
  * noisy isosurface), a wide fit's residual is its model's bias over the
- * ring, not roughness, and MWAAT is 4 times worse there than the wide
- * cubic. A wide fit replaces the jet where its GCV score is below
- * ADAPTIVE_JET_MARGIN times the jet's: the jet's score rests on about 14
+ * ring, not roughness, and a face-weighted normal is 4 to 6 times worse
+ * there than the wide cubic (perlin_mt, medium: MWA 2.11 degrees, MWELR
+ * 3.06, ADAPTIVE 0.52). A wide fit replaces the jet where its GCV score is
+ * below ADAPTIVE_JET_MARGIN times the jet's: the jet's score rests on about 14
  * effective points for 10 unknowns, so it scatters, and the wide fits'
  * averaging is kept unless the jet is clearly better. The ring
  * (ADAPTIVE_RINGS) and the Gaussian's width (ADAPTIVE_WIDTH, relative to
@@ -125,9 +127,17 @@
 #define ADAPTIVE_T 2.0
 /* log T is kept within +-T_LOG_MAX (T infinite where the cubic's residual is 0). */
 #define T_LOG_MAX 50.0
-/* ADAPTIVE's rough fallback: MWAAT, the best of the seven on the paper's
- * fractal height fields (and within 10% of the best on turbulence). */
-#define ADAPTIVE_ROUGH vn_method_mwaat
+/* ADAPTIVE's rough fallback where the 1-ring is a height field sampled on
+ * a lattice (lattice_ring): MWAAT, whose sum, the ring's vector area, is a
+ * central difference there, and the best of the seven on the paper's
+ * fractal height fields. Elsewhere the fallback is the seed S, MWA's
+ * normal: off a lattice, face areas say how the surface was cut, not how
+ * far a face reaches, and area weights are the worst of the six
+ * face-weighted schemes on the paper's rough isosurface (MWAAT 6 to 11%
+ * above the best there, MWA 2 to 5%, docs/ACCURACY.md). */
+#define ADAPTIVE_LATTICE_ROUGH vn_method_mwaat
+/* A lattice ring has at most this many members (8 quads). */
+#define LATTICE_MEMBERS_MAX 16
 #define MAX_THREADS 256
 /* Below this many vertices per worker, a thread costs more than it saves. */
 #define MIN_VERTICES_PER_THREAD 4096
@@ -661,7 +671,7 @@ typedef struct scratch {
 typedef struct fit_job {
 	vn_work w;
 	const double* seed;    /* 3 per vertex */
-	const double* rough;   /* ADAPTIVE: 3 per vertex, ADAPTIVE_ROUGH's normals */
+	const double* lattice; /* ADAPTIVE: 3 per vertex, ADAPTIVE_LATTICE_ROUGH's normals */
 	const double* mwselr;  /* ADAPTIVE: 3 per vertex, MWSELR's normals */
 	double* pick;          /* ADAPTIVE: 7 per vertex: the outcomes (adaptive_lanes), log T */
 	double unit, quantum;  /* ADAPTIVE: the coordinates' rounding (vn_coordinate_rounding) */
@@ -1218,6 +1228,123 @@ static double effective_points(const double* q, uint32_t m)
 	return sw * sw / sww;
 }
 
+/* The corners of the face of vertex v's listed corner e (an entry of
+ * j->list) after v's, in order into out: its next first, its previous
+ * last. Their count, 0 where the face is unusable or has more than max. */
+static uint32_t face_after(const fit_job* j, uint32_t v, uint32_t e, uint32_t max, uint32_t* out)
+{
+	if (!j->w.offsets) {
+		const uint32_t* p = j->list + 2 * (size_t)e; /* both v where unusable (phase_list) */
+		out[0] = p[0], out[1] = p[1];
+		return p[0] == v || max < 2 ? 0 : 2;
+	}
+	const uint32_t c = j->list[e];
+	uint32_t b, k;
+	if (!j->usable[face_at(j, c, &b, &k)] || k - 1 > max)
+		return 0;
+	for (uint32_t o = 1; o < k; ++o)
+		out[o - 1] = j->w.indices[b + (c - b + o) % k];
+	return k - 1;
+}
+
+/* Vertex v's 1-ring in order around it, into ring: where v's faces close
+ * one fan, each face's corners after v's but its last, which is the next
+ * face's first. The count, 0 where they do not (a boundary, a non-manifold
+ * vertex, an unusable face, a member twice or v itself) or where it would
+ * not be even, from 4 to LATTICE_MEMBERS_MAX. */
+static uint32_t fan(const fit_job* j, uint32_t v, uint32_t ring[LATTICE_MEMBERS_MAX])
+{
+	const uint32_t first = v ? j->start[v - 1] : 0, count = j->start[v] - first;
+	if (count < 2 || count > LATTICE_MEMBERS_MAX || (!j->w.offsets && count % 2)) /* a triangle gives one member */
+		return 0;
+	/* Corner i's face: after[at[i]] to after[at[i] + size[i]), its members
+	 * and then the next face's first. */
+	uint32_t after[2 * LATTICE_MEMBERS_MAX + 1], at[LATTICE_MEMBERS_MAX], size[LATTICE_MEMBERS_MAX], members = 0;
+	for (uint32_t i = 0, used = 0; i < count; ++i) {
+		at[i] = used;
+		size[i] = face_after(j, v, first + i, LATTICE_MEMBERS_MAX - members + 1, after + used);
+		if (size[i] < 2)
+			return 0;
+		members += size[i] - 1, used += size[i];
+	}
+	if (members < 4 || members % 2) /* no lattice_ring needs */
+		return 0;
+	uint32_t n = 0, used = 0;
+	for (uint32_t step = 0, e = 0; step < count; ++step) {
+		used |= 1u << e;
+		for (uint32_t i = 0; i + 1 < size[e]; ++i)
+			ring[n++] = after[at[e] + i];
+		const uint32_t last = after[at[e] + size[e] - 1];
+		uint32_t next = 0, found = 0; /* branch-free: which face goes on cannot be predicted */
+		for (uint32_t i = 0; i < count; ++i) {
+			const uint32_t on = !(used >> i & 1) & (after[at[i]] == last);
+			found += on, next = on ? i : next;
+		}
+		if (step + 1 < count ? found != 1 : last != ring[0]) /* two faces going on from one edge: not a fan */
+			return 0;
+		e = next;
+	}
+	for (uint32_t i = 0; i < n; ++i)
+		for (uint32_t k = i + 1; k <= n; ++k)
+			if (ring[i] == (k < n ? ring[k] : v))
+				return 0;
+	return n;
+}
+
+/* Whether vertex v's 1-ring is a height field sampled on a lattice: its
+ * faces close one fan (fan) of an even number 2m >= 4 of members p_i
+ * around p = v's position, and the m second differences p_i + p_(i + m) -
+ * 2 p are parallel (or zero: a flat lattice), to ADAPTIVE_SPHERE_ROUNDING
+ * units of rounding of the largest coordinate among them (as sphere_lanes)
+ * and at most ADAPTIVE_JET_EXACT h. Seen along their direction the ring
+ * is then centrally symmetric, as a lattice's rows, diagonals or quads are,
+ * with the heights along it the surface's. */
+static int lattice_ring(const fit_job* j, uint32_t v, double h)
+{
+	uint32_t ring[LATTICE_MEMBERS_MAX];
+	const uint32_t n = fan(j, v, ring), m = n / 2;
+	if (!n)
+		return 0;
+	double o[3], u[LATTICE_MEMBERS_MAX / 2][3], big = 0.0, longest = 0.0;
+	uint32_t at = 0;
+	vn_load(&j->w, j->w.type, v, o);
+	for (int d = 0; d < 3; ++d)
+		big = fmax(big, fabs(o[d]));
+	for (uint32_t i = 0; i < m; ++i) {
+		double a[3], b[3];
+		vn_load(&j->w, j->w.type, ring[i], a);
+		vn_load(&j->w, j->w.type, ring[i + m], b);
+		for (int d = 0; d < 3; ++d) {
+			u[i][d] = (a[d] - o[d]) + (b[d] - o[d]);
+			big = fmax(big, fmax(fabs(a[d]), fabs(b[d])));
+		}
+		const double len2 = vn_dot(u[i], u[i]);
+		if (len2 > longest)
+			longest = len2, at = i;
+	}
+	const double unit = j->unit * big, rounding = ADAPTIVE_SPHERE_ROUNDING * (unit > j->quantum ? unit : j->quantum);
+	const double tol = fmin(rounding, ADAPTIVE_JET_EXACT * h), len = sqrt(longest);
+	if (!(len > tol))
+		return 1;
+	double d[3], c[3];
+	for (int k = 0; k < 3; ++k)
+		d[k] = u[at][k] / len;
+	for (uint32_t i = 0; i < m; ++i) { /* the part of u_i across d */
+		vn_cross(u[i], d, c);
+		if (!(sqrt(vn_dot(c, c)) <= tol))
+			return 0;
+	}
+	return 1;
+}
+
+/* ADAPTIVE's rough fallback at vertex v (h: its mean 1-ring distance, 0
+ * where it has no ring): MWAAT's normal where the ring is a lattice
+ * (lattice_ring), else S. */
+static const double* rough_fallback(const fit_job* j, uint32_t v, double h)
+{
+	return (h > 0.0 && lattice_ring(j, v, h) ? j->lattice : j->seed) + 3 * (size_t)v;
+}
+
 /* ADAPTIVE at the active lanes, after the 2-ring jet f (ok, residual res):
  * the jet where it is exact, the rough fallback where its residual exceeds
  * ADAPTIVE_ROUGH_MAX; else the quadric and the cubic on the 5-ring with
@@ -1229,11 +1356,11 @@ static double effective_points(const double* q, uint32_t m)
  * the quadric failed) by GCV score (ADAPTIVE_JET_MARGIN), and the jet or
  * the cubic (the quadric where the cubic failed) likewise, then log T where
  * both wide fits succeeded (NaN elsewhere): phase_choose takes one. fall[l]
- * is the fallback where no fit is taken: the rough one (MWAAT's) where the
- * jet was fitted, JET's own where it could not be. The batch's points
- * (s->q, finite up to top, scale[l] = 1 / h) gain the 5-rings of the lanes
- * that fit them (widen_vertex; m: the ring ends). Vertices from v1 on are
- * another worker's. */
+ * is the fallback where no fit is taken: JET's own where the jet could not
+ * be fitted, else NULL for the rough one (rough_fallback). The batch's
+ * points (s->q, finite up to top, scale[l] = 1 / h) gain the 5-rings of
+ * the lanes that fit them (widen_vertex; m: the ring ends). Vertices from
+ * v1 on are another worker's. */
 static void adaptive_lanes(const fit_job* j, scratch* s, uint32_t top, const double scale[LANES], const int act[LANES],
                            uint32_t m[LANES][ADAPTIVE_RINGS], const double* const seed[LANES], const double f[LANES][3],
                            const int ok[LANES], const double res[LANES], const double* const fall[LANES],
@@ -1258,7 +1385,7 @@ static void adaptive_lanes(const fit_job* j, scratch* s, uint32_t top, const dou
 		const double* mwselr = j->mwselr + 3 * (size_t)(v0 + l);
 		memcpy(out,
 		       sphere[l] ? mwselr
-		       : !smooth ? fall[l]
+		       : !smooth ? (fall[l] ? fall[l] : rough_fallback(j, v0 + l, act[l] ? 1.0 / scale[l] : 0.0))
 		       : within(mwselr, f[l], ADAPTIVE_MWSELR_AGREE * res[l]) ? mwselr
 		                                                                : f[l],
 		       3 * sizeof(double));
@@ -1376,7 +1503,7 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 		for (unsigned l = 0; l < LANES; ++l) {
 			unfit[l] = act[l] && !fitted[l];
 			again |= unfit[l];
-			fall[l] = unfit[l] ? n[l] : j->rough + 3 * (size_t)(v0 + l < v1 ? v0 + l : v0);
+			fall[l] = unfit[l] ? n[l] : NULL;
 		}
 		if (again)
 			fit_twice(s->q, first, unfit, seed, 0, j->w.simd, n, quadric_ok, NULL, NULL);
@@ -1465,16 +1592,16 @@ vn_result vn_fit_run(const vn_work* work, const vn_options* o, vn_range_stats* s
 	j.w.out = &seeds;
 	j.w.keep_existing = 0;
 	vn_result r = vn_run(&j.w, weighted, o, st);
-	for (int k = 1; adaptive && k < 3 && r == vn_result_success; ++k) { /* the rough fallback, MWSELR */
+	for (int k = 1; adaptive && k < 3 && r == vn_result_success; ++k) { /* the lattice's rough fallback, MWSELR */
 		const vn_vectors more = {seed + 3 * k * (size_t)nv, 3 * sizeof(double), vn_scalar_float64};
 		vn_range_stats unused = {0, 0, 0, 0};
-		j.w.method = k == 1 ? ADAPTIVE_ROUGH : vn_method_mwselr;
+		j.w.method = k == 1 ? ADAPTIVE_LATTICE_ROUGH : vn_method_mwselr;
 		j.w.out = &more;
 		j.w.want_stats = 0;
 		r = vn_run(&j.w, weighted, o, &unused);
 	}
 	if (adaptive) {
-		j.rough = seed + 3 * (size_t)nv;
+		j.lattice = seed + 3 * (size_t)nv;
 		j.mwselr = seed + 6 * (size_t)nv;
 		j.pick = seed + 9 * (size_t)nv;
 		vn_coordinate_rounding(work, &j.unit, &j.quantum);

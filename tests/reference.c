@@ -241,10 +241,10 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
 #define RCOND_MIN 1e-10L      /* smallest 1 / (|R|_F |R^-1|_F)^2 */
 #define SEED_COS_MIN 0.5L     /* 60 degrees from the seed */
 /* ADAPTIVE: the jet alone at or below this weighted RMS residual over h;
- * the rough fallback (MWAAT) above this residual of the jet; a wide fit
- * where its GCV score is below the margin times the jet's; the wide fits
- * on this ring, with a Gaussian this wide relative to the members' RMS
- * distance. */
+ * the rough fallback (S, or MWAAT on a lattice) above this residual of
+ * the jet; a wide fit where its GCV score is below the margin times the
+ * jet's; the wide fits on this ring, with a Gaussian this wide relative to
+ * the members' RMS distance. */
 #define ADAPTIVE_JET_EXACT 1e-4L
 #define ADAPTIVE_ROUGH_MAX 0.05L
 /* ADAPTIVE: MWSELR's normal for the jet's within this many times the
@@ -256,6 +256,8 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
  * with at least ADAPTIVE_SPHERE_POINTS points. */
 #define ADAPTIVE_SPHERE_ROUNDING 1024.0L
 #define ADAPTIVE_SPHERE_POINTS 5
+/* ADAPTIVE: a lattice ring has at most this many members. */
+#define LATTICE_MEMBERS_MAX 16
 #define ADAPTIVE_JET_MARGIN 2.0L
 #define ADAPTIVE_RINGS 5
 #define ADAPTIVE_WIDTH 0.6L
@@ -745,6 +747,82 @@ static int on_sphere(const vec* q, size_t m, vec p, vec n, long double h, roundi
 	return bend > tol && worst <= tol;
 }
 
+/* Whether vertex v's 1-ring is a height field sampled on a lattice (vn.h,
+ * ADAPTIVE): its faces, each joining rings, close one fan around v whose
+ * members in order, 2m >= 4 of them (at most LATTICE_MEMBERS_MAX, each
+ * once, not v), have parallel second differences p_i + p_(i + m) - 2 p
+ * (or all zero), to ADAPTIVE_SPHERE_ROUNDING times the rounding r of the
+ * largest coordinate among them, at most ADAPTIVE_JET_EXACT h. Sets
+ * *borderline where a difference's part across is within a factor 2 of
+ * the tolerance. */
+static int lattice_ring(const tables* t, uint32_t v, long double h, rounding r, int* borderline)
+{
+	size_t faces = t->first[v + 1] - t->first[v];
+	if (faces < 2 || faces > LATTICE_MEMBERS_MAX)
+		return 0;
+	/* Each face's corners after v, in the face's order. */
+	uint32_t path[LATTICE_MEMBERS_MAX][LATTICE_MEMBERS_MAX + 1];
+	size_t len[LATTICE_MEMBERS_MAX];
+	for (size_t i = 0; i < faces; i++) {
+		size_t c = t->corners[t->first[v] + i], f = t->corner_face[c];
+		size_t begin = t->face_offsets[f], k = t->face_offsets[f + 1] - begin;
+		if (!joins_rings(t, f) || k - 1 > LATTICE_MEMBERS_MAX)
+			return 0;
+		len[i] = k - 1;
+		for (size_t o = 1; o < k; o++)
+			path[i][o - 1] = t->indices[begin + (c - begin + o) % k];
+	}
+	/* Walk the fan: a face ends where exactly one other begins. */
+	uint32_t ring[LATTICE_MEMBERS_MAX];
+	size_t n = 0, at = 0;
+	char used[LATTICE_MEMBERS_MAX] = {0};
+	for (size_t step = 0; step < faces; step++) {
+		used[at] = 1;
+		if (n + len[at] - 1 > LATTICE_MEMBERS_MAX)
+			return 0;
+		for (size_t i = 0; i + 1 < len[at]; i++)
+			ring[n++] = path[at][i];
+		uint32_t end = path[at][len[at] - 1];
+		size_t found = 0, next = 0;
+		for (size_t i = 0; i < faces; i++)
+			if (!used[i] && path[i][0] == end)
+				found++, next = i;
+		if (step + 1 < faces ? found != 1 : end != path[0][0])
+			return 0;
+		at = next;
+	}
+	if (n < 4 || n % 2)
+		return 0;
+	for (size_t i = 0; i < n; i++)
+		for (size_t k = 0; k < n; k++)
+			if (ring[i] == v || (k != i && ring[k] == ring[i]))
+				return 0;
+	vec p = position(t->positions, v), u[LATTICE_MEMBERS_MAX / 2];
+	long double big = fmaxl(fabsl(p.x), fmaxl(fabsl(p.y), fabsl(p.z))), longest = 0;
+	size_t m = n / 2, top = 0;
+	for (size_t i = 0; i < n; i++) {
+		vec a = position(t->positions, ring[i]);
+		big = fmaxl(big, fmaxl(fabsl(a.x), fmaxl(fabsl(a.y), fabsl(a.z))));
+	}
+	for (size_t i = 0; i < m; i++) {
+		u[i] = vec_sub(vec_add(position(t->positions, ring[i]), position(t->positions, ring[i + m])),
+		               vec_add(p, p));
+		if (vec_length(u[i]) > longest)
+			longest = vec_length(u[i]), top = i;
+	}
+	long double tol = fminl(ADAPTIVE_SPHERE_ROUNDING * fmaxl(r.unit * big, r.quantum), ADAPTIVE_JET_EXACT * h);
+	if (!(longest > tol)) {
+		*borderline |= longest > tol / 2;
+		return 1;
+	}
+	vec d = vec_scale(u[top], 1 / longest);
+	long double worst = 0;
+	for (size_t i = 0; i < m; i++)
+		worst = fmaxl(worst, vec_length(vec_cross(u[i], d)));
+	*borderline |= worst > tol / 2 && worst < 2 * tol;
+	return worst <= tol;
+}
+
 /* ADAPTIVE at a vertex p with the 1-, 2- and 5-ring ends m1 <= m2 <= m5 of
  * q: MWSELR's normal `sel` where the 2-ring lies on a sphere (on_sphere,
  * the coordinates' rounding r); else the jet on the 2-ring; the rough fallback where its residual is above
@@ -844,15 +922,22 @@ static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m5, vec s
 #define T_SLACK 1e-6L
 
 /* QUADRIC, JET and ADAPTIVE: the MWA normal S as seed and fallback;
- * ADAPTIVE's rough fallback is MWAAT, also where S is zero. */
+ * ADAPTIVE's rough fallback is MWAAT's normal where the 1-ring is a
+ * lattice (lattice_ring), else S. */
 static void fit_normals(int method, const tables* t, double* out, double* cond, unsigned char* path)
 {
 	size_t n = t->vertex_count;
 	weighted_normals(ref_mwa, t, out, cond); /* S, kept where chosen */
-	double *rough = NULL, *sel = NULL; /* ADAPTIVE: MWAAT's and MWSELR's normals, then conditions */
+	/* ADAPTIVE: MWA's (S, as out is overwritten), MWAAT's and MWSELR's
+	 * normals, then conditions */
+	double *rough = NULL, *lattice = NULL, *sel = NULL;
+	long double* hs = NULL; /* ADAPTIVE: each vertex's h */
 	if (method == ref_adaptive) {
 		rough = checked_calloc(4 * n, sizeof *rough);
-		weighted_normals(ref_mwaat, t, rough, rough + 3 * n);
+		weighted_normals(ref_mwa, t, rough, rough + 3 * n);
+		lattice = checked_calloc(4 * n, sizeof *lattice);
+		weighted_normals(ref_mwaat, t, lattice, lattice + 3 * n);
+		hs = checked_calloc(n, sizeof *hs);
 		sel = checked_calloc(4 * n, sizeof *sel);
 		weighted_normals(ref_mwselr, t, sel, sel + 3 * n);
 	}
@@ -875,10 +960,6 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		vec s = load(o);
 		if (ad)
 			ad[v].log_t = NAN;
-		if (rough && vec_dot(s, s) == 0) { /* ADAPTIVE: MWAAT where S is zero */
-			memcpy(o, rough + 3 * v, 3 * sizeof *o);
-			cond[v] = rough[3 * n + v];
-		}
 		if (is_zero(o) || vec_dot(s, s) == 0) {
 			path[v] = is_zero(o) ? ref_path_zero : ref_path_rough;
 			continue;
@@ -893,6 +974,8 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 			h += vec_length(q[i]);
 		}
 		h /= m1 ? (long double)m1 : 1;
+		if (hs)
+			hs[v] = h;
 		if (method != ref_quadric) {
 			for (size_t i = 0; i < m1; i++)
 				if (!hub[ring[i]])
@@ -950,19 +1033,24 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		int differ = a->path[0] != a->path[1] || vec_dot(a->normal[0], a->normal[1]) != vec_dot(a->normal[0], a->normal[0]);
 		border |= count && fabsl(sum / (long double)count - logl(ADAPTIVE_T)) < T_SLACK;
 		path[v] = (unsigned char)a->path[k];
-		if (path[v] == ref_path_rough || path[v] == ref_path_mwselr) {
-			const double* from = path[v] == ref_path_rough ? rough : sel;
+		int lattice_border = 0;
+		if (path[v] == ref_path_rough && hs[v] > 0 && lattice_ring(t, (uint32_t)v, hs[v], coords, &lattice_border))
+			path[v] = ref_path_lattice;
+		if (path[v] == ref_path_rough || path[v] == ref_path_lattice || path[v] == ref_path_mwselr) {
+			const double* from = path[v] == ref_path_rough ? rough : path[v] == ref_path_lattice ? lattice : sel;
 			memcpy(out + 3 * v, from + 3 * v, 3 * sizeof *out);
 			cond[v] = from[3 * n + v];
 		} else if (path[v] != ref_path_seed) {
 			o_set(out + 3 * v, a->normal[k]);
 			cond[v] = (double)a->rcond[k];
 		}
-		if (a->borderline || (differ && border))
+		if (a->borderline || (differ && border) || lattice_border)
 			path[v] |= ref_path_borderline;
 	}
 	free(ad);
 	free(rough);
+	free(lattice);
+	free(hs);
 	free(sel);
 	free(q);
 	free(ring);

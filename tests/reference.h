@@ -39,8 +39,9 @@ enum {
 	ref_path_quadric,  /* the 1-ring quadric fit */
 	ref_path_jet,      /* the 2-ring cubic jet fit */
 	ref_path_wide,     /* ADAPTIVE: a 5-ring fit with Gaussian weights */
-	ref_path_rough,    /* ADAPTIVE's rough fallback: MWAAT */
+	ref_path_rough,    /* ADAPTIVE's rough fallback: MWA (S) */
 	ref_path_mwselr,   /* ADAPTIVE: MWSELR, for a jet that agrees with it */
+	ref_path_lattice,  /* ADAPTIVE's rough fallback on a lattice height field: MWAAT */
 	ref_path_count,
 	/* Added to the path: a decision on the way (a pivot, the 60 degree or
 	 * 30 degree rule, ADAPTIVE's residual, SMEWCSA's flatness) was within

@@ -720,7 +720,7 @@ static int same3(const double* a, const double* b, double sign)
 /* The library's path at vertex v under `method`, read from its outputs
  * (float64 in and out, lib[method]) without looking inside it: a fallback
  * returns its seed method's normal bit for bit (MWA's for the fits, and
- * MWAAT's for ADAPTIVE's rough one; MWSELR's for SMEWCSA and for
+ * MWAAT's for ADAPTIVE's rough one on a lattice; MWSELR's for SMEWCSA and for
  * ADAPTIVE's jet where the two agree), JET's and
  * ADAPTIVE's fallback to the 1-ring quadric is QUADRIC's very computation
  * and ADAPTIVE's 2-ring fit is JET's (any other ADAPTIVE normal is a 5-ring
@@ -741,7 +741,7 @@ static int lib_path(int method, size_t v, double* const* lib)
 		return -1;
 	}
 	if (method == ref_adaptive && same3(n, lib[ref_mwaat] + 3 * v, 1))
-		return ref_path_rough;
+		return ref_path_lattice;
 	if (method == ref_adaptive && same3(n, lib[ref_mwselr] + 3 * v, 1))
 		return ref_path_mwselr;
 	if (same3(n, lib[ref_mwa] + 3 * v, 1))
@@ -772,9 +772,10 @@ static void compare_paths(const mesh* m, const char* entry, int method, const un
 		int want = path[v] & ~ref_path_borderline;
 		/* Where ADAPTIVE's weighted normals agree to the bit (MWA's, MWAAT's
 		 * and MWSELR's normal of a single face), its output reads as any
-		 * (weighted: the method of each such path; 0, MWE's, for none). */
-		const int weighted[ref_path_count] = {[ref_path_seed] = ref_mwa, [ref_path_rough] = ref_mwaat,
-		                                      [ref_path_mwselr] = ref_mwselr};
+		 * (weighted: the method of each such path; 0, MWE's, for none); its
+		 * rough fallback off a lattice is S, read as the seed. */
+		const int weighted[ref_path_count] = {[ref_path_seed] = ref_mwa, [ref_path_rough] = ref_mwa,
+		                                      [ref_path_mwselr] = ref_mwselr, [ref_path_lattice] = ref_mwaat};
 		if (method == ref_adaptive && taken >= 0 && weighted[taken] && weighted[want] &&
 		    same3(lib[method] + 3 * v, lib[weighted[want]] + 3 * v, 1))
 			taken = want;
@@ -786,11 +787,12 @@ static void compare_paths(const mesh* m, const char* entry, int method, const un
 			continue;
 		}
 		/* The fallback the library's output equals, and the reference's fit. */
-		int fallback = taken == ref_path_quadric  ? ref_quadric
-		               : taken == ref_path_rough  ? ref_mwaat
+		int fallback = taken == ref_path_quadric   ? ref_quadric
+		               : taken == ref_path_lattice ? ref_mwaat
 		               : method == ref_smewcsa    ? ref_mwselr
 		                                          : ref_mwa;
-		if (taken != want && (taken == ref_path_seed || taken == ref_path_rough || taken == ref_path_quadric) &&
+		if (taken != want &&
+		    (taken == ref_path_seed || taken == ref_path_rough || taken == ref_path_lattice || taken == ref_path_quadric) &&
 		    (want == ref_path_quadric || want == ref_path_jet || want == ref_path_wide) &&
 		    angle3(ref[method] + 3 * v, ref[fallback] + 3 * v) <= 1e-12) {
 			pc->coincident++;
@@ -892,12 +894,14 @@ static void check_mesh_paths(const mesh* m, double (*worst_deg)[ref_method_count
 			              &reports);
 		int entries = triangles ? 2 : 1;
 		print_message("  %-8s paths (ref/lib, %d entr%s): zero %zu/%zu seed %zu/%zu cotangent %zu/%zu quadric %zu/%zu "
-		              "jet %zu/%zu wide %zu/%zu rough %zu/%zu mwselr %zu/%zu; borderline %zu, coincident %zu, differ %zu\n",
+		              "jet %zu/%zu wide %zu/%zu rough %zu/%zu lattice %zu/%zu mwselr %zu/%zu; borderline %zu, "
+		              "coincident %zu, differ %zu\n",
 		              method_names[method], entries, entries > 1 ? "ies" : "y", pc.ref[ref_path_zero],
 		              pc.lib[ref_path_zero], pc.ref[ref_path_seed], pc.lib[ref_path_seed], pc.ref[ref_path_cotangent],
 		              pc.lib[ref_path_cotangent], pc.ref[ref_path_quadric], pc.lib[ref_path_quadric],
 		              pc.ref[ref_path_jet], pc.lib[ref_path_jet], pc.ref[ref_path_wide], pc.lib[ref_path_wide],
-		              pc.ref[ref_path_rough], pc.lib[ref_path_rough], pc.ref[ref_path_mwselr], pc.lib[ref_path_mwselr],
+		              pc.ref[ref_path_rough], pc.lib[ref_path_rough], pc.ref[ref_path_lattice], pc.lib[ref_path_lattice],
+		              pc.ref[ref_path_mwselr], pc.lib[ref_path_mwselr],
 		              pc.borderline, pc.coincident, pc.differ);
 		bad += pc.differ;
 		if (exact_paths) {
@@ -1371,7 +1375,7 @@ static void test_beyond_the_paper(void** state)
 
 	/* Noise of up to 12% of an edge in every direction: ADAPTIVE takes the
 	 * 5-ring fits at most vertices, the jet at some; at 60%, its fallback
-	 * (MWAAT) at a part. */
+	 * (S) at a part. */
 	mesh_init(&m, "noisy height field");
 	make_height_field(&m, 21, 30, 26, 0.07, 0.3);
 	mesh_jitter(&m, 25, 0.12 * 0.07);
@@ -1381,6 +1385,19 @@ static void test_beyond_the_paper(void** state)
 	mesh_init(&m, "rough height field");
 	make_height_field(&m, 27, 30, 26, 0.07, 0.3);
 	mesh_jitter(&m, 29, 0.6 * 0.07);
+	check_mesh_paths(&m, worst, 1);
+	mesh_free(&m);
+
+	/* Noise along z alone on an unjittered grid: ADAPTIVE's rough fallback
+	 * is MWAAT where the diagonals of a vertex's four cells are symmetric
+	 * about it (its ring is a lattice's), S elsewhere. */
+	mesh_init(&m, "rough lattice height field");
+	make_height_field(&m, 27, 30, 26, 0.07, 0);
+	{
+		rng r = rng_seed(35);
+		for (size_t v = 0; v < m.nv; v++)
+			m.pos[3 * v + 2] += rng_range(&r, -0.6 * 0.07, 0.6 * 0.07);
+	}
 	check_mesh_paths(&m, worst, 1);
 	mesh_free(&m);
 

@@ -59,8 +59,8 @@ METHODS = (
     ("JET", "Cubic jet fit on the 2-ring (JET)",
      "weighted least-squares cubic jet on the 2-ring, in MWA's tangent frame, refitted once",
      "Cazals & Pouget 2003; O(h^3)"),
-    ("ADAPTIVE", "Adaptive: fits where smooth, else MWAAT (ADAPTIVE)",
-     "the 2-ring jet, or a Gaussian-weighted 5-ring fit that averages noise out, by GCV score; MWSELR on spheres and where the jet agrees with it; MWAAT where rough: the choice when unsure",
+    ("ADAPTIVE", "Adaptive: fits where smooth, else MWA or MWAAT (ADAPTIVE)",
+     "the 2-ring jet, or a Gaussian-weighted 5-ring fit that averages noise out, by GCV score; MWSELR on spheres and where the jet agrees with it; where rough, MWAAT on a lattice height field, else MWA: the choice when unsure",
      "beyond Jin et al. 2005; Craven & Wahba 1979 (GCV)"),
 )
 # MEWCSA turns 28.5% of Suzanne's corners by more than 90 degrees.

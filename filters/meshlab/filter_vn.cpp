@@ -50,7 +50,7 @@ const MethodWords kMethods[] = {
     {"SMEWCSA", "Cotangent weights, sign corrected (SMEWCSA, Meyer 2003)", "cotangent weights, oriented outward"},
     {"QUADRIC", "Quadric fit on the 1-ring (QUADRIC)", "quadric fit over the 1-ring"},
     {"JET", "Cubic jet fit on the 2-ring (JET, Cazals 2003)", "cubic fit over the 2-ring"},
-    {"ADAPTIVE", "Adaptive: fits where smooth, else MWAAT (ADAPTIVE)", "jet, 5-ring fit, MWSELR or MWAAT"},
+    {"ADAPTIVE", "Adaptive: fits where smooth, else MWA or MWAAT (ADAPTIVE)", "jet, wide fit, MWSELR, MWA, MWAAT"},
 };
 static_assert(sizeof kMethods / sizeof kMethods[0] == static_cast<size_t>(vn_method_count),
               "one entry per vn_method");
