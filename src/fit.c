@@ -138,6 +138,14 @@
 #define ADAPTIVE_LATTICE_ROUGH vn_method_mwaat
 /* A lattice ring has at most this many members (8 quads). */
 #define LATTICE_MEMBERS_MAX 16
+/* A ring is a lattice's where its second differences are parallel to
+ * this fraction of h: a structural test, not one of precision (MWAAT's
+ * sum stays a central difference to first order in the departure), loose
+ * enough for float32 grids up to about 40,000 cells from the origin (a
+ * difference holds four roundings of at most 6e-8 of a coordinate), tight
+ * against the rings of marching tetrahedra and jittered grids, whose
+ * departures are tenths of h. */
+#define LATTICE_SLACK 1e-2
 #define MAX_THREADS 256
 /* Below this many vertices per worker, a thread costs more than it saves. */
 #define MIN_VERTICES_PER_THREAD 4096
@@ -1294,36 +1302,30 @@ static uint32_t fan(const fit_job* j, uint32_t v, uint32_t ring[LATTICE_MEMBERS_
 /* Whether vertex v's 1-ring is a height field sampled on a lattice: its
  * faces close one fan (fan) of an even number 2m >= 4 of members p_i
  * around p = v's position, and the m second differences p_i + p_(i + m) -
- * 2 p are parallel (or zero: a flat lattice), to ADAPTIVE_SPHERE_ROUNDING
- * units of rounding of the largest coordinate among them (as sphere_lanes)
- * and at most ADAPTIVE_JET_EXACT h. Seen along their direction the ring
- * is then centrally symmetric, as a lattice's rows, diagonals or quads are,
- * with the heights along it the surface's. */
+ * 2 p are parallel (or zero: a flat lattice), to LATTICE_SLACK h. Seen
+ * along their direction the ring is then centrally symmetric, as a
+ * lattice's rows, diagonals or quads are, with the heights along it the
+ * surface's. */
 static int lattice_ring(const fit_job* j, uint32_t v, double h)
 {
 	uint32_t ring[LATTICE_MEMBERS_MAX];
 	const uint32_t n = fan(j, v, ring), m = n / 2;
 	if (!n)
 		return 0;
-	double o[3], u[LATTICE_MEMBERS_MAX / 2][3], big = 0.0, longest = 0.0;
+	double o[3], u[LATTICE_MEMBERS_MAX / 2][3], longest = 0.0;
 	uint32_t at = 0;
 	vn_load(&j->w, j->w.type, v, o);
-	for (int d = 0; d < 3; ++d)
-		big = fmax(big, fabs(o[d]));
 	for (uint32_t i = 0; i < m; ++i) {
 		double a[3], b[3];
 		vn_load(&j->w, j->w.type, ring[i], a);
 		vn_load(&j->w, j->w.type, ring[i + m], b);
-		for (int d = 0; d < 3; ++d) {
+		for (int d = 0; d < 3; ++d)
 			u[i][d] = (a[d] - o[d]) + (b[d] - o[d]);
-			big = fmax(big, fmax(fabs(a[d]), fabs(b[d])));
-		}
 		const double len2 = vn_dot(u[i], u[i]);
 		if (len2 > longest)
 			longest = len2, at = i;
 	}
-	const double unit = j->unit * big, rounding = ADAPTIVE_SPHERE_ROUNDING * (unit > j->quantum ? unit : j->quantum);
-	const double tol = fmin(rounding, ADAPTIVE_JET_EXACT * h), len = sqrt(longest);
+	const double tol = LATTICE_SLACK * h, len = sqrt(longest);
 	if (!(len > tol))
 		return 1;
 	double d[3], c[3];

@@ -135,18 +135,18 @@ typedef enum vn_method {
 	                      field sampled on a lattice (the vertex's faces
 	                      close one fan of 2m >= 4 members p_i, at most 16,
 	                      in order around p, and the m second differences
-	                      p_i + p_(i+m) - 2 p are parallel, or zero, to the
-	                      sphere test's tolerance below, of the largest
-	                      coordinate among p and the p_i: seen along them
-	                      the ring is centrally symmetric, as a grid's rows,
-	                      diagonals and quads are), where MWAAT's sum, the ring's
-	                      vector area, is a central-difference gradient
-	                      (the best of the seven on the paper's fractal
-	                      height fields); elsewhere S (there face areas say
-	                      how the surface was cut, not how far a face
-	                      reaches: on the paper's rough isosurface MWAAT is
-	                      6 to 11% above the best of the seven, MWA 2 to
-	                      5%).
+	                      p_i + p_(i+m) - 2 p are parallel, or zero, to
+	                      0.01 h, which float32 grids meet up to about
+	                      40,000 cells from the origin: seen along them
+	                      the ring is centrally symmetric, as a grid's
+	                      rows, diagonals and quads are), where MWAAT's
+	                      sum, the ring's vector area, is a central
+	                      difference (the best of the seven on the paper's
+	                      fractal height fields); elsewhere S (there face
+	                      areas say how the surface was cut, not how far a
+	                      face reaches: on the paper's rough isosurface
+	                      MWAAT is 6 to 11% above the best of the seven,
+	                      MWA 2 to 5%).
 	                      Else the quadric or the cubic, by T = |d|^2 /
 	                      var(d), d the quadric's slopes minus the
 	                      cubic's, var(d) = s^2 (V_c - V_q), V the sum of

@@ -256,8 +256,10 @@ static void weighted_normals(int method, const tables* t, double* out_normals, d
  * with at least ADAPTIVE_SPHERE_POINTS points. */
 #define ADAPTIVE_SPHERE_ROUNDING 1024.0L
 #define ADAPTIVE_SPHERE_POINTS 5
-/* ADAPTIVE: a lattice ring has at most this many members. */
+/* ADAPTIVE: a lattice ring has at most this many members, its second
+ * differences parallel to this fraction of h. */
 #define LATTICE_MEMBERS_MAX 16
+#define LATTICE_SLACK 1e-2L
 #define ADAPTIVE_JET_MARGIN 2.0L
 #define ADAPTIVE_RINGS 5
 #define ADAPTIVE_WIDTH 0.6L
@@ -751,11 +753,10 @@ static int on_sphere(const vec* q, size_t m, vec p, vec n, long double h, roundi
  * ADAPTIVE): its faces, each joining rings, close one fan around v whose
  * members in order, 2m >= 4 of them (at most LATTICE_MEMBERS_MAX, each
  * once, not v), have parallel second differences p_i + p_(i + m) - 2 p
- * (or all zero), to ADAPTIVE_SPHERE_ROUNDING times the rounding r of the
- * largest coordinate among them, at most ADAPTIVE_JET_EXACT h. Sets
- * *borderline where a difference's part across is within a factor 2 of
- * the tolerance. */
-static int lattice_ring(const tables* t, uint32_t v, long double h, rounding r, int* borderline)
+ * (or all zero), to LATTICE_SLACK h. Sets *borderline where the longest
+ * difference, or the largest part of one across it, is within rounding of
+ * the tolerance (near). */
+static int lattice_ring(const tables* t, uint32_t v, long double h, int* borderline)
 {
 	size_t faces = t->first[v + 1] - t->first[v];
 	if (faces < 2 || faces > LATTICE_MEMBERS_MAX)
@@ -798,28 +799,23 @@ static int lattice_ring(const tables* t, uint32_t v, long double h, rounding r, 
 			if (ring[i] == v || (k != i && ring[k] == ring[i]))
 				return 0;
 	vec p = position(t->positions, v), u[LATTICE_MEMBERS_MAX / 2];
-	long double big = fmaxl(fabsl(p.x), fmaxl(fabsl(p.y), fabsl(p.z))), longest = 0;
+	long double longest = 0;
 	size_t m = n / 2, top = 0;
-	for (size_t i = 0; i < n; i++) {
-		vec a = position(t->positions, ring[i]);
-		big = fmaxl(big, fmaxl(fabsl(a.x), fmaxl(fabsl(a.y), fabsl(a.z))));
-	}
 	for (size_t i = 0; i < m; i++) {
 		u[i] = vec_sub(vec_add(position(t->positions, ring[i]), position(t->positions, ring[i + m])),
 		               vec_add(p, p));
 		if (vec_length(u[i]) > longest)
 			longest = vec_length(u[i]), top = i;
 	}
-	long double tol = fminl(ADAPTIVE_SPHERE_ROUNDING * fmaxl(r.unit * big, r.quantum), ADAPTIVE_JET_EXACT * h);
-	if (!(longest > tol)) {
-		*borderline |= longest > tol / 2;
+	long double tol = LATTICE_SLACK * h;
+	*borderline |= near(longest, tol, 0);
+	if (!(longest > tol))
 		return 1;
-	}
 	vec d = vec_scale(u[top], 1 / longest);
 	long double worst = 0;
 	for (size_t i = 0; i < m; i++)
 		worst = fmaxl(worst, vec_length(vec_cross(u[i], d)));
-	*borderline |= worst > tol / 2 && worst < 2 * tol;
+	*borderline |= near(worst, tol, 0);
 	return worst <= tol;
 }
 
@@ -1034,7 +1030,7 @@ static void fit_normals(int method, const tables* t, double* out, double* cond, 
 		border |= count && fabsl(sum / (long double)count - logl(ADAPTIVE_T)) < T_SLACK;
 		path[v] = (unsigned char)a->path[k];
 		int lattice_border = 0;
-		if (path[v] == ref_path_rough && hs[v] > 0 && lattice_ring(t, (uint32_t)v, hs[v], coords, &lattice_border))
+		if (path[v] == ref_path_rough && hs[v] > 0 && lattice_ring(t, (uint32_t)v, hs[v], &lattice_border))
 			path[v] = ref_path_lattice;
 		if (path[v] == ref_path_rough || path[v] == ref_path_lattice || path[v] == ref_path_mwselr) {
 			const double* from = path[v] == ref_path_rough ? rough : path[v] == ref_path_lattice ? lattice : sel;

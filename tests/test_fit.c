@@ -927,19 +927,19 @@ static void adaptive_unfit_is_jets_fallback(void** state)
 
 /* ADAPTIVE's rough fallback on a 5 x 5 grid of unit cells, each split by
  * the same diagonal or (quads) left whole, with heights no cubic follows
- * (the centre's jet leaves residuals above 0.05 h): at the centre, whose
- * ring is a lattice's (its neighbours in opposite pairs about it), MWAAT's
- * normal, bit for bit; once its right neighbour is moved 0.1 across the
- * grid, MWA's, the seed. */
+ * (the centre's jet leaves residuals above 0.05 h), and on the triangles
+ * as float32 with cells of 0.1 at 1000 from the origin (rounding 3e-4 h a
+ * coordinate; the test held to 1e-4 h before): at the centre, whose ring is a lattice's (its neighbours in
+ * opposite pairs about it), MWAAT's normal, bit for bit; once its right
+ * neighbour is moved a tenth of a cell, MWA's, the seed. */
 static void adaptive_rough_lattice_is_mwaat(void** state)
 {
 	(void)state;
 	static const double z[25] = {0.4,  -0.3, 0.6,  -0.5, 0.2,  -0.6, 0.5, -0.4, 0.7,  -0.2, 0.3,  -0.7, 0.1,
 	                             -0.5, 0.6,  -0.1, 0.4,  -0.6, 0.3,  -0.4, 0.5, -0.2, 0.7,  -0.3, 0.2};
 	double pos[75], out[3][75];
+	float pos32[75];
 	uint32_t idx[96], quads[64], offsets[17];
-	for (uint32_t v = 0; v < 25; ++v)
-		pos[3 * v] = v % 5, pos[3 * v + 1] = v / 5, pos[3 * v + 2] = z[v];
 	for (uint32_t c = 0; c < 16; ++c) {
 		const uint32_t a = c / 4 * 5 + c % 4, t[6] = {a, a + 1, a + 6, a, a + 6, a + 5}, q[4] = {a, a + 1, a + 6, a + 5};
 		memcpy(idx + 6 * c, t, sizeof(t));
@@ -948,14 +948,20 @@ static void adaptive_rough_lattice_is_mwaat(void** state)
 	}
 	offsets[16] = 64;
 	const vn_method m[3] = {vn_method_adaptive, vn_method_mwaat, vn_method_mwa};
-	for (int polygons = 0; polygons < 2; ++polygons)
+	for (int layout = 0; layout < 3; ++layout) /* triangles, quads, float32 triangles far out */
 		for (int moved = 0; moved < 2; ++moved) {
-			pos[3 * 13] = moved ? 3.1 : 3.0;
-			const vn_positions p = {pos, 25, 0, vn_scalar_float64};
+			const double origin = layout == 2 ? 1000.0 : 0.0, cell = layout == 2 ? 0.1 : 1.0;
+			for (uint32_t v = 0; v < 25; ++v) {
+				pos[3 * v] = origin + cell * (v % 5 + (v == 13 && moved ? 0.1 : 0.0));
+				pos[3 * v + 1] = origin + cell * (v / 5), pos[3 * v + 2] = cell * z[v];
+				for (int d = 0; d < 3; ++d)
+					pos32[3 * v + d] = (float)pos[3 * v + d];
+			}
+			const vn_positions p = {pos, 25, 0, vn_scalar_float64}, p32 = {pos32, 25, 0, vn_scalar_float32};
 			for (int k = 0; k < 3; ++k) {
 				const vn_vectors o = {out[k], 0, vn_scalar_float64};
-				assert_int_equal(polygons ? vn_polygon_normals(&o, &p, quads, offsets, 16, m[k], NULL, NULL)
-				                          : tri(pos, 25, idx, 96, m[k], 1, out[k]),
+				assert_int_equal(layout == 1 ? vn_polygon_normals(&o, &p, quads, offsets, 16, m[k], NULL, NULL)
+				                             : vn_triangle_normals(&o, layout ? &p32 : &p, idx, 96, m[k], NULL, NULL),
 				                 vn_result_success);
 			}
 			assert_true(angle_deg(out[1] + 36, out[2] + 36) > 0.5); /* MWAAT and MWA are told apart */
