@@ -1268,12 +1268,12 @@ static uint32_t fan(const fit_job* j, uint32_t v, uint32_t ring[LATTICE_MEMBERS_
 	/* Corner i's face: after[at[i]] to after[at[i] + size[i]), its members
 	 * and then the next face's first. */
 	uint32_t after[2 * LATTICE_MEMBERS_MAX + 1], at[LATTICE_MEMBERS_MAX], size[LATTICE_MEMBERS_MAX], members = 0;
-	for (uint32_t i = 0, used = 0; i < count; ++i) {
-		at[i] = used;
-		size[i] = face_after(j, v, first + i, LATTICE_MEMBERS_MAX - members + 1, after + used);
+	for (uint32_t i = 0, filled = 0; i < count; ++i) {
+		at[i] = filled;
+		size[i] = face_after(j, v, first + i, LATTICE_MEMBERS_MAX - members + 1, after + filled);
 		if (size[i] < 2)
 			return 0;
-		members += size[i] - 1, used += size[i];
+		members += size[i] - 1, filled += size[i];
 	}
 	if (members < 4 || members % 2) /* no lattice_ring needs */
 		return 0;
