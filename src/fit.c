@@ -50,8 +50,8 @@
  * rough fallback is S, or MWAAT's normal on a lattice (lattice_ring), a
  * second pass of the weighted kernels, and MWSELR, which it takes on a
  * sphere (sphere_lanes) and for a jet that agrees with it, a third (24
- * more bytes a vertex each). Where the jet cannot be fitted it falls back
- * as JET does. */
+ * more bytes a vertex each). Where the jet cannot be fitted, or only
+ * interpolates its points, it falls back as JET does. */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -1497,12 +1497,16 @@ static void fit_batch(const fit_job* j, scratch* s, uint32_t v0, uint32_t v1)
 		double f[LANES][3];
 		int fitted[LANES], unfit[LANES], quadric_ok[LANES], again = 0;
 		fit_twice(s->q, ring, act, seed, 1, j->w.simd, f, ok, res, fitted);
-		/* Where the jet cannot be fitted (too few points, or degenerate):
-		 * JET's own fallback, the quadric on the 1-ring, else S (n holds
-		 * it); where it was fitted but strays from S, or without a ring
-		 * (S zero: gather_vertex gathers nothing): the rough one. */
+		/* Where the jet cannot be fitted (too few points, or degenerate),
+		 * or only interpolates (as many points as its T_MAX unknowns: its
+		 * residual, zero, would read as exact): JET's own fallback, the
+		 * quadric on the 1-ring, else S (n holds it); where it was fitted
+		 * but strays from S, or without a ring (S zero: gather_vertex
+		 * gathers nothing): the rough one. */
 		const double* fall[LANES];
 		for (unsigned l = 0; l < LANES; ++l) {
+			if (ring[l] + 1 <= T_MAX)
+				fitted[l] = ok[l] = 0;
 			unfit[l] = act[l] && !fitted[l];
 			again |= unfit[l];
 			fall[l] = unfit[l] ? n[l] : NULL;

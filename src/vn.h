@@ -191,7 +191,9 @@ typedef enum vn_method {
 	                      icospheres), to the precision of its
 	                      coordinates. Where the jet cannot be fitted
 	                      (fewer points than unknowns, or
-	                      ill-conditioned), JET's fallback:
+	                      ill-conditioned), or has only as many (it
+	                      interpolates them, and its e of 0 says nothing),
+	                      JET's fallback:
 	                      the 1-ring quadric, else S (on an open
 	                      cylinder's strip S is exact, MWAAT 5 degrees
 	                      off); the wide fits are not tried there: at e.g.

@@ -831,7 +831,8 @@ static int lattice_ring(const tables* t, uint32_t v, long double h, int* borderl
  * quadric if the cubic failed) likewise; the jet's outcome is MWSELR's
  * normal `sel` where that is within ADAPTIVE_MWSELR_AGREE times the jet's
  * residual of the jet's. Where the jet could not be fitted
- * (not trusted in its first frame), JET's fallback: the quadric on the
+ * (not trusted in its first frame, or no more points than its unknowns,
+ * which it would interpolate), JET's fallback: the quadric on the
  * 1-ring, else S; where it was fitted but strays from S, the rough
  * fallback. log T, T = |d|^2 /
  * var(d): d the quadric's slopes minus the cubic's, var(d) = sigma^2
@@ -850,7 +851,9 @@ static void adaptive_vertex(const vec* q, size_t m1, size_t m2, size_t m5, vec s
 			a->path[k] = ref_path_mwselr, a->normal[k] = load(sel);
 		return;
 	}
-	if (fit_twice(q, m2, s, 3, h, 0, &jet, &a->borderline, &fitted)) {
+	/* With no more points than its 10 unknowns the jet interpolates: its
+	 * residual says nothing, and it counts as not fitted. */
+	if (m2 + 1 > 10 && fit_twice(q, m2, s, 3, h, 0, &jet, &a->borderline, &fitted)) {
 		slack = fit_slack(jet.rcond);
 		a->borderline |= near(jet.residual, ADAPTIVE_ROUGH_MAX, slack);
 		jet_ok = jet.residual <= ADAPTIVE_ROUGH_MAX;

@@ -969,6 +969,29 @@ static void adaptive_rough_lattice_is_mwaat(void** state)
 		}
 }
 
+/* A vertex whose 2-ring has 9 members: with the vertex, as many points as
+ * the jet's 10 unknowns, so the jet interpolates them, and its residual,
+ * zero, says nothing of the surface. Vertex 0 at the centre of a triangle
+ * (1, 2, 3) inside a hexagon (4 to 9), heights no cubic follows: JET's
+ * interpolant is 11 degrees from MWA's normal; ADAPTIVE takes JET's
+ * fallback there, S (the 1-ring is too small for the quadric), as where
+ * the jet cannot be fitted. */
+static void adaptive_interpolating_jet_is_unfit(void** state)
+{
+	(void)state;
+	static const double pos[30] = {0, 0, 0.1,     0, 1, 0.4,       -0.866, -0.5, -0.3, 0.866, -0.5, 0.2,
+	                               1.732, 1, -0.6, 0, 2, 0.9,       -1.732, 1, 0.5,     -1.732, -1, -0.8,
+	                               0, -2, 0.7,     1.732, -1, -0.2};
+	static const uint32_t idx[36] = {0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 4, 5, 1, 5, 6, 1, 6, 2,
+	                                 2, 6, 7, 2, 7, 8, 2, 8, 3, 3, 8, 9, 3, 9, 4, 3, 4, 1};
+	double adaptive[30], jet[30], mwa[30];
+	assert_int_equal(tri(pos, 10, idx, 36, vn_method_adaptive, 1, adaptive), vn_result_success);
+	assert_int_equal(tri(pos, 10, idx, 36, vn_method_jet, 1, jet), vn_result_success);
+	assert_int_equal(tri(pos, 10, idx, 36, vn_method_mwa, 1, mwa), vn_result_success);
+	assert_true(angle_deg(jet, mwa) > 5);
+	assert_memory_equal(adaptive, mwa, 3 * sizeof(double));
+}
+
 /* Ring members near the cubic y = 0.5 x^2 + 0.3 x^3 (to 1e-4; coordinates
  * in units of h = 0.1): every Cholesky pivot of the jet's scaled normal
  * matrix is above 1e-7, yet its reciprocal condition is 6.6e-13 (numpy:
@@ -1046,6 +1069,7 @@ int main(void)
 	    cmocka_unit_test(adaptive_cone_rim),
 	    cmocka_unit_test(adaptive_unfit_is_jets_fallback),
 	    cmocka_unit_test(adaptive_rough_lattice_is_mwaat),
+	    cmocka_unit_test(adaptive_interpolating_jet_is_unfit),
 	    cmocka_unit_test(fit_refuses_ill_conditioned),
 	    cmocka_unit_test(corners_follow_the_vertex_rule),
 	};
