@@ -124,6 +124,14 @@ check "a float Draco reads otherwise than strtod: OBJ to OBJ twice, the same fil
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\no \0\0\0\nf 1 2 3\n' >"$T/nul_name.obj"
 run "$VNC" "$T/nul_name.obj" "$T/nul_name2.obj"
 check "o with a NUL name: no o line written" [ "$rc $(grep -c '^o' "$T/nul_name2.obj")" = "0 0" ]
+# Names ending in a backslash (a blank or a NUL after it in the input)
+# are written with a blank after them: a backslash at the end of a line
+# carries it on to the next, which took the first v line into the mtllib
+# one (found by fuzz_obj: 3 vertices read back of 4).
+printf 'mtllib f\\\0x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\ng grp\\ \nf 1 2 4 3\n' >"$T/backslash.obj"
+run "$VNC" "$T/backslash.obj" "$T/backslash2.obj"
+run "$VNC" "$T/backslash2.obj" "$T/backslash3.obj" --stats
+check "names ending in a backslash: 4 vertices read back, the names kept" [ "$rc $(stat vertices) $(grep -E '^(mtllib|g) ' "$T/backslash3.obj" | tr '\n' ,)" = '0 4 mtllib f\ ,g grp\ ,' ]
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0.5 0.25\nvt 0.7 0.7\nf 1 2 3\nf 2/2 4/2 3/2\n' >"$T/mixed.obj"
 run "$VNC" "$T/mixed.obj" "$T/mixed-out.obj"
 check "f v beside f v/vt: as they were, one vt line" [ "$(grep -E '^(f|vt)' "$T/mixed-out.obj" | tr '\n' ,)" = "vt 0.7 0.7,f 1//1 2//1 3//1,f 2/1/1 4/1/1 3/1/1," ]

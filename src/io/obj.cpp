@@ -1241,6 +1241,17 @@ std::string library_names(const char* path, const vn_io_mesh* mesh)
 	return text;
 }
 
+/* The end of a line whose text ends with `last`: a blank before the
+ * newline where it is a backslash, which would otherwise carry the line on
+ * to the next (join_continued_lines); the reader drops the blank. A name
+ * can end so where the file it was read from had a blank or a NUL after
+ * the backslash. */
+void end_line(vn_io_text_out* w, const char* last)
+{
+	const size_t n = strlen(last);
+	vn_io_put(w, n && last[n - 1] == '\\' ? " \n" : "\n");
+}
+
 /* "o NAME", "g NAME", "s NAME" or "usemtl NAME" before face f when its
  * name differs from the face before ("g" alone for the empty name). */
 void put_name(vn_io_text_out* w, const char* keyword, const vn_io_face_names& names, size_t f)
@@ -1255,7 +1266,7 @@ void put_name(vn_io_text_out* w, const char* keyword, const vn_io_face_names& na
 		vn_io_put(w, " ");
 		vn_io_put(w, names.names[id]);
 	}
-	vn_io_put(w, "\n");
+	end_line(w, names.names[id]);
 }
 
 vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_error* error)
@@ -1272,9 +1283,10 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 	if (n == 0)
 		vn_io_put(&w, "# no vertices and no faces\n");
 	if (mesh->material_library) {
+		const std::string names = library_names(path, mesh);
 		vn_io_put(&w, "mtllib ");
-		vn_io_put(&w, library_names(path, mesh).c_str());
-		vn_io_put(&w, "\n");
+		vn_io_put(&w, names.c_str());
+		end_line(&w, names.c_str());
 	}
 	/* Every vertex's position, loose ones too; texture coordinates and
 	 * normals of the vertices faces use. */
