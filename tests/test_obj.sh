@@ -257,6 +257,9 @@ refused huge "${tri}f 1 2 4294967295\n" "huge.obj:4: face corner 3, '4294967295'
 refused short 'v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "short.obj:1: vertex 1 has 2 numbers; it needs 3"
 refused word 'v 0 0 x\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "word.obj:1: vertex 1: 'x' is not a number"
 refused big "${tri}vn 0 0 1e40\nf 1//1 2//1 3//1\n" "big.obj:4: normal 1 has the number '1e40', which is not finite"
+# Draco's float of this exponent is finite, the double is not (found by
+# fuzz_obj: the point cloud was read, then written as 'inf').
+refused overflow 'v 0 0 0\nv 1e3914896774291992 0 1\n' "overflow.obj:2: vertex 2 has the number '1e3914896774291992', which is not finite"
 refused glued "${tri}f 1 2 3/1/2-4\n" "glued.obj:4: face corner 3, '3/1/2-4', is not v, v/vt, v/vt/vn or v//vn"
 # Indices of vt or vn lines in a file that has none of them (an exporter
 # wrote the indices but not the lines, as trimesh's test models cubevt.obj

@@ -332,18 +332,21 @@ struct scanner {
 			if (!parse_float(q, &v) || (q < line_end && !space(*q) && *q != '#'))
 				return fail(vn_io_error_parse, "%s %" PRId64 ": '%.*s' is not a number", kinds[kind], index,
 				            token_length(start), start);
-			if (!std::isfinite(v))
+			/* strtod's correctly rounded double where it reads the whole
+			 * number as Draco did; Draco's float where it reads another
+			 * spelling (none is known). Not finite in either (Draco's float
+			 * of 1e3914896774291992 is finite, the double is not): refused. */
+			double d;
+			const double x =
+			    kind != 1 && vn_io_parse_real(reinterpret_cast<const unsigned char*>(start), size_t(q - start), &d)
+			        ? d
+			        : double(v);
+			if (!std::isfinite(v) || !std::isfinite(x))
 				return fail(vn_io_error_parse,
 				            "%s %" PRId64 " has the number '%.*s', which is not finite: fix or remove that line",
 				            kinds[kind], index, token_length(start), start);
-			/* strtod's correctly rounded double where it reads the whole
-			 * number as Draco did; Draco's float where it reads another
-			 * spelling (none is known). */
-			double d;
 			if (kind != 1)
-				exact[kind].push_back(vn_io_parse_real(reinterpret_cast<const unsigned char*>(start), size_t(q - start), &d)
-				                          ? d
-				                          : double(v));
+				exact[kind].push_back(x);
 		}
 		skip_blanks(q);
 		if (kind == 0 && q < line_end && *q != '#' && !colour(q))
