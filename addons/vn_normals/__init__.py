@@ -1,5 +1,6 @@
 """vn for Blender: recompute custom split normals with any of the weighting
-schemes of Jin, Lewis & West 2005, computed by vn's C library (ctypes)."""
+schemes of Jin, Lewis & West 2005 or the local fits beyond them, computed by
+vn's C library (ctypes)."""
 
 bl_info = {
     "name": "vn: Vertex Normals",
@@ -8,7 +9,8 @@ bl_info = {
     "blender": (3, 4, 0),
     "location": "View3D > Object > Recompute Normals; Edit Mode > Mesh > Normals > Recompute Normals; "
                 "Properties > Object Data > vn Live Normals",
-    "description": "Recompute custom split normals with the weighting schemes of Jin, Lewis & West 2005",
+    "description": "Recompute custom split normals with the weighting schemes of Jin, Lewis & West 2005 "
+                   "or the local fits beyond them",
     "category": "Mesh",
 }
 

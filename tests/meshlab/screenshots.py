@@ -38,7 +38,12 @@ def ensure_tools():
 
 
 def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
     plugin, outdir = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    if not os.path.isfile(plugin):
+        sys.exit("no plugin at %s (build it first: cmake --build build)" % plugin)
+    os.makedirs(outdir, exist_ok=True)
     ensure_tools()
     tmp = tempfile.mkdtemp(prefix="vn-meshlab-shots-")
     xvfb = gui = None

@@ -425,6 +425,9 @@ def test_help(dump):
           "help without the paper's notation (|E||E'|, sin(a))")
     check("<b>MEWCSA</b> is <b>not for shading</b>" in info and "<b>MWA</b> (the default) is the one for shading" in info,
           "description: MWA recommended for shading, MEWCSA not for shading")
+    check("four schemes beyond the paper" in info
+          and all(m in info for m in ("SMEWCSA", "QUADRIC", "JET", "<b>ADAPTIVE</b> is the most accurate")),
+          "description: the four schemes beyond the paper, ADAPTIVE the most accurate")
     check("keeps the normal it has" in info and "without faces is refused" in info,
           "description: loose vertices keep their normals, no faces is refused")
     helps = {}
@@ -432,9 +435,10 @@ def test_help(dump):
         cells = r.split("<TD>")
         helps[cells[2].split("</TD>")[0].strip()] = cells[3].split("<i>")[1].split(" -- </i>")[0]
     method = next((h for k, h in helps.items() if k.startswith("Weighting")), "")
-    check(all(a in method for a in ("MWE", "MWA", "MWSELR", "MWAAT", "MWELR", "MWRELR", "MEWCSA"))
-          and "not for shading" in method,
-          "method help names all seven (MEWCSA: not for shading)")
+    check(all("<b>%s</b>:" % a in method for a in ("MWE", "MWA", "MWSELR", "MWAAT", "MWELR", "MWRELR", "MEWCSA",
+                                                     "SMEWCSA", "QUADRIC", "JET", "ADAPTIVE"))
+          and "MEWCSA</b>: cotangent weights, not for shading" in method,
+          "method help names all eleven (MEWCSA: not for shading)")
     weld = helps.get("Weld by position", "")
     sel = helps.get("Affect only selected vertices", "")
     check("not changed" in weld and "selected faces" in sel and "keep theirs" in sel,
