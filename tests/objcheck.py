@@ -7,7 +7,8 @@
     objcheck.py close A B TOL   exit status 1 unless A's and B's faces, in order, have as many
                                 corners, each with its position and texture coordinate within TOL
     objcheck.py triangles FILE  the number of triangles the faces fan into
-    objcheck.py corners FILE    the number of distinct v/vt/vn references of the faces
+    objcheck.py vertices FILE   the number of distinct v/vt/vn references of the faces, plus the v lines no
+                                face refers to (loose vertices)
     objcheck.py unit FILE       exit status 1 unless every vn is a unit vector (1e-6)
 """
 import math
@@ -69,8 +70,9 @@ def main():
         sys.exit(0 if same else 1)
     elif what == "triangles":
         print(sum(len(c) - 2 for _, _, c in faces))
-    elif what == "corners":
-        print(len({c for _, _, cs in faces for c in cs}))
+    elif what == "vertices":
+        refs = {c for _, _, cs in faces for c in cs}
+        print(len(refs) + len(v) - len({p for p, _, _ in refs}))
     elif what == "unit":
         sys.exit(0 if vn and all(abs(math.hypot(*n) - 1) < 1e-6 for n in vn) else 1)
 

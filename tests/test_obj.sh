@@ -46,8 +46,9 @@ for m in $meshes; do
     cmp -s "$T/$m.in-faces" "$T/$m.out-faces"
   check "$m: unit normals" objcheck unit "$T/$m.obj"
   check "$m: one v line per position" [ "$(grep '^v ' "$T/$m.obj" | sort | uniq -d)" = "" ]
-  # Every vertex vn read (a v/vt/vn combination) is one combination written.
-  check "$m: a reference per vertex" [ "$(objcheck corners "$T/$m.obj")" = "$(stat vertices)" ]
+  # Every vertex vn read (a v/vt/vn combination, or a v line no face uses)
+  # is one combination written, or one v line no face uses.
+  check "$m: a reference or a loose v line per vertex" [ "$(objcheck vertices "$T/$m.obj")" = "$(stat vertices)" ]
   "$VNC" "$T/$m.obj" "$T/$m.2.obj" -q
   check "$m: a second OBJ -> OBJ changes no byte" cmp -s "$T/$m.obj" "$T/$m.2.obj"
   run "$VNC" "$in" "$T/$m.off" -q
@@ -132,6 +133,13 @@ printf 'mtllib f\\\0x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\ng grp\\ \nf 1 2 4 3\n
 run "$VNC" "$T/backslash.obj" "$T/backslash2.obj"
 run "$VNC" "$T/backslash2.obj" "$T/backslash3.obj" --stats
 check "names ending in a backslash: 4 vertices read back, the names kept" [ "$rc $(stat vertices) $(grep -E '^(mtllib|g) ' "$T/backslash3.obj" | tr '\n' ,)" = '0 4 mtllib f\ ,g grp\ ,' ]
+# A NUL ends a name; the blanks before it are not part of it (found by
+# fuzz_obj: 's grp ' was written, and read back as 'grp').
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\ns grp \0\0 x\ng a \0b\nf 1 2 3\n' >"$T/nul-name.obj"
+run "$VNC" "$T/nul-name.obj" "$T/nul-name2.obj"
+"$VNC" "$T/nul-name2.obj" "$T/nul-name3.obj" -q
+check "a NUL ends a name, the blanks before it dropped" [ "$rc $(grep -E '^(s|g) ' "$T/nul-name2.obj" | tr '\n' ,)" = '0 g a,s grp,' ]
+check "a NUL ends a name: a second OBJ -> OBJ changes no byte" cmp -s "$T/nul-name2.obj" "$T/nul-name3.obj"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0.5 0.25\nvt 0.7 0.7\nf 1 2 3\nf 2/2 4/2 3/2\n' >"$T/mixed.obj"
 run "$VNC" "$T/mixed.obj" "$T/mixed-out.obj"
 check "f v beside f v/vt: as they were, one vt line" [ "$(grep -E '^(f|vt)' "$T/mixed-out.obj" | tr '\n' ,)" = "vt 0.7 0.7,f 1//1 2//1 3//1,f 2/1/1 4/1/1 3/1/1," ]
@@ -153,7 +161,23 @@ printf 'COFF\n4 1 0\n0 0 0 1 0 0\n1 0 0 0 1 0\n0 1 0 0 0 1\n5 5 5 1 1 1\n3 0 1 2
 "$VNC" "$T/c.off" "$T/c.obj" -q
 check "OFF -> OBJ: colours and the loose vertex" [ "$(grep '^v ' "$T/c.obj" | tr '\n' ,)" = "v 0 0 0 1 0 0,v 1 0 0 0 1 0,v 0 1 0 0 0 1,v 5 5 5 1 1 1," ]
 run "$VNC" "$T/c.obj" "$T/c2.off" -q
-check "OBJ colours are read back (Draco 1.5.5 skips them)" [ "$(head -2 "$T/c2.off" | tr '\n' ' ')" = "CNOFF 3 1 0 " ]
+check "OBJ colours are read back (Draco 1.5.5 skips them), the loose vertex too" [ "$(head -2 "$T/c2.off" | tr '\n' ' ')$(tail -2 "$T/c2.off" | head -1)" = "CNOFF 4 1 0 5 5 5 0 0 0 255 255 255 255" ]
+# v lines no face uses are vertices, as OFF's and PLY's are (they were
+# dropped without a word): after the faces' vertices, in file order, with
+# their colours; one equal to a used v line is that vertex, equal loose ones
+# are one. Through OBJ, OFF and GLB.
+printf 'v 0 0 0 1 0 0\nv 9 9 9 0 1 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 0 0 0 1 0 0\nv 5 5 5 1 1 1\nv 9 9 9 0 1 0\nvt 0.5 0.5\nvn 0 0 1\nf 1/1/1 3/1/1 4/1/1\n' >"$T/loose.obj"
+loose_v="v 0 0 0 1 0 0,v 1 0 0 0 1 0,v 0 1 0 0 0 1,v 9 9 9 0 1 0,v 5 5 5 1 1 1,"
+run "$VNC" "$T/loose.obj" "$T/loose-out.obj" --stats
+check "loose v lines: 5 vertices read" [ "$rc|$(stat vertices)" = "0|5" ]
+check "loose v lines: OBJ -> OBJ keeps them, after the faces' vertices" [ "$(grep '^v ' "$T/loose-out.obj" | tr '\n' ,)" = "$loose_v" ]
+check "loose v lines: no vt or vn line of their own" [ "$(grep -c '^v[tn] ' "$T/loose-out.obj")" = 2 ]
+"$VNC" "$T/loose-out.obj" "$T/loose-out2.obj" -q
+check "loose v lines: a second OBJ -> OBJ changes no byte" cmp -s "$T/loose-out.obj" "$T/loose-out2.obj"
+"$VNC" "$T/loose.obj" "$T/loose.off" -q
+check "loose v lines: OBJ -> OFF, zero normals, texture coordinates 0" [ "$(sed -n '2p;6,7p' "$T/loose.off" | tr '\n' ,)" = "5 1 0,9 9 9 0 0 0 0 255 0 255 0 0,5 5 5 0 0 0 255 255 255 255 0 0," ]
+"$VNC" "$T/loose.obj" "$T/loose.glb" -q && "$VNC" "$T/loose.glb" "$T/loose-glb.obj" -q
+check "loose v lines: OBJ -> GLB -> OBJ keeps them" [ "$(grep '^v ' "$T/loose-glb.obj" | tr '\n' ,)" = "$loose_v" ]
 # OBJ colours have no alpha: vnconvert warns when one is not 1, and only then.
 printf 'COFF\n3 1 0\n0 0 0 1 0 0 0.5\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n' >"$T/alpha.off"
 run "$VNC" "$T/alpha.off" "$T/alpha.obj"
@@ -317,7 +341,7 @@ refused utf16 '\377\376v\000 \0000\000' "utf16.obj: the text is UTF-16LE (it sta
 # the first v line was skipped and every index moved by one.
 printf '\357\273\277v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4\n' >"$T/bom.obj"
 run "$VNC" "$T/bom.obj" "$T/bom-out.obj"
-check "UTF-8 byte order mark: the first vertex read" [ "$rc $(grep -c '^v ' "$T/bom-out.obj") $(head -1 "$T/bom-out.obj")" = "0 3 v 0 0 0" ]
+check "UTF-8 byte order mark: the first vertex read" [ "$rc $(grep -c '^v ' "$T/bom-out.obj") $(head -1 "$T/bom-out.obj")" = "0 4 v 0 0 0" ]
 # What vn does not read is named in one warning (it was dropped without a
 # word): lines, colours on only some v lines.
 printf '%s\n' "o x" "g grp" "s 1" "v 0 0 0 1 0 0" "v 1 0 0 1 0 0" "v 0 1 0" "f 1 2 3" "l 1 2" "s off" "g g2" "# c" >"$T/left.obj"
@@ -362,7 +386,7 @@ run "$VNC" "$T/bytes.obj" "$T/bytes.glb" -q
 check "byte colours: to GLB as normalized unsigned bytes" [ "$(q "$T/bytes.glb" "[d['accessors'][d['meshes'][0]['primitives'][0]['attributes']['COLOR_0']][k] for k in ('componentType', 'normalized')]")" = "[5121, True]" ]
 run "$VNC" "$T/bytes.obj" "$T/bytes-out.obj" -q
 check "byte colours: OBJ to OBJ keeps the text" [ "$(grep '^v ' "$T/bytes-out.obj" | head -1)" = "v 0 0 0 0.819608 0 0.478431" ]
-run "$VNC" "$T/bom.obj" "$T/bom-again.obj"
+run "$VNC" "$T/bytes.obj" "$T/bytes-again.obj"
 check "left out: none, no warning" [ -z "$err" ]
 
 # Materials to glTF (mtl.c): a primitive per material, each with the .mtl

@@ -255,10 +255,10 @@ static void add(text* t, const char* fmt, ...)
 	t->length += (size_t)n;
 }
 
-/* "1 primitive", "2 primitives": the noun for a count. */
 /* Why a vertex gets no normal, as each conversion's warning says it. */
 #define NO_NORMAL_CAUSES "(isolated, only degenerate faces, or faces whose normals cancel)"
 
+/* "1 primitive", "2 primitives": the noun for a count. */
 static const char* noun(size_t count, const char* one, const char* many)
 {
 	return count == 1 ? one : many;

@@ -26,7 +26,8 @@
  *
  * Draco is asked to keep every v, vt and vn line's value (no deduplication),
  * and the scan's doubles replace its floats for v and vn; a vertex is one
- * (v, vt, vn) combination after equal values, bit for bit, are merged.
+ * (v, vt, vn) combination after equal values, bit for bit, are merged, and
+ * each v line no face uses is a vertex of its own after those.
  * A file without faces (f) or lines (l) is a point cloud: a vertex a v line,
  * with the vt and vn lines of the same number (Draco's reading; so their
  * counts must be 0 or the v lines').
@@ -513,11 +514,15 @@ struct scanner {
 	}
 
 	/* The rest of a line after its keyword, from its first non-blank to
-	 * its end (without a CR). */
+	 * its end (without a CR) or a NUL: names are C strings, and a blank
+	 * left before a NUL, which the text after it kept from being trimmed,
+	 * would be written and read back without. */
 	std::string rest(const char* q) const
 	{
 		skip_blanks(q);
-		const char* e = line_end;
+		const char* e = q;
+		while (e < line_end && *e)
+			e++;
 		while (e > q && (e[-1] == '\r' || e[-1] == ' ' || e[-1] == '\t'))
 			e--;
 		return std::string(q, size_t(e - q));
@@ -781,8 +786,9 @@ private:
 	}
 };
 
-/* A corner without a texture coordinate (corner_key's [1]). */
-constexpr uint32_t NO_TEX = UINT32_MAX;
+/* A corner without a texture coordinate (corner_key's [1]); a vertex no
+ * face uses, without a normal ([2]). */
+constexpr uint32_t NO_TEX = UINT32_MAX, NO_NRM = UINT32_MAX;
 
 uint64_t bits(double x)
 {
@@ -856,8 +862,8 @@ corner_key key_of(draco::PointIndex p, const obj_attributes& a, bool untextured)
 }
 
 /* The vertices' values, a vertex a key: positions and normals as the
- * file's doubles (3 each; no normals without vn lines), texture
- * coordinates (2; none without them, left 0 for a key without one),
+ * file's doubles (3 each; no normals without vn lines, 0 for a key without
+ * one), texture coordinates (2; none without them, left 0 for a key without one),
  * colours (RGBA, opaque; none unless every v line has one). */
 struct vertex_values {
 	std::vector<double> positions, normals;
@@ -877,7 +883,7 @@ vertex_values values_of(const std::vector<corner_key>& vertices, const obj_attri
 		}
 		if (a.tex && vertices[i][1] != NO_TEX)
 			a.tex->ConvertValue<float, 2>(draco::AttributeValueIndex(vertices[i][1]), &out.texcoords[2 * i]);
-		if (a.nrm)
+		if (a.nrm && vertices[i][2] != NO_NRM)
 			std::copy_n(&s.exact[2][3 * size_t(vertices[i][2])], 3, &out.normals[3 * i]);
 	}
 	return out;
@@ -938,7 +944,7 @@ vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* m
 }
 
 /* Draco's mesh into *mesh: a vertex per (v, vt, vn), polygons as the file
- * had them. */
+ * had them; then a vertex per v line no face uses, in file order. */
 vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
 {
 	/* vt lines no face uses give no texture coordinates (Draco would give
@@ -984,8 +990,21 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 		t += k - 2;
 	}
 
-	const vertex_values values = values_of(vertex_of.keys(), a, s);
-	mesh->vertex_count = vertex_of.keys().size();
+	/* v lines no face uses are vertices too (loose points of a scan, a
+	 * model's pivots), as OFF and PLY keep theirs: without a texture
+	 * coordinate or normal, which only a face corner gives. Equal v lines
+	 * are one, as for the faces' vertices. */
+	std::vector<corner_key> keys = vertex_of.keys();
+	std::vector<char> used(s.exact[0].size() / 3, 0);
+	for (const corner_key& k : keys)
+		used[k[0]] = 1;
+	for (size_t i = 0; i < used.size(); i++)
+		if (!used[a.first_pos[i]]) {
+			used[a.first_pos[i]] = 1;
+			keys.push_back({{a.first_pos[i], NO_TEX, NO_NRM}});
+		}
+	const vertex_values values = values_of(keys, a, s);
+	mesh->vertex_count = keys.size();
 	mesh->face_count = first_triangle.size();
 	if (!(mesh->positions = copy_out(values.positions)) || !(mesh->face_offsets = copy_out(offsets)) ||
 	    !(mesh->indices = copy_out(indices)) || (a.nrm && !(mesh->normals = copy_out(values.normals))) ||
