@@ -348,6 +348,15 @@ printf '%s\n' "o x" "g grp" "s 1" "v 0 0 0 1 0 0" "v 1 0 0 1 0 0" "v 0 1 0" "f 1
 run "$VNC" "$T/left.obj" "$T/left-out.obj"
 check "left out: exits 0" [ $rc -eq 0 ]
 check "left out: one warning names them" [ "$err" = "vnconvert: warning: $T/left.obj: left out (vn reads v, vt, vn, f, o, g, s, usemtl and mtllib): 1 'l' line (lines), numbers after x y z on 2 'v' lines (w, or colours not on every v line or not in [0, 1])" ]
+# Texture coordinates' w where it is not 0 (3D textures), and vt lines no
+# face uses (counted back with negative indices), are named there too; a w
+# of 0, which exporters write, is not.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0 0\nvt 1 0 0.0\nvt 0 1 0.5\nvt 0.3 0.3 0.5\nvt 0.4 0.4\nf 1/-5 2/-4 3/-3\n' >"$T/left-vt.obj"
+run "$VNC" "$T/left-vt.obj" "$T/left-vt-out.obj"
+check "left out: vt's w, vt lines no face uses" [ "$rc|$err" = "0|vnconvert: warning: $T/left-vt.obj: left out (vn reads v, vt, vn, f, o, g, s, usemtl and mtllib): numbers after u v on 2 'vt' lines (w, not 0), 2 'vt' lines no face uses" ]
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1 2 3\n' >"$T/left-vt2.obj"
+run "$VNC" "$T/left-vt2.obj" "$T/left-vt2-out.obj"
+check "left out: vt lines of a file whose faces use none" [ "$(echo "$err" | grep -c ": 2 'vt' lines no face uses$")" = 1 ]
 # Groups (g) and smoothing groups (s), which Draco skips, are read by vn's
 # scan: OBJ to OBJ writes each where it changes, as written (a bare g, the
 # default group; two names; "s off"), and a format without them names them

@@ -187,10 +187,13 @@ struct scanner {
 	std::vector<float> colours;
 	/* Lines whose data Draco skips, by keyword (in order of first
 	 * appearance, at most left_out_max kinds), counted in the checking
-	 * pass; and v lines with more than x y z (colours, or w). */
+	 * pass; v lines with more than x y z (colours, or w); vt lines with
+	 * more than u v but a w of 0 (its default: exporters write "vt u v 0");
+	 * and which vt lines a face uses (1 a line). */
 	static const size_t left_out_max = 8;
 	std::vector<std::pair<std::string, uint64_t>> left_out;
-	uint64_t left_out_kinds = 0, extra_vertex_numbers = 0;
+	uint64_t left_out_kinds = 0, extra_vertex_numbers = 0, extra_texcoord_numbers = 0;
+	std::vector<char> texcoord_used;
 	size_t first_left_out = 0; /* its line */
 	/* The arguments of `g` or `s` lines as written ("" for a bare `g`: the
 	 * default group), and each face's (the checking pass): Draco skips
@@ -352,7 +355,22 @@ struct scanner {
 		skip_blanks(q);
 		if (kind == 0 && q < line_end && *q != '#' && !colour(q))
 			extra_vertex_numbers++;
+		if (kind == 1 && q < line_end && *q != '#' && !zero_w(q))
+			extra_texcoord_numbers++;
 		return true;
+	}
+
+	/* Whether the rest of a vt line, at q, is one number, 0. */
+	bool zero_w(const char* q) const
+	{
+		const char* t = q;
+		while (q < line_end && !space(*q) && *q != '#')
+			q++;
+		double w;
+		if (!vn_io_parse_real(reinterpret_cast<const unsigned char*>(t), size_t(q - t), &w) || w != 0.0)
+			return false;
+		skip_blanks(q);
+		return q == line_end || *q == '#';
 	}
 
 	/* "r g b" at q, to the end of a v line: appended to colours. */
@@ -451,6 +469,8 @@ struct scanner {
 				if (!check_index(index[k], k, corners + 1))
 					return false;
 			textured = textured || index[1] != 0;
+			if (index[1] != 0)
+				texcoord_used[size_t(index[1] > 0 ? index[1] - 1 : seen[1] + index[1])] = 1;
 			if (c < line_end && !space(*c)) /* "3x4": Draco would read 3 */
 				return fail(vn_io_error_parse,
 				            "face corner %d, '%.*s', is not v, v/vt, v/vt/vn or v//vn with indices from 1 (or -1) to 2147483647",
@@ -626,6 +646,15 @@ struct scanner {
 			text += (text.empty() ? "" : ", ") + std::string("numbers after x y z on ") +
 			        std::to_string(extra) + " 'v' line" + (extra == 1 ? "" : "s") +
 			        " (w, or colours not on every v line or not in [0, 1])";
+		if (extra_texcoord_numbers)
+			text += (text.empty() ? "" : ", ") + std::string("numbers after u v on ") +
+			        std::to_string(extra_texcoord_numbers) + " 'vt' line" + (extra_texcoord_numbers == 1 ? "" : "s") +
+			        " (w, not 0)";
+		/* A point cloud reads a vt line for each v line. */
+		const uint64_t unused = triangles ? uint64_t(std::count(texcoord_used.begin(), texcoord_used.end(), 0)) : 0;
+		if (unused)
+			text += (text.empty() ? "" : ", ") + std::to_string(unused) + " 'vt' line" + (unused == 1 ? "" : "s") +
+			        " no face uses";
 		return text.empty() ? text : "left out (vn reads v, vt, vn, f, o, g, s, usemtl and mtllib): " + text;
 	}
 
@@ -644,7 +673,8 @@ struct scanner {
 		exact[2].clear();
 		colours.clear();
 		left_out.clear();
-		left_out_kinds = extra_vertex_numbers = 0;
+		left_out_kinds = extra_vertex_numbers = extra_texcoord_numbers = 0;
+		texcoord_used.assign(count ? 0 : size_t(total[1]), 0);
 		groups.clear();
 		smoothing.clear();
 		line = 1;
