@@ -188,8 +188,8 @@ struct scanner {
 	/* Lines whose data Draco skips, by keyword (in order of first
 	 * appearance, at most left_out_max kinds), counted in the checking
 	 * pass; v lines with more than x y z (colours, or w); vt lines with
-	 * more than u v but a w of 0 (its default: exporters write "vt u v 0");
-	 * and which vt lines a face uses (1 a line). */
+	 * numbers after u v other than a w of 0 (w's default: exporters write
+	 * "vt u v 0"); and which vt lines a face uses (1 a line). */
 	static const size_t left_out_max = 8;
 	std::vector<std::pair<std::string, uint64_t>> left_out;
 	uint64_t left_out_kinds = 0, extra_vertex_numbers = 0, extra_texcoord_numbers = 0;
@@ -1024,15 +1024,18 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	 * model's pivots), as OFF and PLY keep theirs: without a texture
 	 * coordinate or normal, which only a face corner gives. Equal v lines
 	 * are one, as for the faces' vertices. */
-	std::vector<corner_key> keys = vertex_of.keys();
 	std::vector<char> used(s.exact[0].size() / 3, 0);
-	for (const corner_key& k : keys)
+	for (const corner_key& k : vertex_of.keys())
 		used[k[0]] = 1;
+	std::vector<corner_key> with_loose; /* the faces' keys and these, where there are any */
 	for (size_t i = 0; i < used.size(); i++)
 		if (!used[a.first_pos[i]]) {
+			if (with_loose.empty())
+				with_loose = vertex_of.keys();
 			used[a.first_pos[i]] = 1;
-			keys.push_back({{a.first_pos[i], NO_TEX, NO_NRM}});
+			with_loose.push_back({{a.first_pos[i], NO_TEX, NO_NRM}});
 		}
+	const std::vector<corner_key>& keys = with_loose.empty() ? vertex_of.keys() : with_loose;
 	const vertex_values values = values_of(keys, a, s);
 	mesh->vertex_count = keys.size();
 	mesh->face_count = first_triangle.size();
