@@ -68,6 +68,15 @@ static void check_mesh(const vn_io_mesh& m)
 	check_names(m.objects, m.face_count);
 	check_names(m.groups, m.face_count);
 	check_names(m.smoothing, m.face_count);
+	/* Lines: of 2 points or more, each a vertex. */
+	if (m.line_count && (!m.line_offsets || !m.line_indices || m.line_offsets[0] != 0))
+		abort();
+	for (size_t l = 0; l < m.line_count; l++)
+		if (m.line_offsets[l + 1] < m.line_offsets[l] + 2)
+			abort();
+	for (uint32_t i = 0; m.line_count && i < m.line_offsets[m.line_count]; i++)
+		if (m.line_indices[i] >= m.vertex_count)
+			abort();
 }
 
 /* Whether every face has the same name (or none) in a and b. */
@@ -122,6 +131,13 @@ static void check_round_trip(const vn_io_mesh& m)
 		abort();
 	for (uint32_t c = 0; c < corners; c++)
 		if (!same_coordinates(back.positions + 3 * back.indices[c], m.positions + 3 * m.indices[c]))
+			abort();
+	/* Every line back, its points where they were. */
+	if (back.line_count != m.line_count ||
+	    (m.line_count && memcmp(back.line_offsets, m.line_offsets, (m.line_count + 1) * sizeof(uint32_t)) != 0))
+		abort();
+	for (uint32_t c = 0; m.line_count && c < m.line_offsets[m.line_count]; c++)
+		if (!same_coordinates(back.positions + 3 * back.line_indices[c], m.positions + 3 * m.line_indices[c]))
 			abort();
 	/* A point cloud: every vertex back, in order. */
 	if (!m.face_count && back.vertex_count != m.vertex_count)

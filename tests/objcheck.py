@@ -7,6 +7,7 @@
     objcheck.py close A B TOL   exit status 1 unless A's and B's faces, in order, have as many
                                 corners, each with its position and texture coordinate within TOL
     objcheck.py triangles FILE  the number of triangles the faces fan into
+    objcheck.py lines FILE      one line per `l` line: its points' positions as float32
     objcheck.py vertices FILE   the number of distinct v/vt/vn references of the faces, plus the v lines no
                                 face refers to (loose vertices)
     objcheck.py unit FILE       exit status 1 unless every vn is a unit vector (1e-6)
@@ -21,7 +22,7 @@ def f32(text):
 
 
 def read(path):
-    v, vt, vn, faces = [], [], [], []
+    v, vt, vn, faces, lines = [], [], [], [], []
     material = obj = group = smoothing = "-"
     for line in open(path, encoding="utf-8"):
         words = line.split("#")[0].split()
@@ -45,12 +46,14 @@ def read(path):
                 corners.append(tuple(int(r) + (len(a) + 1 if int(r) < 0 else 0) if r else 0
                                      for r, a in zip(refs, (v, vt, vn))))
             faces.append((f"{obj}|{group}|{smoothing}", material, corners))
-    return v, vt, vn, faces
+        elif key == "l":
+            lines.append([int(r) + (len(v) + 1 if int(r) < 0 else 0) for r in (w.split("/")[0] for w in rest)])
+    return v, vt, vn, faces, lines
 
 
 def main():
     what, path = sys.argv[1], sys.argv[2]
-    v, vt, vn, faces = read(path)
+    v, vt, vn, faces, lines = read(path)
     if what == "faces":
         number = repr if len(sys.argv) < 4 else lambda x: f"{x:.{int(sys.argv[3])}f}"
         for names, material, corners in faces:
@@ -58,7 +61,7 @@ def main():
                             for p, t, _ in corners)
             print(f"{names}|{material}|{len(corners)}: {text}")
     elif what == "close":
-        w, wt, _, other = read(sys.argv[3])
+        w, wt, _, other, _ = read(sys.argv[3])
         def values(p, t, pos, tex):
             return pos[p - 1] + (tex[t - 1] if t else [])
         tol = float(sys.argv[4])
@@ -68,6 +71,9 @@ def main():
                 for x, y in ((values(p, t, v, vt), values(q, u, w, wt)) for (p, t, _), (q, u, _) in zip(a[2], b[2])))
             for a, b in zip(faces, other))
         sys.exit(0 if same else 1)
+    elif what == "lines":
+        for points in lines:
+            print(" ".join(",".join(repr(x) for x in v[p - 1]) for p in points))
     elif what == "triangles":
         print(sum(len(c) - 2 for _, _, c in faces))
     elif what == "vertices":

@@ -226,8 +226,26 @@ check "mtllib: to standard output, as read" [ "$("$VNC" "$L/A/one.obj" - --forma
 # Invalid files: one line naming the file, exit 1, no output.
 check_rejected "$VNC" "$DATA/inf_nan.obj" "$T/none.obj" "$T/keep.obj"
 check "inf_nan: names line and number" grep -q "inf_nan.obj:1: vertex 1 has the number 'inf', which is not finite" "$T/stderr"
-check_rejected "$VNC" "$DATA/test_lines.obj" "$T/none.glb" "$T/keep.glb"
-check "lines: says so" grep -q "484 vertices and 242 lines (l), but no faces" "$T/stderr"
+# Lines (l), which Draco skips, are read by vn: OBJ -> OBJ keeps every one,
+# its points' positions, after the faces; other formats name them as not
+# written. A file of lines only (Draco's test_lines.obj, a wireframe) was
+# refused: now a point cloud with its lines.
+run "$VNC" "$DATA/test_lines.obj" "$T/lines.obj"
+objcheck lines "$DATA/test_lines.obj" >"$T/lines-in"
+objcheck lines "$T/lines.obj" >"$T/lines-out"
+check "lines only: OBJ -> OBJ keeps the 242 lines and their points" [ "$rc|$(wc -l <"$T/lines-out")" = "0|242" ]
+check "lines only: the same points" cmp -s "$T/lines-in" "$T/lines-out"
+"$VNC" "$T/lines.obj" "$T/lines2.obj" -q
+check "lines only: a second OBJ -> OBJ changes no byte" cmp -s "$T/lines.obj" "$T/lines2.obj"
+run "$VNC" "$DATA/test_lines.obj" "$T/lines.ply"
+check "lines only: PLY names them as not written" grep -qF "lines.ply cannot hold lines: not written" <<<"$err"
+# A line of 1 point, or with a point that is no v line (out of range, not
+# a number), is skipped with a warning, not refused: vn read such files
+# before it read lines. A point's vt and vn are not kept.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nf 1 2 3\nl 1/1 4\nl -1 -3/9/2 -2\nl 2\nl 1 5\nl 1 2x\np 4\n' >"$T/mixed-lines.obj"
+run "$VNC" "$T/mixed-lines.obj" "$T/mixed-lines-out.obj"
+check "lines beside faces: after them, by v number (counted back read as such)" [ "$rc|$(grep -E '^[fl] ' "$T/mixed-lines-out.obj" | tr '\n' ,)" = "0|f 1//1 2//1 3//1,l 1 4,l 4 2 3," ]
+check "lines beside faces: 3 lines skipped, points left out, both said" [ "$(echo "$err" | grep -cE "3 lines \(l\) skipped: fewer than 2 points, or a point that is not a v line the file has \(the first on line 9\)|left out .*: 1 'p' line \(points\)")" = 2 ]
 # Point clouds (no faces, no lines): a vertex a v line, with as many vt and
 # vn lines; written as OFF, PLY and OBJ (a line of each a vertex, in order).
 grep '^v ' "$DATA/point_cloud_test_pos.obj" >"$T/points.obj"
@@ -343,17 +361,17 @@ printf '\357\273\277v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4\n' >"$T/bom.obj"
 run "$VNC" "$T/bom.obj" "$T/bom-out.obj"
 check "UTF-8 byte order mark: the first vertex read" [ "$rc $(grep -c '^v ' "$T/bom-out.obj") $(head -1 "$T/bom-out.obj")" = "0 4 v 0 0 0" ]
 # What vn does not read is named in one warning (it was dropped without a
-# word): lines, colours on only some v lines.
-printf '%s\n' "o x" "g grp" "s 1" "v 0 0 0 1 0 0" "v 1 0 0 1 0 0" "v 0 1 0" "f 1 2 3" "l 1 2" "s off" "g g2" "# c" >"$T/left.obj"
+# word): points, colours on only some v lines.
+printf '%s\n' "o x" "g grp" "s 1" "v 0 0 0 1 0 0" "v 1 0 0 1 0 0" "v 0 1 0" "f 1 2 3" "p 1" "s off" "g g2" "# c" >"$T/left.obj"
 run "$VNC" "$T/left.obj" "$T/left-out.obj"
 check "left out: exits 0" [ $rc -eq 0 ]
-check "left out: one warning names them" [ "$err" = "vnconvert: warning: $T/left.obj: left out (vn reads v, vt, vn, f, o, g, s, usemtl and mtllib): 1 'l' line (lines), numbers after x y z on 2 'v' lines (w, or colours not on every v line or not in [0, 1])" ]
+check "left out: one warning names them" [ "$err" = "vnconvert: warning: $T/left.obj: left out (vn reads v, vt, vn, f, l, o, g, s, usemtl and mtllib): 1 'p' line (points), numbers after x y z on 2 'v' lines (w, or colours not on every v line or not in [0, 1])" ]
 # Texture coordinates' w where it is not 0 (3D textures), and vt lines no
 # face uses (counted back with negative indices), are named there too; a w
 # of 0, which exporters write, is not.
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0 0\nvt 1 0 0.0\nvt 0 1 0.5\nvt 0.3 0.3 0.5\nvt 0.4 0.4\nf 1/-5 2/-4 3/-3\n' >"$T/left-vt.obj"
 run "$VNC" "$T/left-vt.obj" "$T/left-vt-out.obj"
-check "left out: vt's w, vt lines no face uses" [ "$rc|$err" = "0|vnconvert: warning: $T/left-vt.obj: left out (vn reads v, vt, vn, f, o, g, s, usemtl and mtllib): numbers after u v on 2 'vt' lines (w, not 0), 2 'vt' lines no face uses" ]
+check "left out: vt's w, vt lines no face uses" [ "$rc|$err" = "0|vnconvert: warning: $T/left-vt.obj: left out (vn reads v, vt, vn, f, l, o, g, s, usemtl and mtllib): numbers after u v on 2 'vt' lines (w, not 0), 2 'vt' lines no face uses" ]
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1 2 3\n' >"$T/left-vt2.obj"
 run "$VNC" "$T/left-vt2.obj" "$T/left-vt2-out.obj"
 check "left out: vt lines of a file whose faces use none" [ "$(echo "$err" | grep -c ": 2 'vt' lines no face uses$")" = 1 ]

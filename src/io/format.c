@@ -53,7 +53,8 @@ static const vn_io_format formats[] = {
      "glTF; written with per-corner vn)",
      vn_io_obj_read, vn_io_obj_write,
      vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_polygons | vn_io_holds_loose_vertices |
-         vn_io_holds_face_names | vn_io_holds_materials | vn_io_holds_no_faces | vn_io_holds_nothing,
+         vn_io_holds_face_names | vn_io_holds_materials | vn_io_holds_no_faces | vn_io_holds_nothing |
+         vn_io_holds_lines,
      vn_io_path_mesh, 0, "the zero vector (`vn 0 0 0`, where a face uses the vertex)",
      {{vn_io_holds_texcoords, "texture coordinates", NULL},
       {vn_io_holds_colors, "vertex colours (`v x y z r g b`)", NULL},
@@ -65,8 +66,9 @@ static const vn_io_format formats[] = {
       {vn_io_holds_face_names, "object names (`o`, to the first blank)", "object names (named)"},
       {vn_io_holds_face_names, "groups (`g`)", "groups (named)"},
       {vn_io_holds_face_names, "smoothing groups (`s`)",
-       "smoothing groups (named where a face has one: `s off` and `s 0` set none)"}},
-     "lines, points, curves, the rest of the .mtl file (Ka, Ks, Tr, illum, other maps)",
+       "smoothing groups (named where a face has one: `s off` and `s 0` set none)"},
+      {vn_io_holds_lines, "lines (`l`, after the faces)", "lines (named)"}},
+     "points, curves, the `vt` of a line's points, the rest of the .mtl file (Ka, Ks, Tr, illum, other maps)",
      NULL, NULL, NULL},
     {"ply", "PLY", "PLY", ".ply",
      "Stanford polygon file (reads ASCII and binary, either byte order; writes binary little-endian)",

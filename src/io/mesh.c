@@ -84,6 +84,8 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 	if (mesh->stl_extras)
 		free(mesh->stl_extras->attributes);
 	free(mesh->stl_extras);
+	free(mesh->line_offsets);
+	free(mesh->line_indices);
 	free(mesh->warnings);
 	memset(mesh, 0, sizeof *mesh);
 }
@@ -242,6 +244,7 @@ size_t vn_io_mesh_losses(const vn_io_mesh* mesh, const vn_io_format* format, cha
 	    mesh->objects.of_face && names_lost ? "object names" : NULL,
 	    mesh->groups.of_face && names_lost ? "groups" : NULL,
 	    names_lost && smoothing_groups(mesh) ? "smoothing groups" : NULL,
+	    mesh->line_count && !(holds & vn_io_holds_lines) ? "lines" : NULL,
 	};
 	const size_t fixed = sizeof names / sizeof names[0];
 	for (size_t i = 0; i < mesh->attribute_count + fixed; i++) {

@@ -28,9 +28,10 @@
  * and the scan's doubles replace its floats for v and vn; a vertex is one
  * (v, vt, vn) combination after equal values, bit for bit, are merged, and
  * each v line no face uses is a vertex of its own after those.
- * A file without faces (f) or lines (l) is a point cloud: a vertex a v line,
- * with the vt and vn lines of the same number (Draco's reading; so their
- * counts must be 0 or the v lines').
+ * A file without faces (f) is a point cloud: a vertex a v line, with the vt
+ * and vn lines of the same number (Draco's reading; so their counts must be
+ * 0 or the v lines'). Lines (l), which Draco skips, are read by the scan:
+ * each point the vertex of its v line (the first, where faces split it).
  *
  * Vertex colours are read from v lines of "x y z r g b" (MeshLab, Open3D),
  * when every v line has them, in [0, 1] (Draco skips them); as bytes
@@ -40,8 +41,8 @@
  * Writer: v (with "r g b" when the mesh has colours), vt and vn lines, each
  * value once (a vertex split for its normal or texture coordinate shares its
  * v line), then faces as v/vt/vn with `o`, `g`, `usemtl` and `s` where
- * they change. A point cloud: a v line a vertex, and as many vt and vn
- * lines.
+ * they change, then lines (l) of v numbers. A point cloud: a v line a
+ * vertex, and as many vt and vn lines.
  */
 #include "obj.h"
 
@@ -153,9 +154,15 @@ struct scanner {
 	/* Totals from the counting pass, and counts so far in this pass. */
 	int64_t total[3] = {0, 0, 0};
 	int64_t seen[3] = {0, 0, 0};
-	uint64_t triangles = 0, polylines = 0;
+	uint64_t triangles = 0;
 	uint64_t short_faces = 0; /* f lines of fewer than 3 corners, skipped */
 	size_t first_short_face = 0;
+	/* The l lines (the checking pass): their points' v lines (0-based),
+	 * line_offsets[k] the first of line k's (one more entry than lines);
+	 * and the lines skipped (polyline). */
+	std::vector<uint32_t> line_points, line_offsets;
+	uint64_t skipped_lines = 0;
+	size_t first_skipped_line = 0;
 	int64_t first_material = -1, first_object = -1; /* triangles before the first usemtl and o */
 	std::string library;
 	/* Corners of each face, in order, and whether one has a vt (the
@@ -601,9 +608,41 @@ struct scanner {
 			return true;
 		}
 		if (*p == 'l' && (left == 1 || space(p[1])))
-			polylines++;
+			return counting || polyline(p + 1);
 		if (!counting)
 			note_left_out(p);
+		return true;
+	}
+
+	/* An l line after the 'l': each point's v line (the vt and vn of
+	 * v/vt/vn are not kept, nor checked: Draco skips l lines). A line of
+	 * fewer than 2 points, or with a point that is not a v line the file
+	 * has, is skipped and counted: before vn read lines, it was read
+	 * without them, and a file it read is not refused for them now. */
+	bool polyline(const char* q)
+	{
+		const size_t first = line_points.size();
+		bool usable = true;
+		for (;;) {
+			while (q < line_end && space(*q))
+				q++;
+			if (q == line_end || *q == '#')
+				break;
+			std::array<int32_t, 3> index;
+			const int32_t i = parse_corner(q, index.data()) && (q == line_end || space(*q)) ? index[0] : 0;
+			usable = usable && ((i > 0 && i <= total[0]) || (i < 0 && seen[0] + i >= 0));
+			if (usable)
+				line_points.push_back(uint32_t(i > 0 ? i - 1 : seen[0] + i));
+			while (q < line_end && !space(*q))
+				q++;
+		}
+		if (usable && line_points.size() - first >= 2) {
+			line_offsets.push_back(uint32_t(line_points.size()));
+			return true;
+		}
+		line_points.resize(first);
+		if (!skipped_lines++)
+			first_skipped_line = line;
 		return true;
 	}
 
@@ -628,7 +667,7 @@ struct scanner {
 	std::string left_out_warning() const
 	{
 		static const std::pair<const char*, const char*> meanings[] = {
-		    {"l", "lines"}, {"p", "points"}, {"mg", "merging groups"},
+		    {"p", "points"}, {"mg", "merging groups"},
 		    {"curv", "curves"}, {"surf", "surfaces"}};
 		std::string text;
 		for (const auto& k : left_out) {
@@ -655,14 +694,14 @@ struct scanner {
 		if (unused)
 			text += (text.empty() ? "" : ", ") + std::to_string(unused) + " 'vt' line" + (unused == 1 ? "" : "s") +
 			        " no face uses";
-		return text.empty() ? text : "left out (vn reads v, vt, vn, f, o, g, s, usemtl and mtllib): " + text;
+		return text.empty() ? text : "left out (vn reads v, vt, vn, f, l, o, g, s, usemtl and mtllib): " + text;
 	}
 
 	bool pass(bool count)
 	{
 		counting = count;
 		seen[0] = seen[1] = seen[2] = 0;
-		triangles = polylines = 0;
+		triangles = 0;
 		first_material = first_object = -1;
 		face_corners.clear();
 		face_textured.clear();
@@ -675,6 +714,9 @@ struct scanner {
 		left_out.clear();
 		left_out_kinds = extra_vertex_numbers = extra_texcoord_numbers = 0;
 		texcoord_used.assign(count ? 0 : size_t(total[1]), 0);
+		line_points.clear();
+		line_offsets.assign(1, 0);
+		skipped_lines = 0;
 		groups.clear();
 		smoothing.clear();
 		line = 1;
@@ -939,6 +981,19 @@ bool untextured_faces(const scanner& s, vn_io_mesh* mesh)
 	return true;
 }
 
+/* The l lines into *mesh, vertex[i] the vertex of v line i; false when
+ * out of memory. */
+bool lines_out(const scanner& s, const std::vector<uint32_t>& vertex, vn_io_mesh* mesh)
+{
+	if (s.line_offsets.size() < 2)
+		return true;
+	std::vector<uint32_t> points(s.line_points.size());
+	for (size_t k = 0; k < points.size(); k++)
+		points[k] = vertex[s.line_points[k]];
+	mesh->line_count = s.line_offsets.size() - 1;
+	return (mesh->line_offsets = copy_out(s.line_offsets)) && (mesh->line_indices = copy_out(points));
+}
+
 /* A file without v lines: the empty mesh, with its mtllib line. */
 vn_io_result empty_mesh(const scanner& s, vn_io_mesh* mesh, vn_io_error* error)
 {
@@ -969,6 +1024,11 @@ vn_io_result cloud_to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* m
 	    !(mesh->indices = copy_out(std::vector<uint32_t>{})) || (a.nrm && !(mesh->normals = copy_out(values.normals))) ||
 	    (a.tex && !(mesh->texcoords = copy_out(values.texcoords))) ||
 	    (s.coloured() && !(mesh->colors = copy_out(values.colours))))
+		return out_of_memory(s.name, error);
+	std::vector<uint32_t> vertex(n);
+	for (size_t i = 0; i < n; i++)
+		vertex[i] = uint32_t(i);
+	if (!lines_out(s, vertex, mesh))
 		return out_of_memory(s.name, error);
 	return vn_io_success;
 }
@@ -1036,6 +1096,16 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 			with_loose.push_back({{a.first_pos[i], NO_TEX, NO_NRM}});
 		}
 	const std::vector<corner_key>& keys = with_loose.empty() ? vertex_of.keys() : with_loose;
+	/* A line's point is the first vertex of its v line (equal v lines: of
+	 * the first). */
+	std::vector<uint32_t> vertex_of_line;
+	if (!s.line_points.empty()) {
+		vertex_of_line.assign(used.size(), UINT32_MAX);
+		for (size_t k = keys.size(); k-- > 0;)
+			vertex_of_line[keys[k][0]] = uint32_t(k);
+		for (size_t i = 0; i < used.size(); i++)
+			vertex_of_line[i] = vertex_of_line[a.first_pos[i]];
+	}
 	const vertex_values values = values_of(keys, a, s);
 	mesh->vertex_count = keys.size();
 	mesh->face_count = first_triangle.size();
@@ -1046,7 +1116,7 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	    !face_names(m, "material", first_triangle, s.first_material, &mesh->materials) ||
 	    !face_names(m, "sub_obj", first_triangle, s.first_object, &mesh->objects) ||
 	    !names_out(s.groups.names, s.groups.of_face, &mesh->groups) ||
-	    !names_out(s.smoothing.names, s.smoothing.of_face, &mesh->smoothing) ||
+	    !names_out(s.smoothing.names, s.smoothing.of_face, &mesh->smoothing) || !lines_out(s, vertex_of_line, mesh) ||
 	    (!s.library.empty() && !(mesh->material_library = copy_string(s.library))))
 		return out_of_memory(s.name, error);
 	return vn_io_success;
@@ -1121,11 +1191,6 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 			                  name, s.first_left_out, first.c_str(),
 			                  first == "P" || first == "L" ? " (an MNI surface .obj starts so: another format)" : "");
 		}
-		if (s.polylines)
-			return vn_io_fail(error, vn_io_error_unsupported,
-			                  "%s: %" PRId64 " vertices and %" PRIu64 " lines (l), but no faces (f): vn computes the "
-			                  "normals of faces",
-			                  name, s.total[0], s.polylines);
 		for (int k = 1; k < 3; k++)
 			if (s.total[k] && s.total[k] != s.total[0])
 				return vn_io_fail(error, vn_io_error_unsupported,
@@ -1157,6 +1222,11 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 		warnings = std::to_string(s.short_faces) + " face" + (s.short_faces == 1 ? "" : "s") +
 		           " (f) of fewer than 3 corners skipped (the first on line " + std::to_string(s.first_short_face) +
 		           "): such a face has no surface";
+	if (s.skipped_lines)
+		warnings += (warnings.empty() ? "" : "\n") + std::to_string(s.skipped_lines) + " line" +
+		            (s.skipped_lines == 1 ? "" : "s") +
+		            " (l) skipped: fewer than 2 points, or a point that is not a v line the file has (the first on "
+		            "line " + std::to_string(s.first_skipped_line) + ")";
 	for (int k = 1; k < 3; k++)
 		if (s.dangling[k])
 			warnings += (warnings.empty() ? "" : "\n") + std::to_string(s.dangling[k]) + " face corner" +
@@ -1402,6 +1472,12 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 			if (mesh->normals)
 				vn_io_put_uint(&w, tex ? "/" : "//", vn[i]);
 		}
+		vn_io_put(&w, "\n");
+	}
+	for (size_t l = 0; l < mesh->line_count && !w.failed; l++) {
+		vn_io_put(&w, "l");
+		for (uint32_t c = mesh->line_offsets[l]; c < mesh->line_offsets[l + 1]; c++)
+			vn_io_put_uint(&w, " ", v[mesh->line_indices[c]]);
 		vn_io_put(&w, "\n");
 	}
 	if (!vn_io_flush(&w))

@@ -184,6 +184,14 @@ typedef struct vn_io_mesh {
 	 * its elements (an edge's vertex1) stay valid through vn. */
 	vn_io_ply_extras* ply_extras;
 
+	/* An OBJ's polylines (`l`): line_count + 1 offsets into line_indices,
+	 * each point a vertex (one of its v line's); only the OBJ writer keeps
+	 * them (vn_io_holds_lines). Vertices are only appended, so the indices
+	 * stay valid through vn. */
+	size_t line_count;
+	uint32_t* line_offsets;
+	uint32_t* line_indices;
+
 	/* NULL, or what a binary STL held besides the above; only the STL
 	 * writer keeps it (vn_io_holds_stl_extras), when the mesh has as many
 	 * triangles as it has attributes (faces are never reordered). */
@@ -309,7 +317,8 @@ enum {
 	vn_io_holds_nothing = 512,       /* a mesh without vertices: an empty file vn reads back */
 	vn_io_holds_ply_extras = 1024,   /* `ply_extras` */
 	vn_io_holds_materials = 2048,    /* each face's material (`materials`), with `material_defs` or the `mtllib` line */
-	vn_io_holds_stl_extras = 4096    /* `stl_extras` */
+	vn_io_holds_stl_extras = 4096,   /* `stl_extras` */
+	vn_io_holds_lines = 8192         /* `line_count`, `line_offsets`, `line_indices` */
 };
 
 /* How vnconvert converts between two formats of one family (both ends with
