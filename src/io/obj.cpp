@@ -367,17 +367,23 @@ struct scanner {
 		return true;
 	}
 
-	/* Whether the rest of a vt line, at q, is one number, 0. */
-	bool zero_w(const char* q) const
+	/* The number at q, to the next blank or '#' (q moves past it and the
+	 * blanks after); false where that text is not one. */
+	bool real_token(const char*& q, double* x) const
 	{
 		const char* t = q;
 		while (q < line_end && !space(*q) && *q != '#')
 			q++;
-		double w;
-		if (!vn_io_parse_real(reinterpret_cast<const unsigned char*>(t), size_t(q - t), &w) || w != 0.0)
-			return false;
+		const bool ok = vn_io_parse_real(reinterpret_cast<const unsigned char*>(t), size_t(q - t), x);
 		skip_blanks(q);
-		return q == line_end || *q == '#';
+		return ok;
+	}
+
+	/* Whether the rest of a vt line, at q, is one number, 0. */
+	bool zero_w(const char* q) const
+	{
+		double w;
+		return real_token(q, &w) && w == 0.0 && (q == line_end || *q == '#');
 	}
 
 	/* "r g b" at q, to the end of a v line: appended to colours. */
@@ -385,14 +391,10 @@ struct scanner {
 	{
 		float rgb[3];
 		for (int k = 0; k < 3; k++) {
-			const char* t = q;
-			while (q < line_end && !space(*q) && *q != '#')
-				q++;
 			double c;
-			if (!vn_io_parse_real(reinterpret_cast<const unsigned char*>(t), size_t(q - t), &c) || !(c >= 0.0 && c <= 1.0))
+			if (!real_token(q, &c) || !(c >= 0.0 && c <= 1.0))
 				return false;
 			rgb[k] = float(c);
-			skip_blanks(q);
 		}
 		if (q < line_end && *q != '#')
 			return false;
@@ -405,11 +407,18 @@ struct scanner {
 
 	/* Whether index i (1-based, or negative: counted back from the last
 	 * one so far) of a kind names a line the file has. */
+	bool names_line(int32_t i, int kind) const
+	{
+		return (i > 0 && i <= total[kind]) || (i < 0 && seen[kind] + i >= 0);
+	}
+
+	/* A face corner's index: 0 (no vt or vn) or names_line, else a fail
+	 * naming the corner. */
 	bool check_index(int32_t i, int kind, int corner)
 	{
 		static const char* const kinds[3] = {"vertex", "texture coordinate", "normal"};
 		static const char* const plurals[3] = {"vertices (v)", "texture coordinates (vt)", "normals (vn)"};
-		if (i == 0 || (i > 0 && i <= total[kind]) || (i < 0 && seen[kind] + i >= 0))
+		if (i == 0 || names_line(i, kind))
 			return true;
 		if (i > 0)
 			return fail(vn_io_error_parse, "face corner %d refers to %s %" PRId32 ", but the file has %" PRId64 " %s",
@@ -630,7 +639,7 @@ struct scanner {
 				break;
 			std::array<int32_t, 3> index;
 			const int32_t i = parse_corner(q, index.data()) && (q == line_end || space(*q)) ? index[0] : 0;
-			usable = usable && ((i > 0 && i <= total[0]) || (i < 0 && seen[0] + i >= 0));
+			usable = usable && names_line(i, 0);
 			if (usable)
 				line_points.push_back(uint32_t(i > 0 ? i - 1 : seen[0] + i));
 			while (q < line_end && !space(*q))
@@ -1084,28 +1093,24 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	 * model's pivots), as OFF and PLY keep theirs: without a texture
 	 * coordinate or normal, which only a face corner gives. Equal v lines
 	 * are one, as for the faces' vertices. */
-	std::vector<char> used(s.exact[0].size() / 3, 0);
-	for (const corner_key& k : vertex_of.keys())
-		used[k[0]] = 1;
+	/* And each v line's first vertex (equal v lines: the first's), which
+	 * a line's point is. */
+	const std::vector<corner_key>& face_keys = vertex_of.keys();
+	std::vector<uint32_t> vertex_of_line(s.exact[0].size() / 3, UINT32_MAX);
+	for (size_t k = face_keys.size(); k-- > 0;)
+		vertex_of_line[face_keys[k][0]] = uint32_t(k);
 	std::vector<corner_key> with_loose; /* the faces' keys and these, where there are any */
-	for (size_t i = 0; i < used.size(); i++)
-		if (!used[a.first_pos[i]]) {
+	for (size_t i = 0; i < vertex_of_line.size(); i++) {
+		uint32_t& first = vertex_of_line[a.first_pos[i]];
+		if (first == UINT32_MAX) {
 			if (with_loose.empty())
-				with_loose = vertex_of.keys();
-			used[a.first_pos[i]] = 1;
+				with_loose = face_keys;
+			first = uint32_t(with_loose.size());
 			with_loose.push_back({{a.first_pos[i], NO_TEX, NO_NRM}});
 		}
-	const std::vector<corner_key>& keys = with_loose.empty() ? vertex_of.keys() : with_loose;
-	/* A line's point is the first vertex of its v line (equal v lines: of
-	 * the first). */
-	std::vector<uint32_t> vertex_of_line;
-	if (!s.line_points.empty()) {
-		vertex_of_line.assign(used.size(), UINT32_MAX);
-		for (size_t k = keys.size(); k-- > 0;)
-			vertex_of_line[keys[k][0]] = uint32_t(k);
-		for (size_t i = 0; i < used.size(); i++)
-			vertex_of_line[i] = vertex_of_line[a.first_pos[i]];
+		vertex_of_line[i] = first;
 	}
+	const std::vector<corner_key>& keys = with_loose.empty() ? face_keys : with_loose;
 	const vertex_values values = values_of(keys, a, s);
 	mesh->vertex_count = keys.size();
 	mesh->face_count = first_triangle.size();
