@@ -354,7 +354,29 @@ check "an empty OBJ read back" [ "$rc|$(sed -n 2p "$T/empty-back.off")" = "0|0 0
 # (pyvista's mni-surface-mesh.obj, an MNI surface), refused; it was written
 # as an empty mesh with a warning, as if read.
 refused mni '# made by hand\nP 0.3 0.3 0.4 10 1 3\n 0 0 0 1 0 0 0 1 0\n' "mni.obj: not a Wavefront OBJ file: no v, vt, vn or f line, and line 2 starts with 'P', which OBJ does not define (an MNI surface .obj starts so: another format)"
-refused utf16 '\377\376v\000 \0000\000' "utf16.obj: the text is UTF-16LE (it starts with a byte order mark): save it as ASCII or UTF-8"
+# UTF-16 and UTF-32 text (Windows PowerShell's '>' writes UTF-16LE; assimp's
+# box_UTF16BE.obj) is read as its UTF-8, names keeping their letters; it was
+# refused. So is a .mtl, and one in UTF-8 with a byte order mark is read past
+# it (its first line, newmtl, was not read: the material lost its colour).
+printf 'mtllib wide.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\no caf\303\251\nusemtl r\303\251d\nf 1 2 3\n' >"$T/u8.obj"
+printf 'newmtl r\303\251d\nKd 1 0 0\n' >"$T/u8.mtl"
+wide() { { printf "$1"; iconv -f UTF-8 -t "$2" "$3"; } >"$4"; }
+wide '\377\376' UTF-16LE "$T/u8.mtl" "$T/wide.mtl"
+run "$VNC" "$T/u8.obj" "$T/u8-out.obj" -q
+for e in 'UTF-16LE \377\376' 'UTF-16BE \376\377' 'UTF-32LE \377\376\000\000' 'UTF-32BE \000\000\376\377'; do
+  wide "${e#* }" "${e% *}" "$T/u8.obj" "$T/wide.obj"
+  run "$VNC" "$T/wide.obj" "$T/wide-out.obj" -q
+  check "${e% *} OBJ: read as its UTF-8" [ "$rc|$(cat "$T/wide-out.obj")" = "0|$(cat "$T/u8-out.obj")" ]
+done
+check "UTF-16 OBJ: the name's letters" grep -q "^o caf$(printf '\303\251')\$" "$T/wide-out.obj"
+run "$VNC" "$T/wide.obj" "$T/wide.glb" -q
+check "UTF-16 .mtl: the material's colour" grep -qaF '"baseColorFactor":[1.0,0.0,0.0,1.0]' "$T/wide.glb"
+{ printf '\357\273\277'; cat "$T/u8.mtl"; } >"$T/wide.mtl"
+run "$VNC" "$T/u8.obj" "$T/bom-mtl.glb"
+check "UTF-8 .mtl with a byte order mark: the colour, no warning" \
+  [ "$rc|$err|$(grep -caF '"baseColorFactor":[1.0,0.0,0.0,1.0]' "$T/bom-mtl.glb")" = "0|vnconvert: warning: $T/bom-mtl.glb cannot hold object names: not written|1" ]
+refused lone '\377\376v\000\n\000\000\330v\000' "lone.obj:2: the text is UTF-16LE (it starts with a byte order mark), but a high surrogate without its low one"
+refused odd '\377\376v\000 ' "odd.obj:1: the text is UTF-16LE (it starts with a byte order mark), but its last code unit is cut short"
 # A UTF-8 byte order mark (Windows editors write one) is read past: before,
 # the first v line was skipped and every index moved by one.
 printf '\357\273\277v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4\n' >"$T/bom.obj"

@@ -281,10 +281,30 @@ static void test_off_crlf_and_byte_order_mark(void** state)
 	read_ok("\xEF\xBB\xBFOFF\r\n3 1 0\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n", &m);
 	assert_triangle(&m);
 	vn_io_mesh_free(&m);
-	/* UTF-16: its numbers are not ASCII; refused, naming it. */
-	static const char wide[] = "\xFF\xFEO\0F\0F\0\n\0";
-	expect_error_bytes(wide, sizeof wide - 1, vn_io_error_parse,
-	                   "bad.off: the text is UTF-16LE (it starts with a byte order mark): save it as ASCII or UTF-8");
+	/* UTF-16 and UTF-32 text (Windows PowerShell's '>' writes UTF-16LE) is
+	 * read as its UTF-8; it was refused. A binary OFF's header cannot be. */
+	static const char triangle[] = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+	for (size_t unit = 2; unit <= 4; unit += 2)
+		for (int big = 0; big < 2; big++) {
+			unsigned char wide[4 * sizeof triangle];
+			size_t n = 0;
+			for (size_t i = 0; i < sizeof triangle; i++) /* the mark U+FEFF, then the text */
+				for (size_t b = 0; b < unit; b++) {
+					const unsigned c = i ? (unsigned char)triangle[i - 1] : 0xFEFF;
+					wide[n++] = (unsigned char)(c >> 8 * (big ? unit - 1 - b : b));
+				}
+			read_bytes_ok("good.off", wide, n, &m);
+			assert_triangle(&m);
+			vn_io_mesh_free(&m);
+		}
+	static const char binary[] = "\xFF\xFEO\0F\0F\0 \0B\0I\0N\0A\0R\0Y\0\n\0";
+	expect_error_bytes(binary, sizeof binary - 1, vn_io_error_parse,
+	                   "bad.off:1: the header is UTF-16LE text (it starts with a byte order mark), but says BINARY: "
+	                   "binary data cannot be read as text");
+	static const char lone[] = "\xFF\xFEO\0F\0F\0\n\0\x00\xDC";
+	expect_error_bytes(lone, sizeof lone - 1, vn_io_error_parse,
+	                   "bad.off:2: the text is UTF-16LE (it starts with a byte order mark), but a low surrogate "
+	                   "without its high one");
 }
 
 static void test_off_line_numbers_with_carriage_returns(void** state)

@@ -311,16 +311,25 @@ check_rejected "$VNC" "$T/strips_range.ply" "$T/none.off" "$T/keep.off"
 check "tristrips: an index out of range names it" grep -q "tristrips 0 has index 9, but the file has 9 vertices" "$T/stderr"
 
 # ---- a UTF-8 byte order mark (Windows editors write one) is read past; UTF-16
-# is refused, naming it
+# text is read as its UTF-8 (it was refused), but for a binary body
 { printf '\357\273\277'; cat "$T/strips.ply"; } >"$T/bom.ply"
 run "$VNC" "$T/bom.ply" "$T/bom_ply.off"
 check "PLY with a UTF-8 byte order mark: read" cmp -s "$T/strips.off" "$T/bom_ply.off"
 printf '\357\273\277solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' >"$T/bom.stl"
 run "$VNC" "$T/bom.stl" "$T/bom_stl.off"
 check "ASCII STL with a UTF-8 byte order mark: one triangle" [ "$rc $(sed -n 2p "$T/bom_stl.off")" = "0 3 1 0" ]
-printf '\376\377\000p\000l\000y\000\n' >"$T/utf16.ply"
+{ printf '\376\377'; iconv -f UTF-8 -t UTF-16BE "$T/strips.ply"; } >"$T/utf16.ply"
+run "$VNC" "$T/utf16.ply" "$T/utf16_ply.off"
+check "UTF-16 ASCII PLY: read" cmp -s "$T/strips.off" "$T/utf16_ply.off"
+{ printf '\376\377'; sed 's/^format ascii/format binary_little_endian/' "$T/strips.ply" | iconv -f UTF-8 -t UTF-16BE; } >"$T/utf16.ply"
 check_rejected "$VNC" "$T/utf16.ply" "$T/none.off" "$T/keep.off"
-check "UTF-16 PLY: says so" grep -q "utf16.ply: the header is UTF-16BE text (it starts with a byte order mark)" "$T/stderr"
+check "UTF-16 binary PLY: says why not" grep -qF "utf16.ply:2: the header is UTF-16BE text (it starts with a byte order mark), but the format is binary_little_endian: binary data cannot be read as text" "$T/stderr"
+{ printf '\377\376'; tail -c +4 "$T/bom.stl" | iconv -f UTF-8 -t UTF-16LE; } >"$T/utf16.stl"
+run "$VNC" "$T/utf16.stl" "$T/utf16_stl.off"
+check "UTF-16 ASCII STL: read" cmp -s "$T/bom_stl.off" "$T/utf16_stl.off"
+printf '\377\376h\000i\000\n\000' >"$T/utf16.stl"
+check_rejected "$VNC" "$T/utf16.stl" "$T/none.off" "$T/keep.off"
+check "UTF-16 text that is no STL: says so" grep -qF "utf16.stl: the text is UTF-16LE (it starts with a byte order mark), but does not start with 'solid', as an ASCII STL does" "$T/stderr"
 
 # ---- double positions stay double; a double property is rounded to float, with a warning
 cat >"$T/double.ply" <<'PLYEOF'

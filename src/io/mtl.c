@@ -312,6 +312,22 @@ static int allocate_defs(vn_io_mesh* mesh)
 int vn_io_mtl_parse(const char* data, size_t size, const char* name, const char* folder, vn_io_mesh* mesh,
                     FILE* warnings)
 {
+	if (vn_io_wide_bom((const unsigned char*)data, size)) {
+		char* utf8 = NULL;
+		size_t n;
+		vn_io_error e;
+		const vn_io_result r = vn_io_utf8_from_wide((const unsigned char*)data, size, name, &utf8, &n, &e);
+		if (r == vn_io_success) {
+			const int ok = vn_io_mtl_parse(utf8, n, name, folder, mesh, warnings);
+			free(utf8);
+			return ok;
+		}
+		if (r != vn_io_error_memory)
+			fprintf(warnings, "%s: its materials are written by name only\n", e.message);
+		return r != vn_io_error_memory;
+	}
+	const size_t bom = vn_io_utf8_bom((const unsigned char*)data, size); /* Windows editors write one */
+	data += bom, size -= bom;
 	if (!allocate_defs(mesh))
 		return 0;
 	const char* end = data + size;

@@ -1155,9 +1155,6 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 {
 	const unsigned char* bytes = reinterpret_cast<const unsigned char*>(data);
 	const size_t bom = vn_io_utf8_bom(bytes, size);
-	if (const char* wide = vn_io_wide_bom(bytes, size))
-		return vn_io_fail(error, vn_io_error_parse,
-		                  "%s: the text is %s (it starts with a byte order mark): save it as ASCII or UTF-8", name, wide);
 	const vn_io_result lfs = vn_io_refuse_lfs_pointer(data, size, name, error);
 	if (lfs != vn_io_success)
 		return lfs;
@@ -1492,11 +1489,12 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 
 } // namespace
 
-extern "C" {
-
-vn_io_result vn_io_obj_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
-                                   vn_io_error* error)
+/* The reader for vn_io_read_text: OBJ is text throughout, so text decoded
+ * from UTF-16 or UTF-32 (wide) reads as any other. */
+static vn_io_result read_text(const char* data, size_t size, const char* name, const char* wide, vn_io_mesh* mesh,
+                              vn_io_error* error)
 {
+	(void)wide;
 	std::memset(mesh, 0, sizeof *mesh);
 	vn_io_c_locale locale;
 	if (!vn_io_c_locale_enter(&locale))
@@ -1511,6 +1509,14 @@ vn_io_result vn_io_obj_read_memory(const char* data, size_t size, const char* na
 	if (r != vn_io_success)
 		vn_io_mesh_free(mesh);
 	return r;
+}
+
+extern "C" {
+
+vn_io_result vn_io_obj_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
+                                   vn_io_error* error)
+{
+	return vn_io_read_text(data, size, name, read_text, mesh, error);
 }
 
 vn_io_result vn_io_obj_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)

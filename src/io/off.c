@@ -63,6 +63,8 @@ typedef struct off_reader {
 	size_t line;  /* number of the line that starts at p */
 	size_t where; /* what messages name: a line, or a byte offset when binary */
 	int binary;
+	/* The encoding the text was read from (vn_io_utf8_from_wide), or NULL. */
+	const char* wide;
 	/* Binary as pmp-library writes it: little-endian words (Geomview's are
 	 * big-endian) and no colour count after a face's indices. */
 	int pmp;
@@ -759,6 +761,11 @@ static vn_io_result read_off(off_reader* r, vn_io_mesh* m)
 	if (next_token(&rest, &t) && t.n == 6 && memcmp(t.p, "BINARY", 6) == 0) {
 		if (next_token(&rest, &t))
 			return fail(r, vn_io_error_parse, "unexpected '%s' after BINARY", quote(t).text);
+		if (r->wide)
+			return fail(r, vn_io_error_parse,
+			            "the header is %s text (it starts with a byte order mark), but says BINARY: binary data "
+			            "cannot be read as text",
+			            r->wide);
 		/* Binary data starts right after the header line's line break. */
 		r->binary = 1;
 		return read_binary(r, m);
@@ -766,24 +773,22 @@ static vn_io_result read_off(off_reader* r, vn_io_mesh* m)
 	return read_ascii(r, m, line);
 }
 
-vn_io_result vn_io_off_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
-                                   vn_io_error* error)
+/* The reader of the size bytes at data, text decoded from `wide` (or NULL). */
+static vn_io_result read_memory(const char* data, size_t size, const char* name, const char* wide, vn_io_mesh* mesh,
+                                vn_io_error* error)
 {
 	memset(mesh, 0, sizeof *mesh);
 	off_reader r;
 	memset(&r, 0, sizeof r);
 	r.name = name;
 	r.error = error;
+	r.wide = wide;
 	r.begin = (const unsigned char*)(data ? data : "");
 	r.p = r.begin;
 	r.end = r.begin + (data ? size : 0);
 	r.line = 1;
 	r.coords = 3;
 	r.p += vn_io_utf8_bom(r.p, (size_t)(r.end - r.p));
-	const char* wide = vn_io_wide_bom(r.p, (size_t)(r.end - r.p));
-	if (wide)
-		return vn_io_fail(error, vn_io_error_parse, "%s: the text is %s (it starts with a byte order mark): save it as "
-		                  "ASCII or UTF-8", name, wide);
 	const vn_io_result lfs = vn_io_refuse_lfs_pointer(r.p, (size_t)(r.end - r.p), name, error);
 	if (lfs != vn_io_success)
 		return lfs;
@@ -811,6 +816,12 @@ vn_io_result vn_io_off_read_memory(const char* data, size_t size, const char* na
 	else
 		free(r.warnings);
 	return result;
+}
+
+vn_io_result vn_io_off_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
+                                   vn_io_error* error)
+{
+	return vn_io_read_text(data, size, name, read_memory, mesh, error);
 }
 
 vn_io_result vn_io_off_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)

@@ -179,6 +179,7 @@ typedef struct ply_reader {
 	int format;  /* PLY_ASCII, PLY_LITTLE or PLY_BIG */
 	int swap;    /* binary data in the other byte order than the host's */
 	int in_data; /* messages name a byte offset for binary data */
+	const char* wide; /* the encoding the text was read from (vn_io_utf8_from_wide), or NULL */
 
 	ply_element* elements;
 	size_t element_count;
@@ -449,6 +450,11 @@ static vn_io_result read_header(ply_reader* r)
 			if (!token_is(w[2], "1.0"))
 				return fail(r, vn_io_error_unsupported, "PLY version '%s' is not supported: vn reads 1.0",
 				            quote(w[2]).text);
+			if (r->wide && format != PLY_ASCII)
+				return fail(r, vn_io_error_parse,
+				            "the header is %s text (it starts with a byte order mark), but the format is %s: "
+				            "binary data cannot be read as text",
+				            r->wide, names[format]);
 		} else if (token_is(w[0], "element")) {
 			result = add_element(r, w, count);
 		} else if (token_is(w[0], "property")) {
@@ -1399,21 +1405,19 @@ static vn_io_result read_ply(ply_reader* r, vn_io_mesh* m)
 	return to_mesh(r, m);
 }
 
-vn_io_result vn_io_ply_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
-                                   vn_io_error* error)
+/* The reader of the size bytes at data, text decoded from `wide` (or NULL). */
+static vn_io_result read_memory(const char* data, size_t size, const char* name, const char* wide, vn_io_mesh* mesh,
+                                vn_io_error* error)
 {
 	memset(mesh, 0, sizeof *mesh);
 	ply_reader r;
 	memset(&r, 0, sizeof r);
 	r.name = name;
 	r.error = error;
+	r.wide = wide;
 	r.begin = (const unsigned char*)(data ? data : "");
 	r.end = r.begin + (data ? size : 0);
 	r.p = r.begin + vn_io_utf8_bom(r.begin, (size_t)(r.end - r.begin));
-	const char* wide = vn_io_wide_bom(r.p, (size_t)(r.end - r.p));
-	if (wide)
-		return vn_io_fail(error, vn_io_error_parse, "%s: the header is %s text (it starts with a byte order mark): "
-		                  "save it as ASCII or UTF-8", name, wide);
 	const vn_io_result lfs = vn_io_refuse_lfs_pointer(r.p, (size_t)(r.end - r.p), name, error);
 	if (lfs != vn_io_success)
 		return lfs;
@@ -1431,6 +1435,12 @@ vn_io_result vn_io_ply_read_memory(const char* data, size_t size, const char* na
 	if (result != vn_io_success)
 		vn_io_mesh_free(mesh);
 	return result;
+}
+
+vn_io_result vn_io_ply_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
+                                   vn_io_error* error)
+{
+	return vn_io_read_text(data, size, name, read_memory, mesh, error);
 }
 
 vn_io_result vn_io_ply_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)

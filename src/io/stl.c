@@ -380,8 +380,17 @@ static int starts_with_solid(const unsigned char* p, const unsigned char* end)
 	return end - p >= 5 && token_is((token){p, 5}, "solid");
 }
 
-vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
-                                   vn_io_error* error)
+/* Whether the size bytes at p are a binary STL by their size: the 84-byte
+ * header, then as many 50-byte triangles as it announces. */
+static int binary_sized(const unsigned char* p, size_t size)
+{
+	return size >= STL_HEADER + 4 && STL_HEADER + 4 + STL_TRIANGLE * (uint64_t)get_u32(p + STL_HEADER) == size;
+}
+
+/* The reader of the size bytes at data; `wide` (or NULL) names the encoding
+ * of text they were decoded from, which only an ASCII STL can be. */
+static vn_io_result read_memory(const char* data, size_t size, const char* name, const char* wide, vn_io_mesh* mesh,
+                                vn_io_error* error)
 {
 	memset(mesh, 0, sizeof *mesh);
 	stl_reader r;
@@ -396,8 +405,7 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 	const size_t after = size >= STL_HEADER + 4 ? size - (STL_HEADER + 4) : 0; /* bytes after the header */
 	vn_io_result result;
 	const size_t bom = vn_io_utf8_bom(r.p, size);
-	const char* wide = vn_io_wide_bom(r.p, size);
-	const int binary = size >= STL_HEADER + 4 && binary_size == size;
+	const int binary = !wide && binary_sized(r.p, size);
 	if (!binary) {
 		const vn_io_result lfs = vn_io_refuse_lfs_pointer(r.p, size, name, error);
 		if (lfs != vn_io_success)
@@ -405,10 +413,11 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 	}
 	if (binary) {
 		result = read_binary(&r, r.p, (size_t)count);
-	} else if (wide) {
+	} else if (wide && !starts_with_solid(r.p, r.end)) {
 		result = vn_io_fail(error, vn_io_error_parse,
-		                    "%s: the text is %s (it starts with a byte order mark): save it as ASCII or UTF-8", name,
-		                    wide);
+		                    "%s: the text is %s (it starts with a byte order mark), but does not start with 'solid', "
+		                    "as an ASCII STL does",
+		                    name, wide);
 	} else if (starts_with_solid(r.p + bom, r.end)) {
 		r.p += bom;
 		vn_io_c_locale locale;
@@ -424,7 +433,7 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 			result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 		/* Not ASCII after all: a binary STL whose header starts with
 		 * "solid" and whose triangles are followed by padding. */
-		if (result != vn_io_success && result != vn_io_error_memory && count > 0 && binary_size <= size) {
+		if (result != vn_io_success && result != vn_io_error_memory && !wide && count > 0 && binary_size <= size) {
 			free(r.corners);
 			free(r.attributes);
 			r.corners = NULL, r.attributes = NULL, r.triangles = 0, r.capacity = 0;
@@ -463,6 +472,15 @@ vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* na
 	if (result != vn_io_success)
 		vn_io_mesh_free(mesh);
 	return result;
+}
+
+vn_io_result vn_io_stl_read_memory(const char* data, size_t size, const char* name, vn_io_mesh* mesh,
+                                   vn_io_error* error)
+{
+	/* A binary STL's header may start with a byte order mark's bytes. */
+	if (data && binary_sized((const unsigned char*)data, size))
+		return read_memory(data, size, name, NULL, mesh, error);
+	return vn_io_read_text(data, size, name, read_memory, mesh, error);
 }
 
 vn_io_result vn_io_stl_read(const char* path, vn_io_mesh* mesh, vn_io_error* error)

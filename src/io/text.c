@@ -416,6 +416,92 @@ const char* vn_io_wide_bom(const unsigned char* p, size_t n)
 	return NULL;
 }
 
+/* One code unit of `size` bytes at p, in the given byte order. */
+static uint32_t code_unit(const unsigned char* p, size_t size, int big)
+{
+	uint32_t u = 0;
+	for (size_t i = 0; i < size; i++)
+		u |= (uint32_t)p[big ? i : size - 1 - i] << 8 * (size - 1 - i);
+	return u;
+}
+
+vn_io_result vn_io_utf8_from_wide(const unsigned char* p, size_t n, const char* name, char** out, size_t* out_size,
+                                  vn_io_error* error)
+{
+	const char* wide = vn_io_wide_bom(p, n);
+	const size_t size = wide[4] == '3' ? 4 : 2; /* "UTF-32..." or "UTF-16..." */
+	const int big = wide[6] == 'B';
+	/* A unit of 2 bytes becomes at most 3 (a pair of 4, 4); one of 4, 4. */
+	char* s = (char*)malloc(n / 2 * 3 + 1);
+	if (!s)
+		return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+	size_t k = 0, line = 1;
+	const char* bad = NULL;
+	for (size_t i = size; i < n && !bad; i += size) {
+		if (n - i < size) {
+			bad = "its last code unit is cut short";
+			break;
+		}
+		uint32_t c = code_unit(p + i, size, big);
+		if (size == 2 && c >= 0xD800 && c <= 0xDBFF) { /* a high surrogate, then its low one */
+			const uint32_t low = n - i >= 4 ? code_unit(p + i + 2, 2, big) : 0;
+			if (low < 0xDC00 || low > 0xDFFF) {
+				bad = "a high surrogate without its low one";
+				break;
+			}
+			c = 0x10000 + ((c - 0xD800) << 10) + (low - 0xDC00);
+			i += 2;
+		} else if (c >= 0xD800 && c <= 0xDFFF) {
+			bad = "a low surrogate without its high one";
+			break;
+		} else if (c > 0x10FFFF) {
+			bad = "a value beyond U+10FFFF";
+			break;
+		}
+		if (c < 0x80) {
+			s[k++] = (char)c;
+			line += c == '\n';
+		} else if (c < 0x800) {
+			s[k++] = (char)(0xC0 | c >> 6);
+			s[k++] = (char)(0x80 | (c & 0x3F));
+		} else if (c < 0x10000) {
+			s[k++] = (char)(0xE0 | c >> 12);
+			s[k++] = (char)(0x80 | (c >> 6 & 0x3F));
+			s[k++] = (char)(0x80 | (c & 0x3F));
+		} else {
+			s[k++] = (char)(0xF0 | c >> 18);
+			s[k++] = (char)(0x80 | (c >> 12 & 0x3F));
+			s[k++] = (char)(0x80 | (c >> 6 & 0x3F));
+			s[k++] = (char)(0x80 | (c & 0x3F));
+		}
+	}
+	if (bad) {
+		free(s);
+		return vn_io_fail(error, vn_io_error_parse, "%s:%zu: the text is %s (it starts with a byte order mark), but %s",
+		                  name, line, wide, bad);
+	}
+	s[k] = '\0';
+	*out = s;
+	*out_size = k;
+	return vn_io_success;
+}
+
+vn_io_result vn_io_read_text(const char* data, size_t size, const char* name, vn_io_text_reader read,
+                             vn_io_mesh* mesh, vn_io_error* error)
+{
+	const char* wide = data ? vn_io_wide_bom((const unsigned char*)data, size) : NULL;
+	if (!wide)
+		return read(data, size, name, NULL, mesh, error);
+	memset(mesh, 0, sizeof *mesh);
+	char* utf8 = NULL;
+	size_t n;
+	vn_io_result r = vn_io_utf8_from_wide((const unsigned char*)data, size, name, &utf8, &n, error);
+	if (r == vn_io_success)
+		r = read(utf8, n, name, wide, mesh, error);
+	free(utf8);
+	return r;
+}
+
 vn_io_result vn_io_refuse_lfs_pointer(const void* p, size_t n, const char* name, vn_io_error* error)
 {
 	static const char version[] = "version https://git-lfs.github.com/spec/";

@@ -109,9 +109,27 @@ int vn_io_append_line(char** lines, const char* fmt, ...)
  * text formats read past one (Windows editors write it). */
 size_t vn_io_utf8_bom(const unsigned char* p, size_t n);
 /* The encoding a UTF-16 or UTF-32 byte order mark at p names ("UTF-16LE"
- * ...), or NULL: text in it is refused, naming it (its numbers are not
- * ASCII). */
+ * ...), or NULL. */
 const char* vn_io_wide_bom(const unsigned char* p, size_t n);
+/* The n bytes at p, text in the UTF-16 or UTF-32 whose byte order mark
+ * starts them (vn_io_wide_bom), as UTF-8 without the mark: *out (malloc'd,
+ * NUL-terminated, the caller frees it) of *out_size bytes. Text formats are
+ * read through it: Windows PowerShell's '>' writes UTF-16LE, and so do
+ * scripts run under it. Line breaks stay where they were, so the reader's
+ * line numbers are the file's. Fails (vn_io_error_parse, naming `name` and
+ * the line) at an odd byte at the end, a surrogate without its pair or a
+ * value beyond U+10FFFF; vn_io_error_memory when out of memory. */
+vn_io_result vn_io_utf8_from_wide(const unsigned char* p, size_t n, const char* name, char** out, size_t* out_size,
+                                  vn_io_error* error);
+/* A text format's reader of the size bytes at data (name in messages):
+ * `wide` names the encoding they were decoded from, or is NULL. */
+typedef vn_io_result (*vn_io_text_reader)(const char* data, size_t size, const char* name, const char* wide,
+                                          vn_io_mesh* mesh, vn_io_error* error);
+/* read on the size bytes at data (NULL: none), decoded to UTF-8 first where
+ * they start with a UTF-16 or UTF-32 byte order mark (vn_io_utf8_from_wide;
+ * mesh zeroed when that fails). */
+vn_io_result vn_io_read_text(const char* data, size_t size, const char* name, vn_io_text_reader read,
+                             vn_io_mesh* mesh, vn_io_error* error);
 /* Fails (vn_io_error_parse, naming `name`) when the n bytes at p are a Git
  * LFS pointer ("version https://git-lfs.github.com/spec/v1", oid, size): a
  * repository cloned without its large files, which every reader would
