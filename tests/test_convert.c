@@ -174,8 +174,8 @@ static void test_option_that_does_not_apply(void** state)
 	vn_io_error error;
 	assert_int_equal(vn_io_convert("data/off/cube.off", in_folder("misfit.off"), &o, NULL, &error),
 	                 vn_io_error_option);
-	assert_string_equal(error.message, "--draco-qp applies to Draco (.drc) output and to glTF to glTF conversions, "
-	                                   "and this one is off to off: leave it out");
+	assert_string_equal(error.message, "--draco-qp applies to Draco (.drc) output, to glTF to glTF conversions and "
+	                                   "to glTF output with --draco on, and this one is off to off: leave it out");
 	memset(&o, 0, sizeof o);
 	o.tangents = "drop";
 	assert_int_equal(vn_io_convert("data/off/cube.off", in_folder("misfit.glb"), &o, NULL, &error),

@@ -484,6 +484,36 @@ check "--draco on: decoders read it" decode "$T/duck-on_0.drc" "$T/duck-on"
 run "$VNC" "$GLTF/Duck.glb" "$T/duck.off" -q
 check "--draco on: the Duck's points and triangles within 14 bits" $COMPARE "$T/duck.off" "$T/duck-on.json" 14
 check "--draco on: unit normals" $COMPARE --normals "$T/duck-on.json"
+# --draco on from other formats (it applied to glTF to glTF only): the file
+# is the one glTF to glTF --draco on makes of vn's plain output, byte for
+# byte, with the bits given; an OBJ's primitive per material each
+# compressed; a vertex no face uses and a point cloud named.
+run "$VNC" "$SAMPLES/torus.off" "$T/torus-plain.glb" -q
+run "$VNC" "$T/torus-plain.glb" "$T/torus-via.glb" -q --draco on --draco-qp 12
+run "$VNC" "$SAMPLES/torus.off" "$T/torus-on.glb" --draco on --draco-qp 12 --stats
+check "OFF --draco on: exits 0, qp=12" [ "$rc $(grep -c '^draco settings: *qp=12 qn=10 ' "$T/stdout")" = "0 1" ]
+check "OFF --draco on: as glTF to glTF --draco on makes it" cmp -s "$T/torus-via.glb" "$T/torus-on.glb"
+check "OFF --draco on: Draco data" $GLTFCHECK drc "$T/torus-on.glb" "$T/torus-on"
+check "OFF --draco on: decoders read it" decode "$T/torus-on_0.drc" "$T/torus-on"
+run "$VNC" "$SAMPLES/torus.off" "$T/torus-vn.off" -q
+check "OFF --draco on: the torus within 12 bits" $COMPARE "$T/torus-vn.off" "$T/torus-on.json" 12
+check "OFF --draco on: unit normals" $COMPARE --normals "$T/torus-on.json"
+check "OFF --draco on: the file shrinks" [ "$(stat -c %s "$T/torus-on.glb")" -lt "$(($(stat -c %s "$T/torus-plain.glb") / 5))" ]
+run "$VNC" "$SAMPLES/torus.off" "$T/torus-on.gltf" -q --draco on --draco-qp 12
+check "OFF --draco on, .gltf: no validator error or warning" \
+  node "$HERE/gltf/validate.mjs" --allow UNSUPPORTED_EXTENSION --allow UNUSED_OBJECT "$NODE_MODULES" "$T/torus-plain.glb" "$T/torus-on.gltf"
+run "$VNC" "$HERE/data/obj/mat_test.obj" "$T/mat-on.glb" -q --draco on
+check "OBJ --draco on: each material's primitive compressed" $GLTFCHECK drc "$T/mat-on.glb" "$T/mat-on"
+check "OBJ --draco on: 7 primitives" [ -f "$T/mat-on_6.drc" ]
+printf 'OFF\n5 1 0\n0 0 0\n1 0 0\n0 1 0\n5 5 5\n6 6 6\n3 0 1 2\n' >"$T/loose.off"
+run "$VNC" "$T/loose.off" "$T/loose-on.glb" --draco on
+check "--draco on: vertices no face uses named" \
+  grep -qxF "vnconvert: warning: 2 vertices no face uses are not written: a Draco-compressed primitive holds only the vertices its triangles use" "$T/stderr"
+printf 'OFF\n2 0 0\n0 0 0\n1 0 0\n' >"$T/cloud.off"
+run "$VNC" "$T/cloud.off" "$T/cloud-on.glb" --draco on
+check "--draco on: a point cloud stays plain, named" \
+  [ "$rc $(grep -c "KHR_draco_mesh_compression compresses triangles, so its points are written uncompressed" "$T/stderr")" = "0 1" ]
+check "--draco on: a point cloud stays plain" $GLTFCHECK nodraco "$T/cloud-on.glb"
 run "$VNC" "$T/duck-on.glb" "$T/duck-qn.glb" --draco-qn 6 --stats
 check "--draco-qn overrides the input's normal bits" grep -q "^draco normal quantization error: .*(qn=6, 2399 normals)$" "$T/stdout"
 run "$VNC" "$T/duck-on.glb" "$T/duck-off.glb" -q --draco off

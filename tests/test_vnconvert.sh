@@ -113,9 +113,11 @@ expect_usage "--threads needs a whole number from 1 to 256, not '0'" "$SAMPLES/t
 expect_usage "--method is one of mwe, mwa, mwselr, mwaat, mwelr, mwrelr, mewcsa, smewcsa, quadric, jet, adaptive, not 'nope'" "$SAMPLES/torus.off" "$T/u.off" --method nope
 expect_usage "--format is one of off, obj, ply, stl, gltf, glb, drc, not 'fbx'" "$SAMPLES/torus.off" "$T/u.off" --format fbx
 expect_usage "--input-format is one of off, obj, ply, stl, gltf, glb, drc, not 'dae'" "$SAMPLES/torus.off" "$T/u.off" --input-format dae
-expect_usage "--draco-qp applies to Draco (.drc) output and to glTF to glTF conversions, and this one is off to off: leave it out" "$SAMPLES/torus.off" "$T/u.off" --draco-qp 12
+expect_usage "--draco-qp applies to Draco (.drc) output, to glTF to glTF conversions and to glTF output with --draco on, and this one is off to off: leave it out" "$SAMPLES/torus.off" "$T/u.off" --draco-qp 12
+expect_usage "--draco-qp applies to Draco (.drc) output, to glTF to glTF conversions and to glTF output with --draco on, and this one is off to glb: leave it out" "$SAMPLES/torus.off" "$T/u.glb" --draco-qp 12
+expect_usage "--draco applies to glTF output (.gltf or .glb), and this one is glb to off: leave it out" "$GLTF/Duck.glb" "$T/u.off" --draco on
 # glTF-only options are refused for other conversions rather than ignored.
-for option in "--weld-scope mesh" "--tangents drop" "--draco off"; do
+for option in "--weld-scope mesh" "--tangents drop"; do
   expect_usage "${option%% *} applies only to glTF to glTF conversions (.gltf or .glb in and out), and this one is off to glb: leave it out" "$SAMPLES/torus.off" "$T/u.glb" $option
   expect_usage "${option%% *} applies only to glTF to glTF conversions (.gltf or .glb in and out), and this one is glb to off: leave it out" "$GLTF/Duck.glb" "$T/u.off" $option
 done

@@ -188,12 +188,18 @@ int vn_io_convert_misfit(const vn_convert_options* o, const vn_io_format* in, co
 	/* The first option given of a group, in the order of the fields. */
 	const char* draco_given = o->draco_qp ? "--draco-qp" : o->draco_qn ? "--draco-qn" : o->draco_qt ? "--draco-qt"
 	                          : o->draco_qc ? "--draco-qc" : o->draco_cl_set ? "--draco-cl" : NULL;
-	const char* gltf_only = o->weld_scope ? "--weld-scope" : o->tangents ? "--tangents" : o->draco ? "--draco"
-	                        : o->meshopt ? "--meshopt" : NULL;
+	const char* gltf_only = o->weld_scope ? "--weld-scope" : o->tangents ? "--tangents" : o->meshopt ? "--meshopt"
+	                                                                                     : NULL;
+	/* --draco on compresses glTF output from any format. */
+	const int draco_on = o->draco && !strcmp(o->draco, "on") && out->path == vn_io_path_gltf;
 	if (draco_given && !(out->draco & vn_io_draco_output) &&
-	    !(path != vn_io_path_mesh && (in->draco & vn_io_draco_document))) {
+	    !(path != vn_io_path_mesh && (in->draco & vn_io_draco_document)) && !draco_on) {
 		vn_io_format_list(vn_io_list_draco, where, sizeof where);
 		snprintf(text, size, "%s applies to %s", draco_given, where);
+		return 1;
+	}
+	if (o->draco && out->path != vn_io_path_gltf) {
+		snprintf(text, size, "--draco applies to glTF output (.gltf or .glb)");
 		return 1;
 	}
 	if (gltf_only && path != vn_io_path_gltf) {
@@ -480,8 +486,9 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	vn_convert_report* r = c->r;
 	progress(c, "reading", c->in);
 	const double t0 = now();
-	const int drc_out = (c->out_format->draco & vn_io_draco_output) != 0;
 	const int gltf_out = c->out_format->path == vn_io_path_gltf;
+	/* Draco output: a .drc, or glTF with --draco on (KHR_draco_mesh_compression). */
+	const int drc_out = (c->out_format->draco & vn_io_draco_output) || (gltf_out && o->draco && !strcmp(o->draco, "on"));
 	vn_drc_options drc;
 	vn_drc_default_options(&drc);
 	vn_io_result res = c->apply_transforms ? vn_io_gltf_read_scene(c->in, mesh, error)
@@ -599,6 +606,31 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 		    "%zu vertices and %zu %s: only the vertices faces use are written, as %s cannot store more than 3 "
 		    "points per triangle\n",
 		    mesh->vertex_count, corners / 3, noun(corners / 3, "triangle", "triangles"), c->out_format->title);
+	/* glTF's Draco primitives hold the vertices their triangles use; a
+	 * point cloud has no triangles to compress. */
+	if (drc_out && gltf_out) {
+		if (!mesh->face_count && mesh->vertex_count)
+			add(&c->warnings, "%s has no faces (a point cloud): KHR_draco_mesh_compression compresses triangles, so "
+			                  "its points are written uncompressed\n", c->in);
+		size_t loose = 0;
+		if (mesh->face_count) {
+			unsigned char* in_face = (unsigned char*)calloc(mesh->vertex_count ? mesh->vertex_count : 1, 1);
+			if (!in_face)
+				return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", c->in);
+			for (size_t f = 0; f < mesh->face_count; ++f)
+				for (uint32_t k = mesh->face_offsets[f]; mesh->face_offsets[f + 1] - mesh->face_offsets[f] >= 3 &&
+				                                         k < mesh->face_offsets[f + 1];
+				     ++k)
+					in_face[mesh->indices[k]] = 1;
+			for (size_t v = 0; v < mesh->vertex_count; ++v)
+				loose += !in_face[v];
+			free(in_face);
+		}
+		if (loose)
+			add(&c->warnings, "%zu %s no face uses %s not written: a Draco-compressed primitive holds only the "
+			                  "vertices its triangles use\n", loose, noun(loose, "vertex", "vertices"),
+			    noun(loose, "is", "are"));
+	}
 	progress(c, "writing", c->out);
 	if ((res = vn_io_write_file(c->out, c->out_format, mesh, drc_out ? &drc : NULL, error)) != vn_io_success)
 		return res;

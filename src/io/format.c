@@ -258,8 +258,10 @@ void vn_io_format_list(vn_io_listing style, char* text, size_t size)
 	size_t families = 0, draco = 0;
 	for (size_t i = 0; i < FORMAT_COUNT; i++) {
 		families += first_of_family(i);
-		draco += (formats[i].draco & vn_io_draco_output) ||
-		         ((formats[i].draco & vn_io_draco_document) && first_of_family(i));
+		/* A document path's family counts twice: its conversions, and its
+		 * output with --draco on from other formats. */
+		draco += (formats[i].draco & vn_io_draco_output) ? 1u
+		         : (formats[i].draco & vn_io_draco_document) && first_of_family(i) ? 2u : 0u;
 	}
 	size_t k = 0;
 	for (size_t i = 0; i < FORMAT_COUNT; i++) {
@@ -287,11 +289,14 @@ void vn_io_format_list(vn_io_listing style, char* text, size_t size)
 			break;
 		}
 	}
-	/* Then the document paths: "... output and to glTF to glTF conversions". */
+	/* Then the document paths: "... output, to glTF to glTF conversions and
+	 * to glTF output with --draco on". */
 	for (size_t i = 0; style == vn_io_list_draco && i < FORMAT_COUNT; i++)
 		if ((formats[i].draco & vn_io_draco_document) && first_of_family(i)) {
 			append(text, size, "%s%s%s to %s conversions", separator(k, draco), k ? "to " : "", formats[i].family,
 			       formats[i].family);
+			k++;
+			append(text, size, "%sto %s output with --draco on", separator(k, draco), formats[i].family);
 			k++;
 		}
 }

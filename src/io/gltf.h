@@ -8,7 +8,10 @@
  *    applies them); the writers produce a minimal glTF (one mesh, one
  *    primitive: POSITION with min/max, NORMAL, uint32 indices; polygons
  *    fan-triangulated; asset.generator "vn"). A .gltf written this way
- *    carries its buffer as a data URI.
+ *    carries its buffer as a data URI. Given a vn_drc_options* as their
+ *    settings (fields -1: vn_drc_default_options'), the writers compress
+ *    each triangle primitive as vn_gltf_draco_on does (vnconvert --draco
+ *    on from another format).
  *
  *  - As a document (vn_gltf_convert): glTF in, glTF out, recomputing the
  *    NORMAL of every triangle primitive and of its morph targets, and

@@ -652,8 +652,9 @@ static json gltf_material(const vn_io_mesh* mesh, uint32_t k,
  * material for faces that have none), or for a mesh without faces (a
  * point cloud) POINTS, every vertex a point, with NORMAL only where the
  * mesh has a normal other than zero (vn computes none without faces).
- * Texture images are embedded in the buffer. */
-static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
+ * Texture images are embedded in the buffer. `indices` receives each
+ * TRIANGLES primitive's, in order. */
+static bytes document_from_mesh(const vn_io_mesh* mesh, json& j, std::vector<std::vector<uint32_t>>& indices)
 {
 	/* An empty mesh: a scene without nodes, as a glTF of no mesh is read. */
 	if (mesh->vertex_count == 0) {
@@ -666,7 +667,6 @@ static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 	/* The triangles of each material (VN_IO_NO_NAME: none), in the order
 	 * of their first faces: a primitive each. */
 	std::vector<uint32_t> keys;
-	std::vector<std::vector<uint32_t>> indices;
 	std::map<uint32_t, size_t> group;
 	for (size_t f = 0; f < mesh->face_count; ++f) {
 		const uint32_t key = mesh->materials.of_face ? mesh->materials.of_face[f] : VN_IO_NO_NAME;
@@ -804,22 +804,66 @@ static bytes document_from_mesh(const vn_io_mesh* mesh, json& j)
 	return bin;
 }
 
-static vn_io_result write_stream(FILE* out, const char* path, const vn_io_mesh* mesh, bool glb, vn_io_error* error)
+/* --draco on for a document made from a mesh: each TRIANGLES primitive
+ * (on the mesh's n vertices, its triangles `indices[k]`) Draco-compressed
+ * with `bits` (compress_draco: only the vertices it uses), and the plain
+ * data it replaces removed (prune). */
+static void compress_primitives(document& d, size_t n, std::vector<std::vector<uint32_t>>& indices,
+                                const vn_drc_options& bits)
+{
+	const usage before = used(d.j);
+	vn_gltf_options o{};
+	o.draco = vn_gltf_draco_on;
+	o.draco_options = bits;
+	vn_gltf_stats st{};
+	draco_written w;
+	/* Looked up anew each time: compressing one adds keys to the document. */
+	const size_t count = d.j["meshes"][0]["primitives"].size();
+	for (size_t k = 0, t = 0; k < count; ++k) {
+		if (d.j["meshes"][0]["primitives"][k]["mode"] != 4)
+			continue;
+		primitive p;
+		p.mesh = 0;
+		p.index = k;
+		/* Only the count matters to the encoder, which reads the accessors. */
+		p.positions = vec3s(nullptr, n, 0, vn_scalar_float64);
+		p.triangles = corners(std::move(indices[t++]));
+		compress_draco(d, p, o, st, w);
+	}
+	std::string unknown;
+	prune(d, before, st, &unknown);
+}
+
+/* The mesh as a glTF or GLB; Draco-compressed with `draco` (NULL: plain). */
+static vn_io_result write_stream(FILE* out, const char* path, const vn_io_mesh* mesh, bool glb,
+                                 const vn_drc_options* draco, vn_io_error* error)
 {
 	return guarded(path, error, [&] {
-		json j;
-		bytes bin = document_from_mesh(mesh, j);
-		buffer b;
-		b.base = bin.data();
-		b.size = bin.size();
-		const bool data = j.contains("buffers"); /* else no BIN chunk, no buffer */
+		document d;
+		d.glb = glb;
+		std::vector<std::vector<uint32_t>> indices;
+		auto bin = std::make_shared<bytes>(document_from_mesh(mesh, d.j, indices));
+		const bool data = d.j.contains("buffers"); /* else no BIN chunk, no buffer */
+		if (data) {
+			buffer b;
+			b.owner = std::shared_ptr<unsigned char>(bin, bin->data());
+			b.base = bin->data();
+			b.size = bin->size();
+			d.buffers.push_back(std::move(b));
+			d.input_views = d.j["bufferViews"].size();
+			if (draco)
+				compress_primitives(d, mesh->vertex_count, indices, *draco);
+		}
 		pieces file;
 		if (glb) {
-			file = glb_file(j, data ? &b : nullptr);
+			file = glb_file(d.j, data ? &d.buffers[0] : nullptr);
 		} else {
-			if (data)
-				j["buffers"][0]["uri"] = data_uri(json::object(), bin);
-			file.add(j.dump(2) + "\n");
+			if (data) {
+				pieces contents;
+				contents.add(d.buffers[0], false);
+				d.j["buffers"][0]["uri"] = data_uri(json::object(), contents.joined());
+			}
+			file.add(d.j.dump(2) + "\n");
 		}
 		for (const auto& piece : file.list)
 			if (fwrite(piece.first, 1, piece.second, out) != piece.second)
@@ -859,12 +903,10 @@ extern "C" vn_io_result vn_io_gltf_read_scene(const char* path, vn_io_mesh* mesh
 
 extern "C" vn_io_result vn_io_gltf_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error)
 {
-	(void)settings; /* a glTF written from a mesh has none */
-	return write_stream(out, path, mesh, false, error);
+	return write_stream(out, path, mesh, false, (const vn_drc_options*)settings, error);
 }
 
 extern "C" vn_io_result vn_io_glb_write(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings, vn_io_error* error)
 {
-	(void)settings;
-	return write_stream(out, path, mesh, true, error);
+	return write_stream(out, path, mesh, true, (const vn_drc_options*)settings, error);
 }

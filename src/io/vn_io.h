@@ -360,7 +360,8 @@ typedef struct vn_io_format {
 	vn_io_result (*read)(const char* path, vn_io_mesh* mesh, vn_io_error* error);
 	/* Writes mesh to the open stream; `path` is only for messages. settings
 	 * are the format's own write settings (NULL: its defaults; the drc
-	 * format takes a vn_drc_options*, the others none). The caller
+	 * format takes a vn_drc_options*, and gltf and glb one to
+	 * Draco-compress their triangle primitives; the others none). The caller
 	 * (vn_io_write_file) takes care of atomicity. */
 	vn_io_result (*write)(FILE* out, const char* path, const vn_io_mesh* mesh, const void* settings,
 	                      vn_io_error* error);
@@ -409,7 +410,8 @@ typedef enum vn_io_listing {
 	vn_io_list_titles,     /* "OFF, glTF, GLB and Draco" */
 	vn_io_list_families,   /* "OFF (.off), glTF (.gltf, .glb) and Draco (.drc)" */
 	vn_io_list_extensions, /* ".off .gltf .glb .drc" */
-	vn_io_list_draco       /* where the Draco options apply: "Draco (.drc) output and glTF to glTF conversions" */
+	vn_io_list_draco       /* where the Draco options apply: "Draco (.drc) output, to glTF to glTF conversions
+	                          and to glTF output with --draco on" */
 } vn_io_listing;
 VN_IO_API void vn_io_format_list(vn_io_listing style, char* text, size_t size);
 
