@@ -7,7 +7,7 @@
 # object names, groups and smoothing groups exactly (and a second round trip
 # changing no byte), mtllib
 # names written from the output's folder to the input's .mtl files, unit
-# normals, one v line per position with corners told apart by vn, OBJ -> OFF
+# normals, a v line per v line of the input with corners told apart by vn, OBJ -> OFF
 # -> OBJ, OBJ -> GLB through the Khronos validator, and one-line errors for
 # invalid files. objcheck.py reads OBJ independently of Draco and vn.
 set -u
@@ -45,7 +45,7 @@ for m in $meshes; do
   check "$m: OBJ -> OBJ keeps every face, its corners, material, object, group and smoothing group" \
     cmp -s "$T/$m.in-faces" "$T/$m.out-faces"
   check "$m: unit normals" objcheck unit "$T/$m.obj"
-  check "$m: one v line per position" [ "$(grep '^v ' "$T/$m.obj" | sort | uniq -d)" = "" ]
+  check "$m: a v line per v line of the input" [ "$(grep -c '^v ' "$T/$m.obj")" = "$(grep -c '^v ' "$in")" ]
   # Every vertex vn read (a v/vt/vn combination, or a v line no face uses)
   # is one combination written, or one v line no face uses.
   check "$m: a reference or a loose v line per vertex" [ "$(objcheck vertices "$T/$m.obj")" = "$(stat vertices)" ]
@@ -164,18 +164,20 @@ run "$VNC" "$T/c.obj" "$T/c2.off" -q
 check "OBJ colours are read back (Draco 1.5.5 skips them), the loose vertex too" [ "$(head -2 "$T/c2.off" | tr '\n' ' ')$(tail -2 "$T/c2.off" | head -1)" = "CNOFF 4 1 0 5 5 5 0 0 0 255 255 255 255" ]
 # v lines no face uses are vertices, as OFF's and PLY's are (they were
 # dropped without a word): after the faces' vertices, in file order, with
-# their colours; one equal to a used v line is that vertex, equal loose ones
-# are one. Through OBJ, OFF and GLB.
+# their colours; one equal to a used v line, or to another loose one, is a
+# vertex of its own, as every v line is. Through OBJ, OFF and GLB (whose
+# vertices a file from it writes once per position, as for any format but
+# OBJ).
 printf 'v 0 0 0 1 0 0\nv 9 9 9 0 1 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 0 0 0 1 0 0\nv 5 5 5 1 1 1\nv 9 9 9 0 1 0\nvt 0.5 0.5\nvn 0 0 1\nf 1/1/1 3/1/1 4/1/1\n' >"$T/loose.obj"
 loose_v="v 0 0 0 1 0 0,v 1 0 0 0 1 0,v 0 1 0 0 0 1,v 9 9 9 0 1 0,v 5 5 5 1 1 1,"
 run "$VNC" "$T/loose.obj" "$T/loose-out.obj" --stats
-check "loose v lines: 5 vertices read" [ "$rc|$(stat vertices)" = "0|5" ]
-check "loose v lines: OBJ -> OBJ keeps them, after the faces' vertices" [ "$(grep '^v ' "$T/loose-out.obj" | tr '\n' ,)" = "$loose_v" ]
+check "loose v lines: 7 vertices read" [ "$rc|$(stat vertices)" = "0|7" ]
+check "loose v lines: OBJ -> OBJ keeps them, after the faces' vertices" [ "$(grep '^v ' "$T/loose-out.obj" | tr '\n' ,)" = "v 0 0 0 1 0 0,v 1 0 0 0 1 0,v 0 1 0 0 0 1,v 9 9 9 0 1 0,v 0 0 0 1 0 0,v 5 5 5 1 1 1,v 9 9 9 0 1 0," ]
 check "loose v lines: no vt or vn line of their own" [ "$(grep -c '^v[tn] ' "$T/loose-out.obj")" = 2 ]
 "$VNC" "$T/loose-out.obj" "$T/loose-out2.obj" -q
 check "loose v lines: a second OBJ -> OBJ changes no byte" cmp -s "$T/loose-out.obj" "$T/loose-out2.obj"
 "$VNC" "$T/loose.obj" "$T/loose.off" -q
-check "loose v lines: OBJ -> OFF, zero normals, texture coordinates 0" [ "$(sed -n '2p;6,7p' "$T/loose.off" | tr '\n' ,)" = "5 1 0,9 9 9 0 0 0 0 255 0 255 0 0,5 5 5 0 0 0 255 255 255 255 0 0," ]
+check "loose v lines: OBJ -> OFF, zero normals (the weld gives one at a face vertex's position its normal), texture coordinates 0" [ "$(sed -n '2p;6,9p' "$T/loose.off" | tr '\n' ,)" = "7 1 0,9 9 9 0 0 0 0 255 0 255 0 0,0 0 0 0 0 1 255 0 0 255 0 0,5 5 5 0 0 0 255 255 255 255 0 0,9 9 9 0 0 0 0 255 0 255 0 0," ]
 "$VNC" "$T/loose.obj" "$T/loose.glb" -q && "$VNC" "$T/loose.glb" "$T/loose-glb.obj" -q
 check "loose v lines: OBJ -> GLB -> OBJ keeps them" [ "$(grep '^v ' "$T/loose-glb.obj" | tr '\n' ,)" = "$loose_v" ]
 # OBJ colours have no alpha: vnconvert warns when one is not 1, and only then.
@@ -270,9 +272,19 @@ printf 'OFF\n3 1 0\n237666192 0 0\n0 1 0\n0 0 1\n3 0 1 2\n' >"$T/far.off"
 run "$VNC" "$T/far.off" "$T/far.obj" -q
 check "a float far from 1 to OBJ: its text reads back as it" \
   [ "$(head -1 "$T/far.obj")|$(python3 -c 'import struct, sys; print(struct.unpack("f", struct.pack("f", float(sys.argv[1])))[0])' "$(head -1 "$T/far.obj" | cut -d' ' -f2)")" = "v 2.3766619e+08 0 0|237666192.0" ]
-printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 1 0 0\nf 1 2 3\nf 5 4 3\n' >"$T/twice.obj"
+# Equal v lines are two vertices, as Blender, MeshLab and Assimp read them
+# (vn merged them): OBJ -> OFF keeps both, OBJ -> OBJ writes both, and
+# --no-weld computes on them apart (a fold along a split edge), where the
+# default weld gives them one normal.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\nv 1 0 0\nf 1 2 3\nf 5 4 3\n' >"$T/twice.obj"
 run "$VNC" "$T/twice.obj" "$T/twice.off" -q
-check "equal v lines: one vertex" [ "$(sed -n 2p "$T/twice.off")" = "4 2 0" ]
+check "equal v lines: two vertices" [ "$(sed -n 2p "$T/twice.off")" = "5 2 0" ]
+check "equal v lines: welded, one normal" [ "$(sed -n 4p "$T/twice.off" | cut -d' ' -f4-)" = "$(sed -n 6p "$T/twice.off" | cut -d' ' -f4-)" ]
+run "$VNC" "$T/twice.obj" "$T/twice-apart.off" -q --no-weld
+check "equal v lines, --no-weld: each its face's normal" \
+  [ "$(sed -n '4p;6p' "$T/twice-apart.off" | cut -d' ' -f4- | tr '\n' ,)" = "0 0 1,-0.577350269 -0.577350269 0.577350269," ]
+run "$VNC" "$T/twice.obj" "$T/twice-out.obj" -q
+check "equal v lines: OBJ -> OBJ writes both" [ "$(grep -c '^v ' "$T/twice-out.obj")|$(grep '^f' "$T/twice-out.obj" | tr '\n' ,)" = "5|f 1//1 2//2 3//3,f 4//2 5//4 3//3," ]
 run "$VNC" "$T/points.obj" "$T/points_out.obj"
 vlines() { awk '/^v / { printf "%.6f %.6f %.6f\n", $2, $3, $4 }' "$1"; }
 check "point cloud to OBJ: its v lines, the same numbers" [ "$(vlines "$T/points_out.obj")" = "$(vlines "$T/points.obj")" ]

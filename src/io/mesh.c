@@ -60,6 +60,7 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 	free(mesh->normals);
 	free(mesh->colors);
 	free(mesh->texcoords);
+	free(mesh->position_lines);
 	free(mesh->face_offsets);
 	free(mesh->indices);
 	free(mesh->face_colors);
@@ -156,7 +157,8 @@ int vn_io_mesh_append_vertices(vn_io_mesh* mesh, const uint32_t* source, size_t 
 	int grown = append_copies((void**)&mesh->positions, 3 * sizeof(double), n, source, count) &&
 	            append_copies((void**)&mesh->normals, 3 * sizeof(double), n, source, count) &&
 	            append_copies((void**)&mesh->colors, 4 * sizeof(float), n, source, count) &&
-	            append_copies((void**)&mesh->texcoords, 2 * sizeof(float), n, source, count);
+	            append_copies((void**)&mesh->texcoords, 2 * sizeof(float), n, source, count) &&
+	            append_copies((void**)&mesh->position_lines, sizeof(uint32_t), n, source, count);
 	for (size_t i = 0; grown && i < mesh->attribute_count; i++) {
 		vn_io_attribute* a = &mesh->attributes[i];
 		grown = append_copies(&a->data, vn_io_component_size(a->component_type) * (size_t)a->components, n, source,

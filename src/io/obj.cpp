@@ -26,8 +26,10 @@
  *
  * Draco is asked to keep every v, vt and vn line's value (no deduplication),
  * and the scan's doubles replace its floats for v and vn; a vertex is one
- * (v, vt, vn) combination after equal values, bit for bit, are merged, and
- * each v line no face uses is a vertex of its own after those.
+ * (v, vt, vn) combination, a v line by its number (equal v lines stay
+ * apart, as every other reader keeps them) and vt and vn lines by their
+ * values (bit for bit: a repeated value splits nothing), and each v line no
+ * face uses is a vertex of its own after those.
  * A file without faces (f) is a point cloud: a vertex a v line, with the vt
  * and vn lines of the same number (Draco's reading; so their counts must be
  * 0 or the v lines'). Lines (l), which Draco skips, are read by the scan:
@@ -898,10 +900,10 @@ std::vector<uint32_t> first_equal(size_t count, F bits_of)
 }
 
 /* Draco's attributes of an OBJ read without deduplication (a value a line)
- * and, with `merged`, for each its lines' first equal lines. */
+ * and, with `merged`, for each vt and vn line the first equal line. */
 struct obj_attributes {
 	const draco::PointAttribute *pos, *tex, *nrm;
-	std::vector<uint32_t> first_pos, first_tex, first_nrm;
+	std::vector<uint32_t> first_tex, first_nrm;
 };
 
 obj_attributes attributes_of(const draco::Mesh& m, const scanner& s, bool textured, bool merged)
@@ -909,17 +911,9 @@ obj_attributes attributes_of(const draco::Mesh& m, const scanner& s, bool textur
 	using draco::GeometryAttribute;
 	obj_attributes a{m.GetNamedAttribute(GeometryAttribute::POSITION),
 	                 textured ? m.GetNamedAttribute(GeometryAttribute::TEX_COORD) : nullptr,
-	                 m.GetNamedAttribute(GeometryAttribute::NORMAL), {}, {}, {}};
+	                 m.GetNamedAttribute(GeometryAttribute::NORMAL), {}, {}};
 	if (!merged)
 		return a;
-	/* A position with its colour, where the v lines have colours. */
-	const bool coloured = s.coloured();
-	a.first_pos = first_equal<6>(s.exact[0].size() / 3, [&s, coloured](size_t i) {
-		const double* p = &s.exact[0][3 * i];
-		const float* c = coloured ? &s.colours[3 * i] : nullptr;
-		return std::array<uint64_t, 6>{bits(p[0]), bits(p[1]), bits(p[2]), c ? bits(double(c[0])) : 0,
-		                               c ? bits(double(c[1])) : 0, c ? bits(double(c[2])) : 0};
-	});
 	a.first_nrm = first_equal<3>(s.exact[2].size() / 3, [&s](size_t i) {
 		const double* n = &s.exact[2][3 * i];
 		return std::array<uint64_t, 3>{bits(n[0]), bits(n[1]), bits(n[2])};
@@ -933,11 +927,14 @@ obj_attributes attributes_of(const draco::Mesh& m, const scanner& s, bool textur
 	return a;
 }
 
-/* The key of Draco's point p: the first lines of its values, without the
- * texture coordinate where untextured (or without texture coordinates). */
+/* The key of Draco's point p: its v line (equal v lines are distinct
+ * vertices, as Blender, MeshLab and Assimp read them and as OFF and PLY keep
+ * theirs; --no-weld computes on them apart), the first lines of its vt and
+ * vn values, without the texture coordinate where untextured (or without
+ * texture coordinates). */
 corner_key key_of(draco::PointIndex p, const obj_attributes& a, bool untextured)
 {
-	return {{a.first_pos[a.pos->mapped_index(p).value()],
+	return {{a.pos->mapped_index(p).value(),
 	         a.tex && !untextured ? a.first_tex[a.tex->mapped_index(p).value()] : NO_TEX,
 	         a.nrm ? a.first_nrm[a.nrm->mapped_index(p).value()] : 0}};
 }
@@ -949,14 +946,17 @@ corner_key key_of(draco::PointIndex p, const obj_attributes& a, bool untextured)
 struct vertex_values {
 	std::vector<double> positions, normals;
 	std::vector<float> texcoords, colours;
+	std::vector<uint32_t> lines; /* each vertex's v line */
 };
 
 vertex_values values_of(const std::vector<corner_key>& vertices, const obj_attributes& a, const scanner& s)
 {
 	const size_t n = vertices.size();
 	vertex_values out{std::vector<double>(3 * n), std::vector<double>(a.nrm ? 3 * n : 0),
-	                  std::vector<float>(a.tex ? 2 * n : 0), std::vector<float>(s.coloured() ? 4 * n : 0)};
+	                  std::vector<float>(a.tex ? 2 * n : 0), std::vector<float>(s.coloured() ? 4 * n : 0),
+	                  std::vector<uint32_t>(n)};
 	for (size_t i = 0; i < n; i++) {
+		out.lines[i] = vertices[i][0];
 		std::copy_n(&s.exact[0][3 * size_t(vertices[i][0])], 3, &out.positions[3 * i]);
 		if (s.coloured()) {
 			std::copy_n(&s.colours[3 * size_t(vertices[i][0])], 3, &out.colours[4 * i]);
@@ -1091,30 +1091,26 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 
 	/* v lines no face uses are vertices too (loose points of a scan, a
 	 * model's pivots), as OFF and PLY keep theirs: without a texture
-	 * coordinate or normal, which only a face corner gives. Equal v lines
-	 * are one, as for the faces' vertices. */
-	/* And each v line's first vertex (equal v lines: the first's), which
-	 * a line's point is. */
+	 * coordinate or normal, which only a face corner gives. And each v
+	 * line's first vertex, which a line's point is. */
 	const std::vector<corner_key>& face_keys = vertex_of.keys();
 	std::vector<uint32_t> vertex_of_line(s.exact[0].size() / 3, UINT32_MAX);
 	for (size_t k = face_keys.size(); k-- > 0;)
 		vertex_of_line[face_keys[k][0]] = uint32_t(k);
 	std::vector<corner_key> with_loose; /* the faces' keys and these, where there are any */
-	for (size_t i = 0; i < vertex_of_line.size(); i++) {
-		uint32_t& first = vertex_of_line[a.first_pos[i]];
-		if (first == UINT32_MAX) {
+	for (size_t i = 0; i < vertex_of_line.size(); i++)
+		if (vertex_of_line[i] == UINT32_MAX) {
 			if (with_loose.empty())
 				with_loose = face_keys;
-			first = uint32_t(with_loose.size());
-			with_loose.push_back({{a.first_pos[i], NO_TEX, NO_NRM}});
+			vertex_of_line[i] = uint32_t(with_loose.size());
+			with_loose.push_back({{uint32_t(i), NO_TEX, NO_NRM}});
 		}
-		vertex_of_line[i] = first;
-	}
 	const std::vector<corner_key>& keys = with_loose.empty() ? face_keys : with_loose;
 	const vertex_values values = values_of(keys, a, s);
 	mesh->vertex_count = keys.size();
 	mesh->face_count = first_triangle.size();
-	if (!(mesh->positions = copy_out(values.positions)) || !(mesh->face_offsets = copy_out(offsets)) ||
+	if (!(mesh->positions = copy_out(values.positions)) || !(mesh->position_lines = copy_out(values.lines)) ||
+	    !(mesh->face_offsets = copy_out(offsets)) ||
 	    !(mesh->indices = copy_out(indices)) || (a.nrm && !(mesh->normals = copy_out(values.normals))) ||
 	    (a.tex && !(mesh->texcoords = copy_out(values.texcoords))) ||
 	    (s.coloured() && !(mesh->colors = copy_out(values.colours))) || (a.tex && !untextured_faces(s, mesh)) ||
@@ -1418,16 +1414,19 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 	/* Every vertex's position, loose ones too; texture coordinates and
 	 * normals of the vertices faces use. */
 	std::vector<uint32_t> v(n), vt(mesh->texcoords ? n : 0), vn(mesh->normals ? n : 0);
-	/* 1-based numbers for values, equal values (bit for bit) sharing one. */
+	/* 1-based numbers for values, equal values (bit for bit) sharing one;
+	 * positions from an OBJ by their v lines (vn_io_mesh.position_lines), so
+	 * that equal v lines stay two. */
 	first_index<std::array<uint64_t, 6>> positions(cloud ? 0 : n);
 	for (size_t i = 0; i < n && !w.failed; i++) {
 		const double* p = mesh->positions + 3 * i;
 		const float* rgb = mesh->colors ? mesh->colors + 4 * i : nullptr;
 		bool fresh = true;
-		v[i] = cloud ? uint32_t(i + 1)
-		             : positions.of({bits(p[0]), bits(p[1]), bits(p[2]), rgb ? bits(rgb[0]) : 0,
-		                             rgb ? bits(rgb[1]) : 0, rgb ? bits(rgb[2]) : 0},
-		                            &fresh) + 1;
+		v[i] = cloud                  ? uint32_t(i + 1)
+		       : mesh->position_lines ? positions.of({mesh->position_lines[i], 0, 0, 0, 0, 0}, &fresh) + 1
+		                              : positions.of({bits(p[0]), bits(p[1]), bits(p[2]), rgb ? bits(rgb[0]) : 0,
+		                                              rgb ? bits(rgb[1]) : 0, rgb ? bits(rgb[2]) : 0},
+		                                             &fresh) + 1;
 		if (!fresh)
 			continue;
 		vn_io_put(&w, "v");

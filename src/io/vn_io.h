@@ -138,6 +138,12 @@ typedef struct vn_io_mesh {
 	double* normals;   /* NULL or 3 per vertex */
 	float* colors;     /* NULL or RGBA per vertex, each in [0, 1] */
 	float* texcoords;  /* NULL or 2 per vertex, (0, 0) the image's bottom left (OBJ's `vt`) */
+	/* NULL or per vertex, from an OBJ: the v line (0-based) of its
+	 * position. Vertices split from one v line (for their texture
+	 * coordinates or normals) share it; equal v lines stay apart, as every
+	 * other OBJ reader keeps them. The OBJ writer writes a v line per line
+	 * (else per distinct position). */
+	uint32_t* position_lines;
 
 	size_t face_count;
 	uint32_t* face_offsets; /* face_count + 1 entries; face f is indices[face_offsets[f] .. face_offsets[f+1]) */
