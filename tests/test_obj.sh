@@ -351,17 +351,36 @@ check "vt of one number: the decagon and the triangle" \
 refused empty "" "empty.obj: the file is empty"
 # An OBJ without geometry (comments, a material library) is an
 # empty mesh, as an OFF of 0 vertices is (it was refused: "not an OBJ
-# mesh"); an empty mesh is written as an OBJ of one comment, which reads back.
+# mesh"); an empty mesh without comments is written as an OBJ of one
+# comment, which reads back.
 printf '# exported with nothing selected\nmtllib scene.mtl\n' >"$T/nogeometry.obj"
 run "$VNC" "$T/nogeometry.obj" "$T/nogeometry.off"
-check "no geometry: an empty OFF, and a warning" \
-  [ "$rc|$(sed -n 2p "$T/nogeometry.off")|$err" = "0|0 0 0|vnconvert: warning: $T/nogeometry.obj has no vertices and no faces: $T/nogeometry.off is written empty" ]
-run "$VNC" "$T/nogeometry.off" "$T/empty-out.obj" -q
+check "no geometry: an empty OFF with the file's comment, and a warning" \
+  [ "$rc|$(tr '\n' '|' <"$T/nogeometry.off")|$err" = "0|OFF|# exported with nothing selected|0 0 0||vnconvert: warning: $T/nogeometry.obj has no vertices and no faces: $T/nogeometry.off is written empty" ]
+printf 'OFF\n0 0 0\n' >"$T/nothing.off"
+run "$VNC" "$T/nothing.off" "$T/empty-out.obj" -q
 check "an empty mesh to OBJ: one comment" [ "$rc|$(cat "$T/empty-out.obj")" = "0|# no vertices and no faces" ]
 run "$VNC" "$T/nogeometry.obj" "$T/nogeometry-out.obj" -q
-check "no geometry, OBJ to OBJ: the mtllib line kept" [ "$rc|$(cat "$T/nogeometry-out.obj" | tr '\n' '|')" = "0|# no vertices and no faces|mtllib scene.mtl|" ]
+check "no geometry, OBJ to OBJ: the comment and the mtllib line kept" [ "$rc|$(cat "$T/nogeometry-out.obj" | tr '\n' '|')" = "0|# exported with nothing selected|mtllib scene.mtl|" ]
 run "$VNC" "$T/empty-out.obj" "$T/empty-back.off" -q
-check "an empty OBJ read back" [ "$rc|$(sed -n 2p "$T/empty-back.off")" = "0|0 0 0" ]
+check "an empty OBJ read back" [ "$rc|$(grep -v '^#' "$T/empty-back.off" | sed -n 2p)" = "0|0 0 0" ]
+# The comments at the top of an OBJ (exporters' credits, a model's licence)
+# are kept, as read, in OBJ, OFF (after the keyword) and PLY output (they
+# were dropped); comments after the first other line are not.
+printf '# Made by X\r\n#\tlicence CC-BY 4.0\n\n#\nv 0 0 0\nv 1 0 0\nv 0 1 0\n# 3 vertices\nf 1 2 3\n' >"$T/credits.obj"
+run "$VNC" "$T/credits.obj" "$T/credits-out.obj"
+check "comments at the top: OBJ -> OBJ keeps them, as read" \
+  [ "$rc|$(head -3 "$T/credits-out.obj" | tr '\n' '|')|$(grep -c '^#' "$T/credits-out.obj")" = "0|# Made by X|#$(printf '\t')licence CC-BY 4.0|#||3" ]
+run "$VNC" "$T/credits-out.obj" "$T/credits-out2.obj"
+check "comments at the top: a second OBJ -> OBJ changes no byte" cmp -s "$T/credits-out.obj" "$T/credits-out2.obj"
+run "$VNC" "$T/credits.obj" "$T/credits.off"
+check "comments at the top: OBJ -> OFF, after the keyword" \
+  [ "$(head -5 "$T/credits.off" | tr '\n' '|')" = "NOFF|# Made by X|#$(printf '\t')licence CC-BY 4.0|#|3 1 0|" ]
+run "$VNC" "$T/credits.off" "$T/credits-back.obj"
+check "comments at the top: OBJ -> OFF -> OBJ keeps them" cmp -s "$T/credits-out.obj" "$T/credits-back.obj"
+run "$VNC" "$T/credits.obj" "$T/credits.ply"
+check "comments at the top: OBJ -> PLY, comment lines" \
+  [ "$(head -c 300 "$T/credits.ply" | grep -a '^comment' | tr '\n' '|')" = "comment written by vn|comment Made by X|comment$(printf '\t')licence CC-BY 4.0|comment |" ]
 # Lines OBJ does not define and none it does: another format under .obj
 # (pyvista's mni-surface-mesh.obj, an MNI surface), refused; it was written
 # as an empty mesh with a warning, as if read.

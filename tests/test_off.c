@@ -271,6 +271,9 @@ static void test_off_comments_and_blank_lines(void** state)
 	        "\n",
 	        &m);
 	assert_triangle(&m);
+	/* The header's whole-line comments, for the writers; not those after
+	 * the counts, nor those after data on a line. */
+	assert_string_equal(m.comments, " written by hand\n counts next");
 	vn_io_mesh_free(&m);
 }
 
@@ -1419,6 +1422,7 @@ static void test_round_trip_keeps_byte_colours(void** state)
 	path_in_folder(path, sizeof path, "colored.off");
 	char* text = slurp(path);
 	assert_string_equal(text, "COFF\n"
+	                          "# A tetrahedron with colours as integers 0..255 (as MeshLab writes them).\n"
 	                          "4 4 0\n"
 	                          "0 0 0 255 0 0 255\n"
 	                          "1 0 0 0 255 0 255\n"

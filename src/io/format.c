@@ -40,21 +40,23 @@ static const vn_io_format formats[] = {
     {"off", "OFF", "OFF", ".off", "Geomview Object File Format (reads ASCII and binary, writes ASCII)",
      vn_io_off_read, vn_io_off_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_face_colors |
-         vn_io_holds_polygons | vn_io_holds_loose_vertices | vn_io_holds_no_faces | vn_io_holds_nothing,
+         vn_io_holds_polygons | vn_io_holds_loose_vertices | vn_io_holds_no_faces | vn_io_holds_nothing |
+         vn_io_holds_comments,
      vn_io_path_mesh, 0, "the zero vector",
      {{vn_io_holds_colors, "vertex colours", NULL},
       {vn_io_holds_colors | vn_io_holds_color_alpha, "their alpha", "vertex colour alpha (named)"},
       {vn_io_holds_texcoords, "texture coordinates", NULL},
       {vn_io_holds_face_colors, "face colours", "face colours (named)"},
-      {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"}},
-     "comments", NULL, NULL, NULL},
+      {vn_io_holds_polygons, "polygons", "polygons (fan-triangulated)"},
+      {vn_io_holds_comments, "the header's comments (before the counts)", "the header's comments"}},
+     "comments after the counts", NULL, NULL, NULL},
     {"obj", "OBJ", "OBJ", ".obj",
      "Wavefront OBJ (read through Draco: v/vt/vn, polygons, usemtl, o; g and s by vn; the .mtl file's materials into "
      "glTF; written with per-corner vn)",
      vn_io_obj_read, vn_io_obj_write,
      vn_io_holds_colors | vn_io_holds_texcoords | vn_io_holds_polygons | vn_io_holds_loose_vertices |
          vn_io_holds_face_names | vn_io_holds_materials | vn_io_holds_no_faces | vn_io_holds_nothing |
-         vn_io_holds_lines,
+         vn_io_holds_lines | vn_io_holds_comments,
      vn_io_path_mesh, 0, "the zero vector (`vn 0 0 0`, where a face uses the vertex)",
      {{vn_io_holds_texcoords, "texture coordinates", NULL},
       {vn_io_holds_colors, "vertex colours (`v x y z r g b`)", NULL},
@@ -67,8 +69,9 @@ static const vn_io_format formats[] = {
       {vn_io_holds_face_names, "groups (`g`)", "groups (named)"},
       {vn_io_holds_face_names, "smoothing groups (`s`)",
        "smoothing groups (named where a face has one: `s off` and `s 0` set none)"},
-      {vn_io_holds_lines, "lines (`l`, after the faces)", "lines (named)"}},
-     "comments, points, curves, the `vt` of a line's points, the rest of the .mtl file (Ka, Ks, Tr, illum, other "
+      {vn_io_holds_lines, "lines (`l`, after the faces)", "lines (named)"},
+      {vn_io_holds_comments, "the comments at the top (before any other line)", "the comments at the top"}},
+     "comments after the first other line, points, curves, the `vt` of a line's points, the rest of the .mtl file (Ka, Ks, Tr, illum, other "
      "maps)",
      NULL, NULL, NULL},
     {"ply", "PLY", "PLY", ".ply",
@@ -76,7 +79,7 @@ static const vn_io_format formats[] = {
      vn_io_ply_read, vn_io_ply_write,
      vn_io_holds_colors | vn_io_holds_color_alpha | vn_io_holds_texcoords | vn_io_holds_attributes |
          vn_io_holds_face_colors | vn_io_holds_polygons | vn_io_holds_loose_vertices | vn_io_holds_no_faces |
-         vn_io_holds_nothing | vn_io_holds_ply_extras,
+         vn_io_holds_nothing | vn_io_holds_ply_extras | vn_io_holds_comments,
      vn_io_path_mesh, 0, "the zero vector",
      {{vn_io_holds_colors, "vertex colours (red green blue)", NULL},
       {vn_io_holds_colors | vn_io_holds_color_alpha, "their alpha", "vertex colour alpha (named)"},

@@ -61,6 +61,7 @@ void vn_io_mesh_free(vn_io_mesh* mesh)
 	free(mesh->colors);
 	free(mesh->texcoords);
 	free(mesh->position_lines);
+	free(mesh->comments);
 	free(mesh->face_offsets);
 	free(mesh->indices);
 	free(mesh->face_colors);

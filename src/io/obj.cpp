@@ -1123,6 +1123,32 @@ vn_io_result to_mesh(const draco::Mesh& m, const scanner& s, vn_io_mesh* mesh, v
 	return vn_io_success;
 }
 
+/* The text after '#' of each comment line before the first other line
+ * (blank lines skipped), "\n"-separated, into out; false when there is none.
+ * Exporters put their credits and the model's licence there. */
+bool leading_comments(const std::vector<char>& text, std::string& out)
+{
+	bool any = false;
+	for (size_t i = 0; i < text.size();) {
+		size_t end = i, b = i;
+		while (end < text.size() && text[end] != '\n')
+			end++;
+		while (b < end && space(text[b]))
+			b++;
+		if (b < end) {
+			if (text[b] != '#')
+				break;
+			size_t e = end;
+			while (e > b + 1 && text[e - 1] == '\r')
+				e--;
+			out.append(any ? "\n" : "").append(&text[b + 1], e - b - 1);
+			any = true;
+		}
+		i = end + 1;
+	}
+	return any;
+}
+
 /* A line ending in a backslash goes on on the next one (the OBJ
  * specification; exporters break long faces so). The two are made one line
  * in place, and the newline taken out is put after it (before the blanks
@@ -1163,6 +1189,8 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 		if (text[i] == '\r' && (i + 1 == size || text[i + 1] != '\n'))
 			text[i] = '\n';
 	join_continued_lines(text);
+	std::string comments;
+	const bool commented = leading_comments(text, comments);
 	scanner s;
 	s.name = name;
 	s.error = error;
@@ -1204,7 +1232,7 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 		buffer.Init(text.data(), text.size());
 		draco::ObjDecoder decoder;
 		decoder.set_use_metadata(true);
-		decoder.set_deduplicate_input_values(false); /* a value a line: vn merges on the exact numbers */
+		decoder.set_deduplicate_input_values(false); /* a value a line: vn keys on lines and exact numbers */
 		const draco::Status status = decoder.DecodeFromBuffer(&buffer, &m);
 		if (!status.ok())
 			return vn_io_fail(error, vn_io_error_parse, "%s: Draco's OBJ reader: %s", name, status.error_msg());
@@ -1215,6 +1243,8 @@ vn_io_result read(const char* data, size_t size, const char* name, vn_io_mesh* m
 	if (r != vn_io_success)
 		return r;
 	mesh->colors_are_bytes = mesh->colors && vn_io_colors_are_bytes(mesh->colors, mesh->vertex_count);
+	if (commented && !(mesh->comments = copy_string(comments)))
+		return out_of_memory(name, error);
 	std::string warnings;
 	if (s.short_faces)
 		warnings = std::to_string(s.short_faces) + " face" + (s.short_faces == 1 ? "" : "s") +
@@ -1402,8 +1432,9 @@ vn_io_result write(FILE* out, const char* path, const vn_io_mesh* mesh, vn_io_er
 		for (uint32_t c = mesh->face_offsets[f]; c < mesh->face_offsets[f + 1]; c++)
 			used[mesh->indices[c]] = 1, textured[mesh->indices[c]] |= !untextured(f);
 	vn_io_text_out w = {out, 0, 0, 0, {}};
+	vn_io_put_comments(&w, mesh->comments, "#");
 	/* A file of no bytes reads as a failed download: say what it is. */
-	if (n == 0)
+	if (n == 0 && !mesh->comments)
 		vn_io_put(&w, "# no vertices and no faces\n");
 	if (mesh->material_library) {
 		const std::string names = library_names(path, mesh);

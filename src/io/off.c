@@ -69,6 +69,11 @@ typedef struct off_reader {
 	 * big-endian) and no colour count after a face's indices. */
 	int pmp;
 	char* warnings;
+	/* The header's whole-line comments (vn_io_mesh.comments), gathered
+	 * while `header` is set: until the counts; comments_failed when out of
+	 * memory. */
+	int header, comments_failed;
+	char* comments;
 	/* Faces coloured by a colormap index, which vn does not keep. */
 	size_t colormap_faces, first_colormap_face;
 
@@ -138,6 +143,9 @@ static int next_line(off_reader* r, off_line* line)
 			line->p++;
 		if (line->p < line->end)
 			return 1;
+		if (hash && r->header &&
+		    !vn_io_append_line(&r->comments, "%.*s", (int)(stop - hash - 1), (const char*)hash + 1))
+			r->comments_failed = 1;
 	}
 	return 0;
 }
@@ -441,6 +449,7 @@ static vn_io_result read_ascii_counts(off_reader* r, off_line rest, uint64_t* ve
 	}
 	*vertices = counts[0];
 	*faces = counts[1];
+	r->header = 0;
 	return vn_io_success;
 }
 
@@ -768,6 +777,7 @@ static vn_io_result read_off(off_reader* r, vn_io_mesh* m)
 			            r->wide);
 		/* Binary data starts right after the header line's line break. */
 		r->binary = 1;
+		r->header = 0;
 		return read_binary(r, m);
 	}
 	return read_ascii(r, m, line);
@@ -783,6 +793,7 @@ static vn_io_result read_memory(const char* data, size_t size, const char* name,
 	r.name = name;
 	r.error = error;
 	r.wide = wide;
+	r.header = 1;
 	r.begin = (const unsigned char*)(data ? data : "");
 	r.p = r.begin;
 	r.end = r.begin + (data ? size : 0);
@@ -809,12 +820,17 @@ static vn_io_result read_memory(const char* data, size_t size, const char* name,
 	                              "colormap, which vn does not have: they are read as uncoloured faces",
 	                              r.colormap_faces, r.first_colormap_face)))
 		result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
+	if (result == vn_io_success && r.comments_failed)
+		result = vn_io_fail(error, vn_io_error_memory, "%s: out of memory", name);
 	if (result != vn_io_success)
 		vn_io_mesh_free(mesh);
-	if (result == vn_io_success)
+	if (result == vn_io_success) {
 		mesh->warnings = r.warnings;
-	else
+		mesh->comments = r.comments;
+	} else {
 		free(r.warnings);
+		free(r.comments);
+	}
 	return result;
 }
 
@@ -860,8 +876,11 @@ vn_io_result vn_io_off_write(FILE* out, const char* path, const vn_io_mesh* mesh
 
 	char text[64];
 	/* The edge count is not used by anyone; 0 is what most writers put. */
-	snprintf(text, sizeof text, "%s%s%sOFF\n%zu %zu 0\n", mesh->texcoords ? "ST" : "", mesh->colors ? "C" : "",
-	         mesh->normals ? "N" : "", mesh->vertex_count, mesh->face_count);
+	snprintf(text, sizeof text, "%s%s%sOFF\n", mesh->texcoords ? "ST" : "", mesh->colors ? "C" : "",
+	         mesh->normals ? "N" : "");
+	vn_io_put(&w, text);
+	vn_io_put_comments(&w, mesh->comments, "#");
+	snprintf(text, sizeof text, "%zu %zu 0\n", mesh->vertex_count, mesh->face_count);
 	vn_io_put(&w, text);
 	for (size_t i = 0; i < mesh->vertex_count && !w.failed; i++) {
 		for (size_t k = 0; k < 3; k++)

@@ -1660,8 +1660,15 @@ vn_io_result vn_io_ply_write(FILE* out, const char* path, const vn_io_mesh* mesh
 	 * where float would round them. */
 	const int double_normals = mesh->normals && !mesh->face_count && float_rounds(mesh->normals, 3 * n);
 	const vn_io_ply_extras* extras = mesh->ply_extras;
-	fprintf(out, "ply\nformat binary_little_endian 1.0\ncomment written by vn\n%selement vertex %zu\n",
-	        extras && extras->comments ? extras->comments : "", n);
+	fprintf(out, "ply\nformat binary_little_endian 1.0\ncomment written by vn\n%s",
+	        extras && extras->comments ? extras->comments : "");
+	/* An OFF's or OBJ's comments (text after '#'), a comment line each. */
+	for (const char* c = mesh->comments; c;) {
+		const int k = (int)strcspn(c, "\n");
+		fprintf(out, "comment%s%.*s\n", *c == ' ' || *c == '\t' ? "" : " ", k, c);
+		c = c[k] ? c + k + 1 : NULL;
+	}
+	fprintf(out, "element vertex %zu\n", n);
 	const char* position = doubles ? "double" : "float";
 	fprintf(out, "property %s x\nproperty %s y\nproperty %s z\n", position, position, position);
 	const char* normal = double_normals ? "double" : "float";

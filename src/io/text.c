@@ -37,9 +37,9 @@ static void drain(vn_io_text_out* w)
 	w->used = 0;
 }
 
-void vn_io_put(vn_io_text_out* w, const char* text)
+/* The n bytes at text. */
+static void put_bytes(vn_io_text_out* w, const char* text, size_t n)
 {
-	size_t n = strlen(text);
 	while (n > sizeof w->buffer - w->used) {
 		const size_t room = sizeof w->buffer - w->used;
 		memcpy(w->buffer + w->used, text, room);
@@ -48,6 +48,22 @@ void vn_io_put(vn_io_text_out* w, const char* text)
 	}
 	memcpy(w->buffer + w->used, text, n);
 	w->used += n;
+}
+
+void vn_io_put(vn_io_text_out* w, const char* text)
+{
+	put_bytes(w, text, strlen(text));
+}
+
+void vn_io_put_comments(vn_io_text_out* w, const char* comments, const char* prefix)
+{
+	while (comments) {
+		const size_t n = strcspn(comments, "\n");
+		vn_io_put(w, prefix);
+		put_bytes(w, comments, n);
+		vn_io_put(w, "\n");
+		comments = comments[n] ? comments + n + 1 : NULL;
+	}
 }
 
 /* Byte by byte into the buffer: a call to memcpy a number cost as much as

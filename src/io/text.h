@@ -41,6 +41,9 @@ typedef struct vn_io_text_out {
 
 /* Writes text unless an earlier write failed. */
 void vn_io_put(vn_io_text_out* w, const char* text);
+/* Each line of comments (vn_io_mesh.comments; NULL: none) after prefix
+ * ("#", "comment "), a line each. */
+void vn_io_put_comments(vn_io_text_out* w, const char* comments, const char* prefix);
 /* `before`, then v in decimal: an index or a count without printf, which
  * took half of writing an OBJ's faces. */
 void vn_io_put_uint(vn_io_text_out* w, const char* before, uint64_t v);

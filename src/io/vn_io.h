@@ -203,6 +203,12 @@ typedef struct vn_io_mesh {
 	 * triangles as it has attributes (faces are never reordered). */
 	vn_io_stl_extras* stl_extras;
 
+	/* NULL, or the comment lines of an OFF's header (before the counts) or
+	 * at the top of an OBJ (before any other line), which carry exporters'
+	 * credits and licences: each as written after its '#', "\n"-separated;
+	 * the OFF, OBJ and PLY writers put them back (vn_io_holds_comments). */
+	char* comments;
+
 	/* NULL, or what the reader read anyway but the file should not have
 	 * (bytes after a GLB's declared length): one line each, "\n"-separated,
 	 * not naming the file. */
@@ -324,7 +330,8 @@ enum {
 	vn_io_holds_ply_extras = 1024,   /* `ply_extras` */
 	vn_io_holds_materials = 2048,    /* each face's material (`materials`), with `material_defs` or the `mtllib` line */
 	vn_io_holds_stl_extras = 4096,   /* `stl_extras` */
-	vn_io_holds_lines = 8192         /* `line_count`, `line_offsets`, `line_indices` */
+	vn_io_holds_lines = 8192,        /* `line_count`, `line_offsets`, `line_indices` */
+	vn_io_holds_comments = 16384     /* `comments` */
 };
 
 /* How vnconvert converts between two formats of one family (both ends with
@@ -354,7 +361,7 @@ typedef struct vn_io_item {
 	const char* lost;
 } vn_io_item;
 
-#define VN_IO_MAX_ITEMS 8
+#define VN_IO_MAX_ITEMS 9
 
 typedef struct vn_io_format {
 	const char* name;       /* "glb": as --format and --input-format take it */
