@@ -618,10 +618,9 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 			if (!in_face)
 				return vn_io_fail(error, vn_io_error_memory, "%s: out of memory", c->in);
 			for (size_t f = 0; f < mesh->face_count; ++f)
-				for (uint32_t k = mesh->face_offsets[f]; mesh->face_offsets[f + 1] - mesh->face_offsets[f] >= 3 &&
-				                                         k < mesh->face_offsets[f + 1];
-				     ++k)
-					in_face[mesh->indices[k]] = 1;
+				if (mesh->face_offsets[f + 1] - mesh->face_offsets[f] >= 3) /* the writer's triangles */
+					for (uint32_t k = mesh->face_offsets[f]; k < mesh->face_offsets[f + 1]; ++k)
+						in_face[mesh->indices[k]] = 1;
 			for (size_t v = 0; v < mesh->vertex_count; ++v)
 				loose += !in_face[v];
 			free(in_face);

@@ -71,8 +71,8 @@ static const vn_io_format formats[] = {
        "smoothing groups (named where a face has one: `s off` and `s 0` set none)"},
       {vn_io_holds_lines, "lines (`l`, after the faces)", "lines (named)"},
       {vn_io_holds_comments, "the comments at the top (before any other line)", "the comments at the top"}},
-     "comments after the first other line, points, curves, the `vt` of a line's points, the rest of the .mtl file (Ka, Ks, Tr, illum, other "
-     "maps)",
+     "comments after the first other line, points, curves, the `vt` of a line's points, the rest of the .mtl file "
+     "(Ka, Ks, Tr, illum, other maps)",
      NULL, NULL, NULL},
     {"ply", "PLY", "PLY", ".ply",
      "Stanford polygon file (reads ASCII and binary, either byte order; writes binary little-endian)",
