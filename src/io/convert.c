@@ -174,6 +174,12 @@ static vn_io_result check_options(const vn_convert_options* o, vn_io_error* erro
 	return vn_io_success;
 }
 
+/* --draco on for this output: glTF from any format is compressed. */
+static int draco_on(const vn_convert_options* o, const vn_io_format* out)
+{
+	return o->draco && !strcmp(o->draco, "on") && out->path == vn_io_path_gltf;
+}
+
 /* --apply-transforms applies: a glTF scene written as a format without one. */
 static int transforms_apply(const vn_io_format* in, const vn_io_format* out)
 {
@@ -190,10 +196,8 @@ int vn_io_convert_misfit(const vn_convert_options* o, const vn_io_format* in, co
 	                          : o->draco_qc ? "--draco-qc" : o->draco_cl_set ? "--draco-cl" : NULL;
 	const char* gltf_only = o->weld_scope ? "--weld-scope" : o->tangents ? "--tangents" : o->meshopt ? "--meshopt"
 	                                                                                     : NULL;
-	/* --draco on compresses glTF output from any format. */
-	const int draco_on = o->draco && !strcmp(o->draco, "on") && out->path == vn_io_path_gltf;
 	if (draco_given && !(out->draco & vn_io_draco_output) &&
-	    !(path != vn_io_path_mesh && (in->draco & vn_io_draco_document)) && !draco_on) {
+	    !(path != vn_io_path_mesh && (in->draco & vn_io_draco_document)) && !draco_on(o, out)) {
 		vn_io_format_list(vn_io_list_draco, where, sizeof where);
 		snprintf(text, size, "%s applies to %s", draco_given, where);
 		return 1;
@@ -488,7 +492,7 @@ static vn_io_result convert_mesh(conversion* c, vn_io_mesh* mesh, vn_io_error* e
 	const double t0 = now();
 	const int gltf_out = c->out_format->path == vn_io_path_gltf;
 	/* Draco output: a .drc, or glTF with --draco on (KHR_draco_mesh_compression). */
-	const int drc_out = (c->out_format->draco & vn_io_draco_output) || (gltf_out && o->draco && !strcmp(o->draco, "on"));
+	const int drc_out = (c->out_format->draco & vn_io_draco_output) || draco_on(o, c->out_format);
 	vn_drc_options drc;
 	vn_drc_default_options(&drc);
 	vn_io_result res = c->apply_transforms ? vn_io_gltf_read_scene(c->in, mesh, error)

@@ -635,8 +635,7 @@ struct scanner {
 		const size_t first = line_points.size();
 		bool usable = true;
 		for (;;) {
-			while (q < line_end && space(*q))
-				q++;
+			skip_blanks(q);
 			if (q == line_end || *q == '#')
 				break;
 			std::array<int32_t, 3> index;
