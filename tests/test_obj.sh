@@ -272,6 +272,15 @@ printf 'OFF\n3 1 0\n237666192 0 0\n0 1 0\n0 0 1\n3 0 1 2\n' >"$T/far.off"
 run "$VNC" "$T/far.off" "$T/far.obj" -q
 check "a float far from 1 to OBJ: its text reads back as it" \
   [ "$(head -1 "$T/far.obj")|$(python3 -c 'import struct, sys; print(struct.unpack("f", struct.pack("f", float(sys.argv[1])))[0])' "$(head -1 "$T/far.obj" | cut -d' ' -f2)")" = "v 2.3766619e+08 0 0|237666192.0" ]
+# --crease-angle splits a cube's corners (16 copies); a copy keeps its v
+# line (vn_io_mesh.position_lines grows with the split), so OBJ output still
+# has the file's 8 v lines, and each face its normal.
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n' >"$T/crease.obj"
+run "$VNC" "$T/crease.obj" "$T/crease-out.obj" --crease-angle 30 --stats
+check "OBJ --crease-angle: 16 split, 8 v lines, 6 vn lines" \
+  [ "$rc|$(stat 'split vertices')|$(grep -c '^v ' "$T/crease-out.obj")|$(grep -c '^vn ' "$T/crease-out.obj")" = "0|16|8|6" ]
+check "OBJ --crease-angle: each face on the file's v lines" \
+  [ "$(grep '^f' "$T/crease-out.obj" | sed 's|//[0-9]*||g' | tr '\n' ,)" = "f 1 2 3 4,f 5 6 7 8,f 1 4 6 5,f 4 3 7 6,f 3 2 8 7,f 2 1 5 8," ]
 # Equal v lines are two vertices, as Blender, MeshLab and Assimp read them
 # (vn merged them): OBJ -> OFF keeps both, OBJ -> OBJ writes both, and
 # --no-weld computes on them apart (a fold along a split edge), where the
